@@ -1,0 +1,25 @@
+# Warnings, ccache and sanitizers for levelfuse's own targets.
+
+find_program(LEVELFUSE_CCACHE ccache)
+if(LEVELFUSE_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
+  set(CMAKE_CXX_COMPILER_LAUNCHER "${LEVELFUSE_CCACHE}")
+  set(CMAKE_C_COMPILER_LAUNCHER "${LEVELFUSE_CCACHE}")
+endif()
+
+# levelfuse_warnings(<target>): -Wall -Wextra for our code. OpenVDB, TBB and ITK
+# headers are included as system headers, so their warnings stay out of the way.
+function(levelfuse_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow=local)
+endfunction()
+
+if(LEVELFUSE_SANITIZER STREQUAL "address")
+  set(_lf_san -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+elseif(LEVELFUSE_SANITIZER STREQUAL "thread")
+  set(_lf_san -fsanitize=thread -fno-omit-frame-pointer)
+elseif(NOT LEVELFUSE_SANITIZER STREQUAL "")
+  message(FATAL_ERROR "LEVELFUSE_SANITIZER must be '', 'address' or 'thread', not '${LEVELFUSE_SANITIZER}'")
+endif()
+if(_lf_san)
+  add_compile_options(${_lf_san})
+  add_link_options(${_lf_san})
+endif()

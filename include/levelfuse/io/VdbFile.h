@@ -1,0 +1,19 @@
+// levelfuse: reading and writing .vdb files.
+#pragma once
+
+#include <openvdb/openvdb.h>
+
+#include <string>
+
+namespace levelfuse::io {
+
+/// Writes `grids` to `path` atomically: into a temporary file beside it, then
+/// renamed over it. On any error the temporary is removed, an existing file at
+/// `path` is left untouched, and std::runtime_error names the file.
+void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids,
+              const openvdb::MetaMap& fileMetadata = openvdb::MetaMap());
+
+/// Reads every grid of a .vdb file; std::runtime_error names the file and the problem.
+openvdb::GridPtrVecPtr readVdb(const std::string& path, openvdb::MetaMap::Ptr* fileMetadata = nullptr);
+
+}  // namespace levelfuse::io

@@ -1,0 +1,130 @@
+// levelfuse: the sparse-field level-set engine (Whitaker 1998, section 5).
+//
+// A SparseField owns an OpenVDB FloatGrid level set (negative inside, world
+// units) together with its active set L0 and the layers L+-1 ... L+-N around
+// it. The layers are bit masks stored with the value tree's leaf nodes, so the
+// engine's memory grows with the surface, never with the bounding box. One
+// step() updates the active values under a speed (see SpeedTerms.h), moves the
+// points whose values leave [-1/2, 1/2] voxel to the neighbouring layers, and
+// rebuilds the layers outward from L0. Every phase of a step is a
+// bulk-synchronous parallel pass over leaf nodes: the result is bit-identical
+// whatever the number of threads.
+#pragma once
+
+#include <openvdb/openvdb.h>
+
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <string>
+
+namespace levelfuse {
+
+namespace detail {
+struct SparseFieldState;
+}
+
+/// Settings of the sparse-field engine.
+struct SparseFieldOptions {
+  /// N, the number of layers on each side of the active set. The 3x3x3 kernel
+  /// of the curvature term needs N >= 2 (section 5); at most 4.
+  int layers = 2;
+  /// Largest change of an active value in one step, in voxels. Must stay below
+  /// 1/2 so that no point skips a layer (section 5).
+  double maxStepChange = 0.45;
+  /// Stability limit of the explicit mean-curvature term: dt <= this * dx^2 / beta.
+  double curvatureStepLimit = 1.0 / 6.0;
+  /// Leaf nodes per parallel task; 0 runs every phase serially.
+  std::size_t grainSize = 4;
+};
+
+/// What one step did.
+struct StepResult {
+  double dt = 0.0;                 ///< time advanced
+  double maxSpeed = 0.0;           ///< largest |d psi/dt| over the active set (world units per time)
+  double maxChange = 0.0;          ///< largest change of an active value (world units)
+  double rmsChange = 0.0;          ///< rms change of the active values (world units)
+  std::size_t activeVoxels = 0;    ///< |L0| after the step
+  std::size_t movedOut = 0;        ///< points that left L0 outward (into L+1)
+  std::size_t movedIn = 0;         ///< points that left L0 inward (into L-1)
+  std::size_t conflicts = 0;       ///< adjacent points that tried to leave L0 on opposite sides
+};
+
+/// Counts and bytes of a sparse field.
+struct SparseFieldStats {
+  std::size_t activeVoxels = 0;    ///< |L0|
+  std::size_t bandVoxels = 0;      ///< voxels in all layers, L0 included
+  std::size_t leafNodes = 0;
+  std::size_t memoryBytes = 0;     ///< values, layers and the engine's bookkeeping
+};
+
+class SparseField {
+ public:
+  /// Builds the active set and layers from an OpenVDB level set (any narrow-band
+  /// width >= 1 voxel, e.g. from tools::createLevelSetSphere or meshToLevelSet).
+  /// Throws std::invalid_argument, with a hint, for a grid that is not a level
+  /// set, has non-uniform voxels, or holds non-finite values.
+  static SparseField fromLevelSet(const openvdb::FloatGrid& levelSet,
+                                  const SparseFieldOptions& options = {});
+
+  /// Builds a level set from a binary inside/outside mask (active = inside):
+  /// the surface runs halfway between inside and outside voxel centres, as for
+  /// the paper's occupancy-grid initial models.
+  static SparseField fromMask(const openvdb::MaskGrid& inside,
+                              const SparseFieldOptions& options = {});
+
+  SparseField(SparseField&&) noexcept;
+  SparseField& operator=(SparseField&&) noexcept;
+  SparseField(const SparseField&);
+  SparseField& operator=(const SparseField&);
+  ~SparseField();
+
+  /// Advances the level set by one time step under `speed` (see SpeedTerms.h),
+  /// never by more than `maxDt`. The step is limited so that no active value
+  /// changes by maxStepChange voxels or more, and by the stability of the
+  /// curvature term. Explicitly instantiated for the speeds of SpeedTerms.h;
+  /// include SparseFieldStep.h to use a speed of your own.
+  template <typename Speed>
+  StepResult step(const Speed& speed, double maxDt = std::numeric_limits<double>::infinity());
+
+  /// Advances by `duration` (several steps) unless `interrupt` returns true
+  /// between steps. Returns the number of steps taken.
+  template <typename Speed, typename Interrupt>
+  std::size_t advance(const Speed& speed, double duration, Interrupt interrupt) {
+    std::size_t steps = 0;
+    for (double t = 0.0; t < duration && !interrupt(); ++steps) {
+      const StepResult r = step(speed, duration - t);
+      if (r.dt <= 0.0) break;
+      t += r.dt;
+    }
+    return steps;
+  }
+  template <typename Speed>
+  std::size_t advance(const Speed& speed, double duration) {
+    return advance(speed, duration, [] { return false; });
+  }
+
+  /// The evolving values: active voxels are the layers, background (N + 1/2) dx.
+  const openvdb::FloatGrid& grid() const;
+  /// A standard OpenVDB level set: GRID_LEVEL_SET class, background and
+  /// narrow-band half-width `halfWidth` voxels (layers past N are added with the
+  /// sparse field's own rule), named `name`.
+  openvdb::FloatGrid::Ptr toLevelSet(double halfWidth = 3.0, const std::string& name = "surface") const;
+
+  /// Layer of a voxel: 0 for the active set, +-i for L+-i, +-(N+1) outside the layers.
+  int layerOf(const openvdb::Coord& ijk) const;
+  int layers() const;
+  double voxelSize() const;
+  const SparseFieldOptions& options() const;
+  void setGrainSize(std::size_t grainSize);
+  SparseFieldStats stats() const;
+
+  /// Engine internals, for the invariant checker and custom speeds.
+  const detail::SparseFieldState& state() const { return *mState; }
+
+ private:
+  explicit SparseField(std::unique_ptr<detail::SparseFieldState> state);
+  std::unique_ptr<detail::SparseFieldState> mState;
+};
+
+}  // namespace levelfuse

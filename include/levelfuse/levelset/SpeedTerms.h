@@ -1,0 +1,102 @@
+// levelfuse: the speed terms that move a level set.
+//
+// The level-set engines (SparseField, DenseField) call a *speed* once per
+// updated grid point with the point's local geometry, and the speed returns
+// d(psi)/dt there. In OpenVDB's convention (psi negative inside) a surface
+// moving outward with normal speed F obeys d psi/dt = -F |grad psi|, and the
+// surface-area prior of weight beta adds beta kappa |grad psi| (Eq. 27).
+//
+// A speed is any type with
+//   float operator()(const ActivePoint&) const;   // d psi / dt, world units per unit time
+//   double curvatureWeight() const;               // beta, for the time-step limit (0 if none)
+// Engines are templates over the speed, so the per-point call inlines.
+#pragma once
+
+#include <levelfuse/levelset/Stencil.h>
+
+#include <openvdb/math/Coord.h>
+#include <openvdb/math/Transform.h>
+
+#include <functional>
+
+namespace levelfuse {
+
+/// What a speed sees of one grid point being updated.
+struct ActivePoint {
+  const Stencil& stencil;                       ///< values around the point (world units)
+  openvdb::Coord ijk;                           ///< index-space position
+  const openvdb::math::Transform& transform;   ///< index to world
+
+  /// World-space position of the grid point.
+  openvdb::Vec3d worldPosition() const { return transform.indexToWorld(ijk); }
+
+  /// World-space position x^ of the nearby zero crossing (Eqs. 34-36).
+  openvdb::Vec3d subcellPosition() const {
+    const openvdb::Vec3f offset = subcellOffset(stencil) / stencil.h;  // in voxels
+    return transform.indexToWorld(openvdb::Vec3d(ijk.asVec3d()) + openvdb::Vec3d(offset));
+  }
+
+  /// Outward unit normal in world space (central differences); zero where the
+  /// gradient vanishes.
+  openvdb::Vec3d normal() const {
+    openvdb::Vec3d n = transform.baseMap()->applyJacobian(openvdb::Vec3d(centralGradient(stencil)));
+    const double length = n.length();
+    return length > 0.0 ? n / length : openvdb::Vec3d(0.0);
+  }
+};
+
+/// Mean-curvature flow, d psi/dt = beta kappa |grad psi| (Eqs. 19, 26): the
+/// Euler-Lagrange term of the surface-area prior. A sphere of radius R shrinks
+/// as R(t)^2 = R0^2 - 4 beta t.
+struct MeanCurvatureFlow {
+  double beta = 1.0;
+
+  float operator()(const ActivePoint& p) const {
+    return static_cast<float>(beta) * meanCurvatureTerm(p.stencil);  // Eq. 26
+  }
+  double curvatureWeight() const { return beta; }
+};
+
+/// Where a ForceSpeed samples its force.
+enum class ForceSampling {
+  kSubcell,    ///< at the zero crossing x^ near the grid point (Eqs. 34-36)
+  kGridPoint,  ///< at the grid point itself (the classic scheme; aliases, Fig. 7-8)
+};
+
+/// A force field moving the surface along its normal, plus the surface-area prior:
+///   d psi/dt = -F(x, N) |grad psi| + beta kappa |grad psi|   (Eqs. 27, 30, 37)
+/// F is the outward normal speed (positive: the surface grows), evaluated at
+/// the subcell position x^ (or the grid point) and the outward normal N.
+/// `Force` is callable as `double(const openvdb::Vec3d& x, const openvdb::Vec3d& n)`.
+template <typename Force>
+struct ForceSpeed {
+  Force force;
+  double beta = 0.0;
+  ForceSampling sampling = ForceSampling::kSubcell;
+
+  float operator()(const ActivePoint& p) const {
+    const openvdb::Vec3d x =
+        sampling == ForceSampling::kSubcell ? p.subcellPosition() : p.worldPosition();
+    const float f = static_cast<float>(force(x, p.normal()));
+    float rate = -f * upwindGradientMagnitude(p.stencil, f);                    // Eq. 30
+    if (beta != 0.0) rate += static_cast<float>(beta) * meanCurvatureTerm(p.stencil);  // Eq. 26
+    return rate;
+  }
+  double curvatureWeight() const { return beta; }
+};
+
+/// A constant outward normal speed (negative: the surface shrinks).
+struct ConstantForce {
+  double speed = 1.0;
+  double operator()(const openvdb::Vec3d&, const openvdb::Vec3d&) const { return speed; }
+};
+
+/// Any force given at run time: outward speed at world position x with outward normal n.
+using ExternalForce = std::function<double(const openvdb::Vec3d& x, const openvdb::Vec3d& n)>;
+
+/// Surface moving along its normal at a constant speed, R(t) = R0 + speed t.
+using ConstantSpeed = ForceSpeed<ConstantForce>;
+/// An external force field plus the prior; the seam where the MAP data term plugs in.
+using ExternalForceSpeed = ForceSpeed<ExternalForce>;
+
+}  // namespace levelfuse

@@ -1,0 +1,133 @@
+// levelfuse: the sparse field's internal state.
+//
+// The value tree is an ordinary OpenVDB FloatTree whose active voxels are the
+// layers. Beside each of its leaf nodes a LeafRecord keeps the layer masks
+// (L0 and the rings L+-i, sides told apart by the sign of the value), scratch
+// masks for one step, and the indices of the 26 neighbouring leaves, so every
+// parallel phase reaches across leaf faces without a tree lookup.
+#pragma once
+
+#include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/detail/LeafMaskOps.h>
+
+#include <openvdb/openvdb.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace levelfuse::detail {
+
+using FloatTree = openvdb::FloatTree;
+using FloatLeaf = FloatTree::LeafNodeType;
+
+constexpr int kMaxLayers = 4;
+
+/// Slot of the neighbouring leaf at leaf offset (dx, dy, dz), each in {-1, 0, 1}.
+constexpr int neighbourSlot(int dx, int dy, int dz) { return (dx + 1) * 9 + (dy + 1) * 3 + (dz + 1); }
+constexpr int kSelfSlot = neighbourSlot(0, 0, 0);
+constexpr int kFaceSlot[kFaceCount] = {neighbourSlot(-1, 0, 0), neighbourSlot(1, 0, 0),
+                                       neighbourSlot(0, -1, 0), neighbourSlot(0, 1, 0),
+                                       neighbourSlot(0, 0, -1), neighbourSlot(0, 0, 1)};
+
+struct LeafRecord {
+  FloatLeaf* leaf = nullptr;  ///< null for a free record
+  openvdb::Coord origin;
+  std::array<std::int32_t, 27> neighbour;  ///< record index per slot, -1 where no leaf
+  /// layer[0] is the active set L0; layer[i] holds L+i and L-i.
+  std::array<LeafMask, kMaxLayers + 1> layer;
+  // Scratch of one step.
+  LeafMask up;        ///< L0 points whose new value exceeds +1/2 voxel
+  LeafMask down;      ///< L0 points whose new value is below -1/2 voxel
+  LeafMask conflict;  ///< of those, points adjacent to a point leaving on the other side
+  LeafMask next;      ///< the new active set
+  std::uint32_t firstActive = 0;  ///< this leaf's first slot in the per-point step arrays
+  std::uint8_t faceRequest = 0;   ///< faces whose missing neighbour leaf the next layer needs
+
+  bool live() const { return leaf != nullptr; }
+};
+
+struct CoordHash {
+  std::size_t operator()(const openvdb::Coord& c) const {
+    return (static_cast<std::size_t>(static_cast<std::uint32_t>(c.x())) * 73856093u) ^
+           (static_cast<std::size_t>(static_cast<std::uint32_t>(c.y())) * 19349663u) ^
+           (static_cast<std::size_t>(static_cast<std::uint32_t>(c.z())) * 83492791u);
+  }
+};
+
+/// The leaf records of a value tree, with neighbour links kept up to date as
+/// leaves come and go. Freed records are reused; the order of records depends
+/// only on the sequence of additions and removals, never on thread timing.
+class LeafTable {
+ public:
+  /// Records for every leaf of `tree`, in the tree's (deterministic) leaf order.
+  void build(FloatTree& tree);
+  /// Adds a record for `leaf` and links it with its neighbours.
+  std::int32_t add(FloatLeaf* leaf);
+  /// Unlinks and frees record `index` (the leaf itself is not touched).
+  void remove(std::int32_t index);
+  /// Record index of the leaf at `origin`, or -1.
+  std::int32_t find(const openvdb::Coord& origin) const;
+
+  std::size_t size() const { return mRecords.size(); }
+  std::size_t liveCount() const { return mRecords.size() - mFree.size(); }
+  LeafRecord& operator[](std::size_t i) { return mRecords[i]; }
+  const LeafRecord& operator[](std::size_t i) const { return mRecords[i]; }
+  std::size_t memoryBytes() const;
+
+ private:
+  std::vector<LeafRecord> mRecords;
+  std::vector<std::int32_t> mFree;
+  std::unordered_map<openvdb::Coord, std::int32_t, CoordHash> mIndex;
+};
+
+struct SparseFieldState {
+  openvdb::FloatGrid::Ptr grid;  ///< values; background (N + 1/2) dx
+  SparseFieldOptions options;
+  LeafTable table;
+  double dx = 1.0;               ///< voxel size
+  float background = 2.5f;       ///< (N + 1/2) dx
+  std::vector<float> pointValues;  ///< per-active-point scratch of one step (rates)
+
+  FloatTree& tree() { return grid->tree(); }
+  const FloatTree& tree() const { return grid->tree(); }
+};
+
+// ---- phases shared by construction and step (SparseFieldLayers.cc) ----
+
+/// Runs body(recordIndex) over all live records, in parallel unless grain is 0.
+/// Each call may write only its own record and leaf.
+template <typename Body>
+void forEachRecord(const LeafTable& table, std::size_t grain, const Body& body) {
+  if (grain == 0) {
+    for (std::size_t i = 0; i < table.size(); ++i)
+      if (table[i].live()) body(i);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, table.size(), grain),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i)
+                        if (table[i].live()) body(i);
+                    });
+}
+
+/// Given the new active set in each record's `next` mask (with final values),
+/// rebuilds the layers L+-1..L+-N outward by the nearest-inner-neighbour rule,
+/// allocates leaves the outermost layer reaches, retires voxels that left the
+/// layers, and frees leaves left without any.
+void rebuildLayers(SparseFieldState& state);
+
+/// Assigns each live record's firstActive and sizes pointValues; returns |L0|.
+std::size_t indexActivePoints(SparseFieldState& state);
+
+/// Time step for the largest speed and curvature weight (section 4.1, Eq. 31).
+double chooseTimeStep(const SparseFieldState& state, double maxSpeed, double curvatureWeight, double maxDt);
+
+/// Adds dt times the rates in pointValues to the active values, resolves
+/// conflicting moves, moves points between layers (section 5, steps 2-4).
+StepResult applyRates(SparseFieldState& state, double dt, double maxSpeed);
+
+}  // namespace levelfuse::detail

@@ -1,0 +1,354 @@
+// levelfuse: construction, export and queries of the sparse field.
+
+#include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/detail/SparseFieldState.h>
+
+#include <openvdb/tools/ChangeBackground.h>
+#include <openvdb/tools/Morphology.h>
+#include <openvdb/tools/Prune.h>
+#include <openvdb/tools/SignedFloodFill.h>
+#include <openvdb/tree/LeafManager.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+namespace levelfuse {
+
+using detail::FloatLeaf;
+using detail::LeafRecord;
+using detail::SparseFieldState;
+
+namespace {
+
+constexpr int kAxisStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+
+std::string describe(const openvdb::GridBase& grid) {
+  return grid.getName().empty() ? std::string("the grid") : "grid '" + grid.getName() + "'";
+}
+
+void validateOptions(const SparseFieldOptions& options) {
+  if (options.layers < 2 || options.layers > detail::kMaxLayers)
+    throw std::invalid_argument("SparseFieldOptions::layers must be between 2 and " +
+                                std::to_string(detail::kMaxLayers) + " (the 3x3x3 kernel needs 2)");
+  if (!(options.maxStepChange > 0.0 && options.maxStepChange < 0.5))
+    throw std::invalid_argument("SparseFieldOptions::maxStepChange must lie in (0, 0.5) voxel");
+  if (!(options.curvatureStepLimit > 0.0))
+    throw std::invalid_argument("SparseFieldOptions::curvatureStepLimit must be positive");
+}
+
+void validateTransform(const openvdb::GridBase& grid) {
+  if (!grid.hasUniformVoxels())
+    throw std::invalid_argument(describe(grid) + " has non-uniform voxels; resample it to cubic voxels first");
+  if (!grid.transform().isLinear())
+    throw std::invalid_argument(describe(grid) + " has a non-linear (frustum) transform; resample it to a linear one");
+}
+
+/// A seed of the active set: a voxel on a zero crossing and its value.
+using Seed = std::pair<openvdb::Coord, float>;
+
+/// Builds the state from the active set `seeds` (values in [-1/2, 1/2] voxel).
+/// `insideOf(accessorFactory)`: Probe is constructed per task and answers
+/// inside(ijk) for any voxel, so the leaves around the layers get the right side.
+template <typename ProbeFactory>
+std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform& transform,
+                                                 const SparseFieldOptions& options, std::vector<Seed> seeds,
+                                                 const ProbeFactory& makeProbe) {
+  auto state = std::make_unique<SparseFieldState>();
+  state->options = options;
+  state->dx = transform.voxelSize()[0];
+  state->background = static_cast<float>((options.layers + 0.5) * state->dx);
+  state->grid = openvdb::FloatGrid::create(state->background);
+  state->grid->setTransform(transform.copy());
+  state->grid->setGridClass(openvdb::GRID_LEVEL_SET);
+  std::sort(seeds.begin(), seeds.end(), [](const Seed& a, const Seed& b) { return a.first < b.first; });
+
+  // Leaves for every voxel within N of the active set.
+  openvdb::MaskTree reach;
+  {
+    openvdb::tree::ValueAccessor<openvdb::MaskTree> acc(reach);
+    for (const Seed& s : seeds) acc.setValueOn(s.first);
+  }
+  openvdb::tools::dilateActiveValues(reach, options.layers, openvdb::tools::NN_FACE,
+                                     openvdb::tools::IGNORE_TILES);
+  detail::FloatTree& tree = state->tree();
+  for (auto it = reach.cbeginLeaf(); it; ++it) tree.touchLeaf(it->origin());
+
+  // Every voxel of those leaves starts at the background of its side.
+  {
+    std::vector<FloatLeaf*> leaves;
+    tree.getNodes(leaves);
+    const float background = state->background;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
+      auto probe = makeProbe();
+      for (std::size_t l = range.begin(); l != range.end(); ++l) {
+        FloatLeaf& leaf = *leaves[l];
+        leaf.setValuesOff();
+        float* values = leaf.buffer().data();
+        for (openvdb::Index o = 0; o < FloatLeaf::SIZE; ++o)
+          values[o] = probe.inside(leaf.offsetToGlobalCoord(o)) ? -background : background;
+      }
+    });
+  }
+
+  // The active set itself.
+  state->table.build(tree);
+  {
+    openvdb::tree::ValueAccessor<detail::FloatTree> acc(tree);
+    for (const Seed& s : seeds) {
+      FloatLeaf* leaf = acc.probeLeaf(s.first);
+      const openvdb::Index o = FloatLeaf::coordToOffset(s.first);
+      leaf->setValueOnly(o, s.second);
+      LeafRecord& record = state->table[state->table.find(leaf->origin())];
+      record.next.setOn(o);
+    }
+  }
+  detail::rebuildLayers(*state);
+  openvdb::tools::signedFloodFill(tree);
+  return state;
+}
+
+/// Answers inside/outside from an OpenVDB level set, one accessor per task.
+struct LevelSetProbe {
+  openvdb::FloatGrid::ConstAccessor acc;
+  bool inside(const openvdb::Coord& ijk) const { return acc.getValue(ijk) < 0.0f; }
+};
+
+/// Answers inside/outside from a mask (active = inside), one accessor per task.
+struct MaskProbe {
+  openvdb::MaskGrid::ConstAccessor acc;
+  bool inside(const openvdb::Coord& ijk) const { return acc.isValueOn(ijk); }
+};
+
+}  // namespace
+
+SparseField::SparseField(std::unique_ptr<SparseFieldState> state) : mState(std::move(state)) {}
+SparseField::SparseField(SparseField&&) noexcept = default;
+SparseField& SparseField::operator=(SparseField&&) noexcept = default;
+SparseField::~SparseField() = default;
+
+SparseField::SparseField(const SparseField& other) : mState(std::make_unique<SparseFieldState>()) {
+  const SparseFieldState& from = *other.mState;
+  mState->options = from.options;
+  mState->dx = from.dx;
+  mState->background = from.background;
+  mState->grid = from.grid->deepCopy();
+  mState->table.build(mState->tree());
+  for (std::size_t r = 0; r < mState->table.size(); ++r) {
+    LeafRecord& record = mState->table[r];
+    const LeafRecord& source = from.table[from.table.find(record.origin)];
+    record.layer = source.layer;
+  }
+}
+
+SparseField& SparseField::operator=(const SparseField& other) {
+  if (this != &other) *this = SparseField(other);
+  return *this;
+}
+
+SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const SparseFieldOptions& options) {
+  validateOptions(options);
+  validateTransform(levelSet);
+  if (levelSet.getGridClass() == openvdb::GRID_FOG_VOLUME)
+    throw std::invalid_argument(describe(levelSet) +
+                                " is a fog volume, not a level set; convert it with openvdb::tools::fogToSdf");
+  if (!(levelSet.background() > 0.0f))
+    throw std::invalid_argument(describe(levelSet) +
+                                " has a non-positive background; a level set's background is its "
+                                "narrow-band half-width in world units");
+
+  const float half = static_cast<float>(0.5 * levelSet.voxelSize()[0]);
+  std::vector<const openvdb::FloatTree::LeafNodeType*> leaves;
+  levelSet.tree().getNodes(leaves);
+  std::vector<std::vector<Seed>> found(leaves.size());
+  std::vector<char> nonFinite(leaves.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
+    openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
+    for (std::size_t l = range.begin(); l != range.end(); ++l) {
+      const auto& leaf = *leaves[l];
+      for (openvdb::Index o = 0; o < FloatLeaf::SIZE; ++o) {
+        const float u = leaf.getValue(o);
+        if (!std::isfinite(u)) {
+          nonFinite[l] = 1;
+          continue;
+        }
+        const openvdb::Coord ijk = leaf.offsetToGlobalCoord(o);
+        // Every point on a zero crossing whose value lies in the active range
+        // joins L0 (the efficient active set of the Appendix); where both
+        // members of a crossing lie outside the range (a steeper function than
+        // a distance), the one nearer the crossing joins, clamped. Every sign
+        // change then has an active member.
+        for (const auto& e : kAxisStep) {
+          const float v = acc.getValue(ijk.offsetBy(e[0], e[1], e[2]));
+          if ((u < 0.0f) != (v < 0.0f) && (std::fabs(u) <= half || std::fabs(u) <= std::fabs(v))) {
+            found[l].emplace_back(ijk, std::clamp(u, -half, half));
+            break;
+          }
+        }
+      }
+    }
+  });
+  if (std::any_of(nonFinite.begin(), nonFinite.end(), [](char c) { return c != 0; }))
+    throw std::invalid_argument(describe(levelSet) + " holds NaN or infinite values");
+  std::vector<Seed> seeds;
+  for (auto& f : found) seeds.insert(seeds.end(), f.begin(), f.end());
+  if (seeds.empty())
+    throw std::invalid_argument(describe(levelSet) + " has no zero crossing: there is no surface to evolve");
+
+  auto state = buildFromSeeds(levelSet.transform(), options, std::move(seeds),
+                              [&] { return LevelSetProbe{levelSet.getConstAccessor()}; });
+  state->grid->setName(levelSet.getName());
+  return SparseField(std::move(state));
+}
+
+SparseField SparseField::fromMask(const openvdb::MaskGrid& inside, const SparseFieldOptions& options) {
+  validateOptions(options);
+  validateTransform(inside);
+  const float half = static_cast<float>(0.5 * inside.voxelSize()[0]);
+  std::vector<Seed> seeds;
+  openvdb::MaskGrid::ConstAccessor acc = inside.getConstAccessor();
+  // Each inside voxel next to an outside one, and that outside voxel, lie half
+  // a voxel from the surface.
+  const auto visit = [&](const openvdb::Coord& ijk) {
+    for (const auto& e : kAxisStep) {
+      const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
+      if (!acc.isValueOn(n)) {
+        seeds.emplace_back(ijk, -half);
+        seeds.emplace_back(n, half);
+      }
+    }
+  };
+  for (auto it = inside.tree().cbeginValueOn(); it; ++it) {
+    if (it.isVoxelValue()) {
+      visit(it.getCoord());
+      continue;
+    }
+    // An active tile: only its boundary voxels can touch the outside.
+    openvdb::CoordBBox box;
+    it.getBoundingBox(box);
+    const openvdb::Coord lo = box.min(), hi = box.max();
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y) {
+        const bool side = x == lo.x() || x == hi.x() || y == lo.y() || y == hi.y();
+        if (side) {
+          for (int z = lo.z(); z <= hi.z(); ++z) visit(openvdb::Coord(x, y, z));
+        } else {
+          visit(openvdb::Coord(x, y, lo.z()));
+          visit(openvdb::Coord(x, y, hi.z()));
+        }
+      }
+  }
+  std::sort(seeds.begin(), seeds.end());
+  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  if (seeds.empty())
+    throw std::invalid_argument(describe(inside) + " is empty: there is no inside to build a surface around");
+
+  auto state = buildFromSeeds(inside.transform(), options, std::move(seeds),
+                              [&] { return MaskProbe{inside.getConstAccessor()}; });
+  state->grid->setName(inside.getName());
+  return SparseField(std::move(state));
+}
+
+const openvdb::FloatGrid& SparseField::grid() const { return *mState->grid; }
+int SparseField::layers() const { return mState->options.layers; }
+double SparseField::voxelSize() const { return mState->dx; }
+const SparseFieldOptions& SparseField::options() const { return mState->options; }
+void SparseField::setGrainSize(std::size_t grainSize) { mState->options.grainSize = grainSize; }
+
+int SparseField::layerOf(const openvdb::Coord& ijk) const {
+  const int outside = mState->options.layers + 1;
+  const std::int32_t r = mState->table.find(ijk & ~static_cast<openvdb::Int32>(FloatLeaf::DIM - 1));
+  if (r < 0) return mState->tree().getValue(ijk) < 0.0f ? -outside : outside;
+  const LeafRecord& record = mState->table[r];
+  const openvdb::Index o = FloatLeaf::coordToOffset(ijk);
+  if (record.layer[0].isOn(o)) return 0;
+  const int sign = record.leaf->getValue(o) < 0.0f ? -1 : 1;
+  for (int i = 1; i <= mState->options.layers; ++i)
+    if (record.layer[i].isOn(o)) return sign * i;
+  return sign * outside;
+}
+
+SparseFieldStats SparseField::stats() const {
+  SparseFieldStats s;
+  const detail::LeafTable& table = mState->table;
+  for (std::size_t r = 0; r < table.size(); ++r) {
+    if (!table[r].live()) continue;
+    s.activeVoxels += table[r].layer[0].countOn();
+    s.bandVoxels += table[r].leaf->onVoxelCount();
+    ++s.leafNodes;
+  }
+  s.memoryBytes = mState->tree().memUsage() + table.memoryBytes() +
+                  mState->pointValues.capacity() * sizeof(float);
+  return s;
+}
+
+openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::string& name) const {
+  if (!(halfWidth >= 1.0))
+    throw std::invalid_argument("toLevelSet: the narrow-band half-width must be at least 1 voxel");
+  const double dx = mState->dx;
+  const float width = static_cast<float>(halfWidth * dx);
+  openvdb::FloatGrid::Ptr out = mState->grid->deepCopy();
+  openvdb::FloatTree& tree = out->tree();
+
+  // Grow further layers by the sparse field's own rule until they reach the
+  // requested half-width: each new voxel takes its nearest inner neighbour's
+  // value plus (outside) or minus (inside) one voxel.
+  const int wanted = static_cast<int>(std::ceil(halfWidth - 0.5));
+  std::vector<openvdb::Coord> ring;
+  const detail::LeafTable& table = mState->table;
+  const int N = mState->options.layers;
+  for (std::size_t r = 0; r < table.size(); ++r) {
+    if (!table[r].live()) continue;
+    for (auto it = table[r].layer[N].beginOn(); it; ++it)
+      ring.push_back(table[r].origin + FloatLeaf::offsetToLocalCoord(it.pos()));
+  }
+  openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(tree);
+  for (int layer = N + 1; layer <= wanted; ++layer) {
+    std::vector<std::pair<openvdb::Coord, float>> next;
+    for (const openvdb::Coord& ijk : ring)
+      for (const auto& e : kAxisStep) {
+        const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
+        if (!acc.isValueOn(n)) next.emplace_back(n, 0.0f);
+      }
+    std::sort(next.begin(), next.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    next.erase(std::unique(next.begin(), next.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
+               next.end());
+    for (auto& [ijk, value] : next) {
+      const bool inside = acc.getValue(ijk) < 0.0f;
+      float best = inside ? -std::numeric_limits<float>::max() : std::numeric_limits<float>::max();
+      for (const auto& e : kAxisStep) {
+        const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
+        if (!acc.isValueOn(n)) continue;
+        const float v = acc.getValue(n);
+        best = inside ? std::max(best, v) : std::min(best, v);
+      }
+      value = inside ? best - static_cast<float>(dx) : best + static_cast<float>(dx);
+    }
+    ring.clear();
+    for (const auto& [ijk, value] : next) {
+      acc.setValueOn(ijk, value);
+      ring.push_back(ijk);
+    }
+  }
+  // Voxels at or past the half-width leave the band.
+  openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
+  leaves.foreach([width](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
+    for (openvdb::Index o = 0; o < FloatLeaf::SIZE; ++o) {
+      const float v = leaf.getValue(o);
+      if (leaf.isValueOn(o) && std::fabs(v) >= width) leaf.setValueOff(o, v < 0.0f ? -width : width);
+    }
+  });
+  openvdb::tools::changeLevelSetBackground(tree, width);
+  openvdb::tools::pruneLevelSet(tree);
+  out->setGridClass(openvdb::GRID_LEVEL_SET);
+  out->setName(name);
+  out->insertMeta("levelfuse_layers", openvdb::Int32Metadata(N));
+  return out;
+}
+
+}  // namespace levelfuse

@@ -1,0 +1,35 @@
+// Shared helpers of levelfuse's tests.
+#pragma once
+
+#include <levelfuse/levelset/SparseField.h>
+
+#include <openvdb/openvdb.h>
+
+#include <string>
+
+namespace levelfuse::test {
+
+/// A narrow-band level set of a sphere of `radius` voxels (voxel size `dx`) at `centre` (world).
+openvdb::FloatGrid::Ptr makeSphere(double radius, const openvdb::Vec3d& centre = openvdb::Vec3d(0.0),
+                                   double dx = 1.0);
+
+/// True if the two grids have the same topology, the same values bit for bit,
+/// and the same tiles; otherwise `why` says where they first differ.
+bool identical(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b, std::string* why = nullptr);
+
+/// Mean and rms deviation of the zero crossings' distances from `centre`.
+struct RadiusFit {
+  double mean = 0.0;
+  double rmsDeviation = 0.0;
+  std::size_t points = 0;
+};
+RadiusFit fitRadius(const openvdb::FloatGrid& grid, const openvdb::Vec3d& centre);
+
+/// Number of 6-connected components of the inside (negative voxels of the band
+/// and inside tiles are flood-filled through the layers).
+int insideComponents(const SparseField& field);
+
+/// Path of a file in ../shared/data, or "" if that folder is absent.
+std::string sharedData(const std::string& relative);
+
+}  // namespace levelfuse::test
