@@ -18,8 +18,8 @@ DenseField::DenseField(const openvdb::CoordBBox& box, openvdb::math::Transform::
   mDx = mTransform->voxelSize()[0];
   mValues.resize(box.volume());
   mRates.resize(box.volume());
-  tbb::parallel_for(tbb::blocked_range<int>(box.min().x(), box.max().x() + 1), [&](const auto& r) {
-    for (int x = r.begin(); x != r.end(); ++x)
+  parallelFor(static_cast<std::size_t>(mDim.x()), 1, [&](std::size_t begin, std::size_t end) {
+    for (int x = box.min().x() + int(begin); x != box.min().x() + int(end); ++x)
       for (int y = box.min().y(); y <= box.max().y(); ++y)
         for (int z = box.min().z(); z <= box.max().z(); ++z) {
           const openvdb::Coord ijk(x, y, z);

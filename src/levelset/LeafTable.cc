@@ -1,12 +1,54 @@
 // levelfuse: leaf records of the sparse field and their neighbour links.
 
-#include <levelfuse/levelset/detail/SparseFieldState.h>
+#include <levelfuse/levelset/detail/LeafNeighbourhood.h>
 
 namespace levelfuse::detail {
 
 namespace {
 constexpr int kLeafDim = static_cast<int>(FloatLeaf::DIM);
+const float kEmptyValues[FloatLeaf::SIZE] = {};
+const std::uint64_t kEmptyMaskWords[FloatLeaf::SIZE / 64] = {};
+}  // namespace
+
+const float* emptyLeafValues() { return kEmptyValues; }
+const std::uint64_t* emptyLeafMaskWords() { return kEmptyMaskWords; }
+
+namespace {
+
+/// Address of the voxel (i, j, k) + d, with i, j, k in [0, 8) and d in {-1, 0, 1}^3.
+NeighbourAddress addressOf(int i, int j, int k, const int d[3]) {
+  const int c[3] = {i + d[0], j + d[1], k + d[2]};
+  int slot = 0, offset = 0;
+  for (int a = 0; a < 3; ++a) {
+    const int side = c[a] < 0 ? 0 : (c[a] > 7 ? 2 : 1);
+    slot = slot * 3 + side;
+    offset = offset * 8 + (c[a] & 7);
+  }
+  return NeighbourAddress{static_cast<std::uint16_t>(offset), static_cast<std::uint8_t>(slot)};
 }
+
+struct NeighbourTables {
+  NeighbourAddress face[FloatLeaf::SIZE][6];
+  NeighbourAddress stencil[FloatLeaf::SIZE][Stencil::kSize];
+  NeighbourTables() {
+    static constexpr int kFace[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+    for (unsigned o = 0; o < FloatLeaf::SIZE; ++o) {
+      const int i = int(o >> 6), j = int((o >> 3) & 7u), k = int(o & 7u);
+      for (int f = 0; f < 6; ++f) face[o][f] = addressOf(i, j, k, kFace[f]);
+      for (int p = 0; p < Stencil::kSize; ++p) stencil[o][p] = addressOf(i, j, k, Stencil::kOffset[p]);
+    }
+  }
+};
+
+const NeighbourTables& tables() {
+  static const NeighbourTables instance;
+  return instance;
+}
+
+}  // namespace
+
+const NeighbourAddress* faceNeighbourTable() { return &tables().face[0][0]; }
+const NeighbourAddress* stencilNeighbourTable() { return &tables().stencil[0][0]; }
 
 void LeafTable::build(FloatTree& tree) {
   mRecords.clear();
@@ -27,6 +69,7 @@ std::int32_t LeafTable::add(FloatLeaf* leaf) {
   }
   LeafRecord& record = mRecords[index];
   record.leaf = leaf;
+  record.values = leaf->buffer().data();
   record.origin = leaf->origin();
   mIndex.emplace(record.origin, index);
   for (int dx = -1; dx <= 1; ++dx)

@@ -4,7 +4,7 @@
 
 #include <openvdb/tools/SignedFloodFill.h>
 
-#include <tbb/parallel_for.h>
+#include <levelfuse/core/Parallel.h>
 
 #include <cmath>
 #include <memory>
@@ -37,8 +37,8 @@ openvdb::FloatGrid::Ptr levelSetFromFunction(const std::function<double(const op
   // its half-diagonal plus the band (the function is 1-Lipschitz).
   const double reach = (0.5 * std::sqrt(3.0) * (LeafT::DIM - 1) + halfWidth) * voxelSize;
   std::vector<std::unique_ptr<LeafT>> leaves(origins.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size()), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+  parallelFor(origins.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i != end; ++i) {
       const openvdb::Vec3d centre = xform.indexToWorld(origins[i].asVec3d() + openvdb::Vec3d(0.5 * (LeafT::DIM - 1)));
       if (std::fabs(signedDistance(centre)) > reach) continue;
       auto leaf = std::make_unique<LeafT>(origins[i], width);

@@ -1,5 +1,6 @@
 // levelfuse: construction, export and queries of the sparse field.
 
+#include <levelfuse/core/Parallel.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/detail/SparseFieldState.h>
 
@@ -8,8 +9,6 @@
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tree/LeafManager.h>
-
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -84,9 +83,9 @@ std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform&
     std::vector<FloatLeaf*> leaves;
     tree.getNodes(leaves);
     const float background = state->background;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
+    parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
       auto probe = makeProbe();
-      for (std::size_t l = range.begin(); l != range.end(); ++l) {
+      for (std::size_t l = begin; l != end; ++l) {
         FloatLeaf& leaf = *leaves[l];
         leaf.setValuesOff();
         float* values = leaf.buffer().data();
@@ -98,6 +97,7 @@ std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform&
 
   // The active set itself.
   state->table.build(tree);
+  state->fitRecordArrays();
   {
     openvdb::tree::ValueAccessor<detail::FloatTree> acc(tree);
     for (const Seed& s : seeds) {
@@ -139,10 +139,12 @@ SparseField::SparseField(const SparseField& other) : mState(std::make_unique<Spa
   mState->background = from.background;
   mState->grid = from.grid->deepCopy();
   mState->table.build(mState->tree());
+  mState->fitRecordArrays();
   for (std::size_t r = 0; r < mState->table.size(); ++r) {
     LeafRecord& record = mState->table[r];
     const LeafRecord& source = from.table[from.table.find(record.origin)];
     record.layer = source.layer;
+    mState->activeCount[r] = record.layer[0].countOn();
   }
 }
 
@@ -167,9 +169,9 @@ SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const 
   levelSet.tree().getNodes(leaves);
   std::vector<std::vector<Seed>> found(leaves.size());
   std::vector<char> nonFinite(leaves.size(), 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
+  parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
-    for (std::size_t l = range.begin(); l != range.end(); ++l) {
+    for (std::size_t l = begin; l != end; ++l) {
       const auto& leaf = *leaves[l];
       for (openvdb::Index o = 0; o < FloatLeaf::SIZE; ++o) {
         const float u = leaf.getValue(o);

@@ -4,7 +4,7 @@
 
 #include <openvdb/tree/LeafManager.h>
 
-#include <tbb/parallel_for.h>
+#include <levelfuse/core/Parallel.h>
 
 namespace levelfuse {
 
@@ -14,9 +14,9 @@ std::vector<openvdb::Vec3d> zeroCrossings(const openvdb::FloatGrid& grid) {
   grid.tree().getNodes(leaves);
   std::vector<std::vector<openvdb::Vec3d>> found(leaves.size());
   const openvdb::math::Transform& xform = grid.transform();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
+  parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
-    for (std::size_t l = range.begin(); l != range.end(); ++l) {
+    for (std::size_t l = begin; l != end; ++l) {
       for (auto it = leaves[l]->cbeginValueOn(); it; ++it) {
         const openvdb::Coord ijk = it.getCoord();
         const float a = *it;

@@ -4,8 +4,7 @@
 #include <levelfuse/levelset/DenseField.h>
 #include <levelfuse/levelset/SpeedTerms.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include <levelfuse/core/Parallel.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,14 +20,9 @@ StepResult DenseField::step(const Speed& speed, double maxDt) {
   const float h = static_cast<float>(mDx);
 
   const auto forEachSlab = [&](const auto& body) {
-    if (mOptions.grainSize == 0) {
-      for (int x = 0; x < nx; ++x) body(x);
-      return;
-    }
-    tbb::parallel_for(tbb::blocked_range<int>(0, nx, static_cast<int>(mOptions.grainSize)),
-                      [&](const tbb::blocked_range<int>& r) {
-                        for (int x = r.begin(); x != r.end(); ++x) body(x);
-                      });
+    parallelFor(static_cast<std::size_t>(nx), mOptions.grainSize, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t x = begin; x != end; ++x) body(static_cast<int>(x));
+    });
   };
 
   // Rates at every voxel, from the same stencils and speed as the sparse field.

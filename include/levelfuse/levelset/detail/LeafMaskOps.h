@@ -17,6 +17,10 @@ enum Face : int { kFaceXm = 0, kFaceXp, kFaceYm, kFaceYp, kFaceZm, kFaceZp, kFac
 
 inline std::uint64_t maskWord(const LeafMask& m, int x) { return m.getWord<std::uint64_t>(x); }
 inline std::uint64_t& maskWord(LeafMask& m, int x) { return m.getWord<std::uint64_t>(x); }
+/// The mask's eight words (a NodeMask holds nothing else).
+inline const std::uint64_t* maskWords(const LeafMask& m) {
+  return &const_cast<LeafMask&>(m).getWord<std::uint64_t>(0);
+}
 
 namespace bits {
 constexpr std::uint64_t kZ0 = 0x0101010101010101ULL;  // voxels with z == 0

@@ -10,9 +10,9 @@
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/detail/LeafMaskOps.h>
 
+#include <levelfuse/core/Parallel.h>
+
 #include <openvdb/openvdb.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <array>
 #include <cstdint>
@@ -24,7 +24,7 @@ namespace levelfuse::detail {
 using FloatTree = openvdb::FloatTree;
 using FloatLeaf = FloatTree::LeafNodeType;
 
-constexpr int kMaxLayers = 4;
+constexpr int kMaxLayers = 3;
 
 /// Slot of the neighbouring leaf at leaf offset (dx, dy, dz), each in {-1, 0, 1}.
 constexpr int neighbourSlot(int dx, int dy, int dz) { return (dx + 1) * 9 + (dy + 1) * 3 + (dz + 1); }
@@ -35,6 +35,7 @@ constexpr int kFaceSlot[kFaceCount] = {neighbourSlot(-1, 0, 0), neighbourSlot(1,
 
 struct LeafRecord {
   FloatLeaf* leaf = nullptr;  ///< null for a free record
+  float* values = nullptr;    ///< the leaf's value buffer
   openvdb::Coord origin;
   std::array<std::int32_t, 27> neighbour;  ///< record index per slot, -1 where no leaf
   /// layer[0] is the active set L0; layer[i] holds L+i and L-i.
@@ -44,8 +45,6 @@ struct LeafRecord {
   LeafMask down;      ///< L0 points whose new value is below -1/2 voxel
   LeafMask conflict;  ///< of those, points adjacent to a point leaving on the other side
   LeafMask next;      ///< the new active set
-  std::uint32_t firstActive = 0;  ///< this leaf's first slot in the per-point step arrays
-  std::uint8_t faceRequest = 0;   ///< faces whose missing neighbour leaf the next layer needs
 
   bool live() const { return leaf != nullptr; }
 };
@@ -91,28 +90,46 @@ struct SparseFieldState {
   double dx = 1.0;               ///< voxel size
   float background = 2.5f;       ///< (N + 1/2) dx
   std::vector<float> pointValues;  ///< per-active-point scratch of one step (rates)
+  // Per-record numbers in compact arrays (indexed like the table), so the
+  // serial bookkeeping between passes does not walk the records themselves.
+  std::vector<std::uint32_t> activeCount;  ///< |L0| of each leaf
+  std::vector<std::uint32_t> firstActive;  ///< each leaf's first slot in pointValues
+  std::vector<std::uint8_t> faceRequest;   ///< faces whose missing neighbour the outermost layer needs
+
+  /// Sizes the per-record arrays to the table (new records start at zero).
+  void fitRecordArrays() {
+    activeCount.resize(table.size(), 0);
+    firstActive.resize(table.size(), 0);
+    faceRequest.resize(table.size(), 0);
+  }
 
   FloatTree& tree() { return grid->tree(); }
   const FloatTree& tree() const { return grid->tree(); }
 };
 
-// ---- phases shared by construction and step (SparseFieldLayers.cc) ----
+/// Asks the cache for a leaf's values ahead of use: every phase streams the
+/// band's leaves, which at R = 100 voxels already exceed a core's L2 cache.
+inline void prefetchValues(const LeafRecord& record) {
+  const char* r = reinterpret_cast<const char*>(&record);
+  for (std::size_t line = 0; line < sizeof(LeafRecord); line += 64) __builtin_prefetch(r + line);
+  if (!record.values) return;
+  const char* p = reinterpret_cast<const char*>(record.values);
+  for (std::size_t line = 0; line < FloatLeaf::SIZE * sizeof(float); line += 64) __builtin_prefetch(p + line);
+}
 
 /// Runs body(recordIndex) over all live records, in parallel unless grain is 0.
 /// Each call may write only its own record and leaf.
 template <typename Body>
 void forEachRecord(const LeafTable& table, std::size_t grain, const Body& body) {
-  if (grain == 0) {
-    for (std::size_t i = 0; i < table.size(); ++i)
+  parallelFor(table.size(), grain, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i != end; ++i) {
+      if (i + 2 < end) prefetchValues(table[i + 2]);
       if (table[i].live()) body(i);
-    return;
-  }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, table.size(), grain),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i)
-                        if (table[i].live()) body(i);
-                    });
+    }
+  });
 }
+
+// ---- phases shared by construction and step (SparseFieldLayers.cc) ----
 
 /// Given the new active set in each record's `next` mask (with final values),
 /// rebuilds the layers L+-1..L+-N outward by the nearest-inner-neighbour rule,
