@@ -2,13 +2,17 @@
 
 #include "support/TestSupport.h"
 
+#include <levelfuse/levelset/Components.h>
+
 #include <levelfuse/levelset/Invariants.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/SpeedTerms.h>
+#include <levelfuse/levelset/ZeroCrossings.h>
 
 #include <openvdb/tools/Diagnostics.h>
 #include <openvdb/tools/LevelSetSphere.h>
 #include <openvdb/tools/LevelSetUtil.h>
+#include <openvdb/tools/MeshToVolume.h>
 
 #include <gtest/gtest.h>
 
@@ -33,6 +37,27 @@ TEST(SparseFieldConstruction, FromSphereKeepsTheSurfaceAndTheInvariants) {
   EXPECT_GT(stats.activeVoxels, 0.8 * area);
   EXPECT_LT(stats.activeVoxels, 1.3 * area);
   EXPECT_EQ(report.activeVoxels, stats.activeVoxels);
+}
+
+TEST(SparseFieldConstruction, FromAMeshLevelSet) {
+  // An octahedron |x| + |y| + |z| = 6 through meshToLevelSet: oblique faces, sharp corners.
+  using openvdb::Vec3s;
+  const std::vector<Vec3s> points{Vec3s(6, 0, 0), Vec3s(-6, 0, 0), Vec3s(0, 6, 0),
+                                  Vec3s(0, -6, 0), Vec3s(0, 0, 6), Vec3s(0, 0, -6)};
+  const std::vector<openvdb::Vec3I> triangles{{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                              {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  const auto transform = openvdb::math::Transform::createLinearTransform(0.25);
+  const auto mesh = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, 3.0f);
+  SparseField field = SparseField::fromLevelSet(*mesh);
+  const InvariantReport report = checkInvariants(field);
+  EXPECT_TRUE(report.ok()) << report.firstViolation;
+  // The zero crossings lie on the octahedron's faces.
+  const double rms = rmsOver(zeroCrossings(field.grid()), [](const openvdb::Vec3d& p) {
+    return (std::fabs(p.x()) + std::fabs(p.y()) + std::fabs(p.z()) - 6.0) / std::sqrt(3.0);
+  });
+  EXPECT_LT(rms, 0.05 * 0.25);
+  for (int i = 0; i < 20; ++i) field.step(MeanCurvatureFlow{0.1});
+  EXPECT_TRUE(checkInvariants(field).ok());
 }
 
 TEST(SparseFieldConstruction, LayersAreCityBlockShells) {
@@ -97,7 +122,7 @@ TEST(SparseFieldConstruction, FromMaskPutsTheSurfaceBetweenVoxels) {
   EXPECT_EQ(field.layerOf(openvdb::Coord(71, 3, 3)), 0);
   EXPECT_EQ(field.layerOf(openvdb::Coord(72, 3, 3)), 0);
   EXPECT_EQ(field.layerOf(openvdb::Coord(70, 3, 3)), -1);
-  EXPECT_EQ(test::insideComponents(field), 2);
+  EXPECT_EQ(insideComponents(field.grid()), 2);
 }
 
 TEST(SparseFieldConstruction, RejectsWhatIsNotALevelSet) {

@@ -105,7 +105,7 @@ TEST(SparseFieldInvariants, AStepNeverMovesAValueByHalfAVoxel) {
   EXPECT_LE(r.maxSpeed, 100.0 * std::sqrt(3.0));
   // Curvature flow is limited by the stability of the explicit term.
   const StepResult c = field.step(MeanCurvatureFlow{2.0});
-  EXPECT_LE(c.dt, 0.25 * 0.25 / 6.0 / 2.0 + 1e-9);
+  EXPECT_LE(c.dt, 0.25 * 0.25 / 4.0 / 2.0 + 1e-9);
 }
 
 }  // namespace

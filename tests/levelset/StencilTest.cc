@@ -42,6 +42,20 @@ TEST(Stencil, CurvatureTermOfCylinderIsOneOverRadius) {
   EXPECT_NEAR(meanCurvatureTerm(s), 1.0 / std::sqrt(98.0), 2e-3);
 }
 
+TEST(Stencil, CurvatureTermAtAnIsolatedExtremumCollapsesIt) {
+  // A lone inside voxel: its neighbours are all equal, the gradient vanishes.
+  Stencil s;
+  for (float& u : s.u) u = 0.7f;
+  s.u[Stencil::kCentre] = -0.3f;
+  for (int p = Stencil::kXmYm; p < Stencil::kSize; ++p) s.u[p] = 1.7f;
+  // The inside must shrink: d psi/dt = kappa |grad psi| > 0.
+  EXPECT_NEAR(meanCurvatureTerm(s), (2.0f / 3.0f) * 6.0f, 1e-5);
+  // u = r^2 / 2 sampled around its minimum: kappa |grad u| = 2 on every level set.
+  const auto bowl = [](double x, double y, double z) { return 0.5 * (x * x + y * y + z * z); };
+  Stencil b = sample(bowl, 0.0, 0.0, 0.0, 1.0);
+  EXPECT_NEAR(meanCurvatureTerm(b), 2.0, 1e-5);
+}
+
 TEST(Stencil, UpwindGradientPicksTheSideTheFrontComesFrom) {
   // A ridge u = -|x|: forward and backward differences disagree at x = 0.
   const auto ridge = [](double x, double, double) { return -std::fabs(x); };

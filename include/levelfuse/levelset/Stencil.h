@@ -85,7 +85,10 @@ inline float meanCurvatureTerm(const Stencil& s) {
   const float uyz = q * (s.u[Stencil::kYpZp] - s.u[Stencil::kYpZm] - s.u[Stencil::kYmZp] + s.u[Stencil::kYmZm]);
   const float ux2 = ux * ux, uy2 = uy * uy, uz2 = uz * uz;
   const float gradSq = ux2 + uy2 + uz2;
-  if (!(gradSq > 1.0e-12f)) return 0.0f;  // flat spot: no defined normal, no curvature motion
+  // Where the gradient vanishes (an isolated extremum: a component shrunk to a
+  // voxel) the level sets are tiny closed surfaces; kappa |grad u| tends to
+  // (2/3) of the Laplacian there for an isotropic extremum, so it collapses.
+  if (!(gradSq > 1.0e-12f)) return (2.0f / 3.0f) * (uxx + uyy + uzz);
   const float numerator = (uy2 + uz2) * uxx + (ux2 + uz2) * uyy + (ux2 + uy2) * uzz -
                           2.0f * (ux * uy * uxy + uy * uz * uyz + ux * uz * uxz);
   return numerator / gradSq;
