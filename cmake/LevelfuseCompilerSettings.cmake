@@ -19,6 +19,9 @@ elseif(LEVELFUSE_SANITIZER STREQUAL "thread")
 elseif(NOT LEVELFUSE_SANITIZER STREQUAL "")
   message(FATAL_ERROR "LEVELFUSE_SANITIZER must be '', 'address' or 'thread', not '${LEVELFUSE_SANITIZER}'")
 endif()
+# Instrument everything built here; the library also passes the link flags on
+# to its users, who need the sanitizer runtimes to link against it.
+set(LEVELFUSE_SANITIZER_FLAGS ${_lf_san})
 if(_lf_san)
   add_compile_options(${_lf_san})
   add_link_options(${_lf_san})

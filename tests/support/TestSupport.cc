@@ -2,15 +2,40 @@
 
 #include <levelfuse/levelset/ZeroCrossings.h>
 
+#include <levelfuse/core/Parallel.h>
+
 #include <openvdb/tools/LevelSetSphere.h>
+#include <tbb/global_control.h>
+
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 #include <vector>
 
 namespace levelfuse::test {
+
+#if defined(LEVELFUSE_THREAD_SANITIZER)
+namespace {
+/// TSan builds: TBB runs on one thread (levelfuse's own loops still run on
+/// several std::threads, see core/Parallel.h), so OpenVDB's internal TBB tasks,
+/// whose synchronisation TSan cannot see, raise no false reports.
+class SerialTbbEnvironment : public ::testing::Environment {
+ public:
+  void SetUp() override {
+    mLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
+  }
+  void TearDown() override { mLimit.reset(); }
+
+ private:
+  std::unique_ptr<tbb::global_control> mLimit;
+};
+const auto* const kSerialTbb = ::testing::AddGlobalTestEnvironment(new SerialTbbEnvironment);
+}  // namespace
+#endif
 
 openvdb::FloatGrid::Ptr makeSphere(double radius, const openvdb::Vec3d& centre, double dx) {
   return openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(
@@ -59,34 +84,6 @@ RadiusFit fitRadius(const openvdb::FloatGrid& grid, const openvdb::Vec3d& centre
   fit.mean = sum / points.size();
   fit.rmsDeviation = std::sqrt(std::max(0.0, sumSq / points.size() - fit.mean * fit.mean));
   return fit;
-}
-
-int insideComponents(const SparseField& field) {
-  // Flood fill over negative band voxels; components that never touch the band
-  // cannot exist (every inside region is bounded by the active set).
-  const openvdb::FloatGrid& grid = field.grid();
-  openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
-  openvdb::MaskGrid::Ptr seen = openvdb::MaskGrid::create();
-  openvdb::MaskGrid::Accessor seenAcc = seen->getAccessor();
-  int components = 0;
-  for (auto it = grid.tree().cbeginValueOn(); it; ++it) {
-    if (*it >= 0.0f || seenAcc.isValueOn(it.getCoord())) continue;
-    ++components;
-    std::vector<openvdb::Coord> stack{it.getCoord()};
-    seenAcc.setValueOn(it.getCoord());
-    while (!stack.empty()) {
-      const openvdb::Coord c = stack.back();
-      stack.pop_back();
-      static constexpr int kStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-      for (const auto& e : kStep) {
-        const openvdb::Coord n = c.offsetBy(e[0], e[1], e[2]);
-        if (!acc.isValueOn(n) || acc.getValue(n) >= 0.0f || seenAcc.isValueOn(n)) continue;
-        seenAcc.setValueOn(n);
-        stack.push_back(n);
-      }
-    }
-  }
-  return components;
 }
 
 std::string sharedData(const std::string& relative) {

@@ -25,9 +25,6 @@ struct RadiusFit {
 };
 RadiusFit fitRadius(const openvdb::FloatGrid& grid, const openvdb::Vec3d& centre);
 
-/// Number of 6-connected components of the inside (negative voxels of the band
-/// and inside tiles are flood-filled through the layers).
-int insideComponents(const SparseField& field);
 
 /// Path of a file in ../shared/data, or "" if that folder is absent.
 std::string sharedData(const std::string& relative);

@@ -1,0 +1,27 @@
+// levelfuse CLI: the subcommands and the exit codes they share.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace levelfuse::cli {
+
+/// Exit codes, documented in the README.
+enum ExitCode : int {
+  kExitSuccess = 0,
+  kExitFailure = 1,    ///< the command could not do its job (bad input file, I/O error, ...)
+  kExitUsage = 2,      ///< the command line is wrong
+  kExitCancelled = 130 ///< interrupted by SIGINT/SIGTERM; no output was written
+};
+
+/// A registered subcommand and the function that runs it once parsed.
+struct Command {
+  CLI::App* app;
+  std::function<int()> run;
+};
+
+/// Registers `levelfuse evolve` on `app`.
+Command addEvolveCommand(CLI::App& app);
+
+}  // namespace levelfuse::cli
