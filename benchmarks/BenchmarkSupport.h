@@ -1,0 +1,27 @@
+// Helpers shared by levelfuse's benchmarks.
+#pragma once
+
+#include <openvdb/openvdb.h>
+
+#include <cstddef>
+
+namespace levelfuse::bench {
+
+/// Number of threads for a benchmark run: the second benchmark argument.
+/// Thread counts are set with tbb::global_control (and ITK's threader).
+constexpr int kDefaultThreads = 2;
+
+/// Mean distance of a grid's zero crossings from `centre` (world units).
+double meanRadius(const openvdb::FloatGrid& grid, const openvdb::Vec3d& centre);
+
+/// Simulated time per iteration, normalised so that R(t)^2 = R0^2 - 4t (the
+/// sum of principal curvatures with weight 1), measured from the shape.
+inline double simulatedTimePerIteration(double r0, double r1, std::size_t iterations) {
+  return (r0 * r0 - r1 * r1) / (4.0 * static_cast<double>(iterations));
+}
+
+/// Iterations timed per repetition for a sphere of radius R: enough to measure,
+/// few enough that the sphere changes little.
+std::size_t iterationsFor(int radius);
+
+}  // namespace levelfuse::bench
