@@ -1,5 +1,6 @@
 // levelfuse: narrow-band sampling of signed distance functions.
 
+#include <levelfuse/levelset/Background.h>
 #include <levelfuse/levelset/LevelSetFromFunction.h>
 
 #include <openvdb/tools/SignedFloodFill.h>
@@ -19,7 +20,7 @@ openvdb::FloatGrid::Ptr levelSetFromFunction(const std::function<double(const op
   using LeafT = openvdb::FloatTree::LeafNodeType;
   if (!(voxelSize > 0.0) || !(halfWidth >= 1.0))
     throw std::invalid_argument("levelSetFromFunction: the voxel size must be positive and the half-width >= 1");
-  const float width = static_cast<float>(halfWidth * voxelSize);
+  const float width = levelSetBackground(halfWidth, voxelSize);
   openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(width);
   grid->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
   grid->setGridClass(openvdb::GRID_LEVEL_SET);

@@ -1,6 +1,7 @@
 // levelfuse: construction, export and queries of the sparse field.
 
 #include <levelfuse/core/Parallel.h>
+#include <levelfuse/levelset/Background.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/detail/SparseFieldState.h>
 
@@ -293,7 +294,7 @@ openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::str
   if (!(halfWidth >= 1.0))
     throw std::invalid_argument("toLevelSet: the narrow-band half-width must be at least 1 voxel");
   const double dx = mState->dx;
-  const float width = static_cast<float>(halfWidth * dx);
+  const float width = levelSetBackground(halfWidth, dx);
   openvdb::FloatGrid::Ptr out = mState->grid->deepCopy();
   openvdb::FloatTree& tree = out->tree();
 
