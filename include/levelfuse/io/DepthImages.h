@@ -1,0 +1,58 @@
+// levelfuse: depth images of depth cameras (Kinect, 7-Scenes, TUM, KinectFusion).
+//
+// A depth image holds per pixel the depth z along the camera's optical axis.
+// 16-bit PNG images store it in integer units (millimetres: scale 0.001);
+// PFM and EXR images store metres as floats. Camera intrinsics come as a 3x3
+// matrix, poses as a 4x4 camera-to-world matrix, both as plain text.
+#pragma once
+
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/math/Mat4.h>
+
+#include <string>
+#include <vector>
+
+namespace levelfuse::io {
+
+struct DepthImage {
+  int width = 0, height = 0;
+  std::vector<float> depth;  ///< row-major, metres; NaN where there is no reading
+};
+
+/// A 16-bit grayscale PNG; `scale` converts its integers to metres; the values
+/// in `invalid` (0 and 65535 by default) mean no reading. Other bit depths and
+/// colour types are refused.
+DepthImage readDepthPng(const std::string& path, double scale = 0.001,
+                        const std::vector<unsigned> invalid = {0u, 65535u});
+/// A single-channel float PFM ("Pf") in metres; non-finite or non-positive
+/// values mean no reading.
+DepthImage readDepthPfm(const std::string& path);
+/// A float EXR with a Z, Y, R or depth channel, in metres (if levelfuse was
+/// built with OpenEXR; otherwise InputError says so).
+DepthImage readDepthExr(const std::string& path);
+/// Any of the above, by file extension (.png, .pfm, .exr).
+DepthImage readDepthImage(const std::string& path, double pngScale = 0.001);
+
+/// A 3x3 intrinsics matrix as text: fx 0 cx / 0 fy cy / 0 0 1.
+PinholeProjection readIntrinsics(const std::string& path);
+/// A 4x4 camera-to-world matrix as text (column-vector convention, translation
+/// in the last column), returned in OpenVDB's row-vector layout.
+openvdb::math::Mat4d readPose(const std::string& path);
+/// The same from 16 numbers in row-major order, e.g. from a JSON manifest;
+/// `where` names the source in errors.
+openvdb::math::Mat4d poseFromRowMajor(const std::vector<double>& values, const std::string& file,
+                                      const std::string& where);
+
+/// Per-reading noise of a depth camera: sigma(z) = max(minimum, perSquareMetre z^2)
+/// (structured-light cameras lose precision with the square of the depth).
+struct DepthNoise {
+  double minimum = 0.001;
+  double perSquareMetre = 0.0015;
+};
+
+/// One depth frame as a pinhole range map.
+RangeMap depthFrame(const DepthImage& image, const PinholeProjection& intrinsics,
+                    const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, const std::string& name);
+
+}  // namespace levelfuse::io

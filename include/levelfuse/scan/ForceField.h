@@ -1,0 +1,102 @@
+// levelfuse: the MAP data term of a set of range maps (paper section 3, Eq. 17).
+//
+//   g(x) = sum_j c_j(x) D_j(x) w(D_j(x)) gamma_j(x)
+//
+// with the window w limiting each reading's reach along its line of sight
+// (Eqs. 8-9), the confidence c_j = 1 / (sigma_r^2 + |grad D_j|^2 sigma_x^2)
+// (Eq. 38) and the ray density gamma_j. g > 0 where x lies behind the data: the
+// surface moves outward there. Without a prior the MAP surface is the zero
+// set of g, the linear solution; it is the initial model of the evolution.
+#pragma once
+
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/openvdb.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace levelfuse {
+
+enum class WindowKind {
+  kGaussian,  ///< exp(-D^2 / (2 eps^2)), as in the paper's results, cut at `reach` eps
+  kBinary,    ///< 1 for -eps <= D < eps: a reading reaches eps in front of and behind itself
+};
+
+struct ForceFieldOptions {
+  WindowKind window = WindowKind::kGaussian;
+  double epsilon = 0.0;   ///< window width (world units); must be set
+  double reach = 3.0;     ///< the Gaussian window is cut at reach * epsilon
+  /// sigma_x^2 of Eq. 38 (world units squared): the model's positional
+  /// uncertainty, voxelSize^2 / 12 without and about voxelSize^2 / 120 with
+  /// subcell positioning (section 6).
+  double positionVariance = 0.0;
+  std::size_t grainSize = 1;  ///< leaf nodes per parallel task; 0 runs serially
+};
+
+/// Where the data term reaches, accumulated on a grid: the terms of Eq. 17
+/// summed per voxel, and their weights.
+struct AccumulatedField {
+  openvdb::FloatGrid::Ptr g;       ///< sum_j c_j D_j w_j gamma_j, active where some window reaches
+  openvdb::FloatGrid::Ptr weight;  ///< sum_j c_j w_j gamma_j, same topology
+  std::size_t evaluations = 0;     ///< (voxel, range map) pairs evaluated
+};
+
+class ForceField {
+ public:
+  ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& options);
+
+  /// g(x), Eq. 17.
+  double g(const openvdb::Vec3d& x) const;
+  /// g~(x, N), Eq. 37: only the range maps whose scanner the surface at x, with
+  /// outward normal N, faces (n_j . N < 0) contribute.
+  double facing(const openvdb::Vec3d& x, const openvdb::Vec3d& normal) const;
+  /// Sum of the weights c_j w_j gamma_j at x.
+  double weight(const openvdb::Vec3d& x) const;
+
+  /// Accumulates g over the voxels (of size `voxelSize`, centred on multiples
+  /// of it) within the window of some reading. Parallel over leaf nodes and
+  /// deterministic; memory grows with the scanned surface.
+  AccumulatedField accumulate(double voxelSize) const;
+
+  /// The linear solution: the zero set of g as an OpenVDB level set (negative
+  /// inside, half-width `halfWidth` voxels, GRID_LEVEL_SET), the VRIP-style
+  /// fusion of the scans. Where the data reaches, the sign is that of -g (the
+  /// weighted mean signed distance -sum(c D w gamma) / sum(c w gamma) along the
+  /// lines of sight); elsewhere space carving decides: a point some line of
+  /// sight saw as empty is outside, else a point behind some reading is inside,
+  /// else outside. Surfaces no scan saw thus close along the boundary of the
+  /// observed empty space. The result is rebuilt into a true narrow band.
+  openvdb::FloatGrid::Ptr linearSolution(double voxelSize, double halfWidth = 3.0,
+                                         const std::string& name = "surface") const;
+
+  const std::vector<RangeMap>& maps() const { return mMaps; }
+  const ForceFieldOptions& options() const { return mOptions; }
+  /// A typical single reading's weight c gamma: divides g into a force of
+  /// length units (see Reconstructor).
+  double typicalWeight() const { return mTypicalWeight; }
+
+ private:
+  /// Adds range map j's term at x to g and weight; returns false if it has none.
+  bool term(std::size_t j, const openvdb::Vec3d& x, double& gTerm, double& wTerm, openvdb::Vec3d* lineOfSight) const;
+  /// w(D) of Eqs. 8-9.
+  double window(double D) const {
+    const double eps = mOptions.epsilon;
+    if (mOptions.window == WindowKind::kBinary) return (D >= -eps && D < eps) ? 1.0 : 0.0;
+    // The Gaussian, tabulated in (D / eps)^2 up to the reach and interpolated.
+    const double x = D * D * mInverseEpsilonSq * mTableScale;
+    if (!(x < static_cast<double>(mGaussian.size() - 1))) return 0.0;
+    const std::size_t i = static_cast<std::size_t>(x);
+    const double f = x - static_cast<double>(i);
+    return mGaussian[i] + f * (mGaussian[i + 1] - mGaussian[i]);
+  }
+  double windowReach() const;
+
+  std::vector<RangeMap> mMaps;
+  ForceFieldOptions mOptions;
+  double mTypicalWeight = 1.0;
+  std::vector<double> mGaussian;  ///< exp(-x / 2) at x = i / mTableScale, x up to reach^2
+  double mTableScale = 1.0, mInverseEpsilonSq = 1.0;
+};
+
+}  // namespace levelfuse

@@ -1,0 +1,232 @@
+// levelfuse: one range map (a scan): a 2D grid of range readings along lines
+// of sight, its scanner geometry and its pose (section 3 of the paper).
+//
+// In the map's own frame the lines of sight run along +z, away from the
+// scanner, and a pixel (u, v) has its centre at integer coordinates:
+//  - orthographic (parallel rays; laser stripe scanners): pixel (u, v) is the
+//    ray x = ox + u s, y = oy + v s; its reading is the z of the surface point.
+//  - pinhole (depth cameras): pixel (u, v) is the ray through
+//    ((u - cx) / fx, (v - cy) / fy, 1) from the camera centre; its reading is the
+//    depth z of the surface point (the Kinect / TUM / 7-Scenes convention).
+// Optional per-pixel ray directions refine the lines of sight of scanners
+// whose rays are neither parallel nor through one centre; pixels are still
+// found through the map's projection.
+#pragma once
+
+#include <openvdb/Types.h>
+#include <openvdb/math/Mat4.h>
+#include <openvdb/math/Vec2.h>
+#include <openvdb/math/Vec3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace levelfuse {
+
+struct OrthographicProjection {
+  double pixelSize = 1.0;           ///< distance between neighbouring rays (world units)
+  openvdb::math::Vec2d origin{0.0};  ///< x, y of pixel (0, 0) in the map frame
+};
+
+struct PinholeProjection {
+  double fx = 1.0, fy = 1.0;  ///< focal lengths in pixels
+  double cx = 0.0, cy = 0.0;  ///< principal point in pixels
+};
+
+/// What a range map says about a world point x (Eqs. 13, 17, 38).
+struct RangeSample {
+  double D = 0.0;                ///< signed distance along the line of sight from the reading to x; > 0 behind it
+  openvdb::Vec3d gradD{0.0};     ///< gradient of D (world)
+  openvdb::Vec3d lineOfSight{0.0};  ///< unit direction of the line of sight, away from the scanner (world)
+  double gamma = 0.0;            ///< rays per unit area at x (the Jacobian of Eq. 13)
+  double sigma = 0.0;            ///< standard deviation of the reading (world units)
+};
+
+class RangeMap {
+ public:
+  enum class Kind { kOrthographic, kPinhole };
+
+  /// `readings` is row-major, `width * height` values in world units; NaN or
+  /// values <= 0 (pinhole) mean no reading. `mapToWorld` is rigid. Throws
+  /// std::invalid_argument for inconsistent sizes or geometry.
+  static RangeMap orthographic(int width, int height, std::vector<float> readings, const OrthographicProjection& p,
+                               const openvdb::math::Mat4d& mapToWorld, double sigma, std::string name = "");
+  static RangeMap pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
+                          const openvdb::math::Mat4d& cameraToWorld, double sigma, std::string name = "");
+
+  /// Per-pixel lines of sight (unit vectors in the map frame, away from the
+  /// scanner), e.g. for scanners with a fan of rays per row.
+  void setRayDirections(std::vector<openvdb::Vec3f> directions);
+  /// Per-pixel standard deviations (world units), replacing the map's sigma.
+  void setSigmas(std::vector<float> sigmas);
+  /// A 2x2 cell whose readings differ by more than `factor` times the distance
+  /// between its rays is a depth discontinuity: never interpolated across.
+  void setDiscontinuityFactor(double factor) { mJumpFactor = factor; }
+
+  /// The reading on the line of sight through x, interpolated bilinearly
+  /// between the four surrounding readings; false where one of them is missing
+  /// or they straddle a depth discontinuity (then x gets no data from this map).
+  bool sample(const openvdb::Vec3d& x, RangeSample& out) const;
+
+  /// The fast path of accumulation: D, |grad D|^2, gamma and sigma at a point
+  /// given in the map's frame, or false if there is no reading or |D| > reach.
+  struct LocalSample {
+    double D, gradDSquared, gamma, sigma;
+  };
+  bool sampleLocal(const openvdb::Vec3d& p, double reach, LocalSample& out) const;
+  /// What the line of sight through a point says about it, away from the
+  /// reading (space carving, as in VRIP's hole filling).
+  enum class Sight {
+    kOutside,  ///< no line of sight of the map passes the point
+    kUnknown,  ///< near the reading, or a pixel without one (a dropout)
+    kEmpty,    ///< the ray passed the point before its reading, or missed everything
+    kBehind,   ///< the point lies behind the reading
+  };
+  /// The sight of world point x from the four pixels around it: empty if x
+  /// lies in front of all their readings by more than `margin` (or a pixel
+  /// missed, where misses are empty, see below), behind if it lies behind all
+  /// four by more than `margin` (depths along the optical axis for a pinhole),
+  /// unknown where they disagree.
+  Sight sight(const openvdb::Vec3d& x, double margin) const;
+  /// Pixels without a reading saw empty space along their whole line of sight
+  /// (the ray missed the object), as for synthetic renderings and turntable
+  /// scans against an empty background. Off by default: depth cameras also
+  /// lose readings on dark or shiny surfaces. Even when on, a pixel within
+  /// `dropoutReach` pixels of a reading is taken for a dropout, not a miss
+  /// (0 for exact renderings, whose every miss is real).
+  void setMissesAreEmpty(bool empty, int dropoutReach = 2);
+  bool missesAreEmpty() const { return !mMisses.empty(); }
+
+  /// Transforms world points into the map's frame.
+  const openvdb::math::Mat4d& worldToMap() const { return mWorldToMap; }
+  /// Smallest and largest reading over the pixels of the window [u0, u1] x
+  /// [v0, v1] (clamped to the map), from per-block bounds; false if none is valid.
+  bool readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi) const;
+  /// Pixel coordinates of a point in the map's frame (may lie outside the map).
+  openvdb::math::Vec2d project(const openvdb::Vec3d& p) const;
+
+  Kind kind() const { return mKind; }
+  int width() const { return mWidth; }
+  int height() const { return mHeight; }
+  const std::string& name() const { return mName; }
+  double sigma() const { return mSigma; }
+  const openvdb::math::Mat4d& mapToWorld() const { return mMapToWorld; }
+  const OrthographicProjection& orthographicProjection() const { return mOrtho; }
+  const PinholeProjection& pinholeProjection() const { return mPinhole; }
+
+  bool valid(int u, int v) const { return mReadings[index(u, v)] == mReadings[index(u, v)]; }
+  float reading(int u, int v) const { return mReadings[index(u, v)]; }
+  std::size_t validCount() const { return mValidCount; }
+  /// World position of the surface point a reading measured.
+  openvdb::Vec3d readingPoint(int u, int v) const;
+  /// World position of the scanner for a pinhole camera; for parallel rays a
+  /// point far behind the readings along the line of sight.
+  openvdb::Vec3d scannerPosition() const;
+  /// Largest distance between neighbouring rays at the readings (world units).
+  double maxRaySpacing() const;
+
+ private:
+  RangeMap() = default;
+  std::size_t index(int u, int v) const {
+    return static_cast<std::size_t>(v) * static_cast<std::size_t>(mWidth) + static_cast<std::size_t>(u);
+  }
+  void finish(std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld, double sigma);
+  /// Shared by sample() and sampleLocal(): the bilinear reading at pixel (u, v)
+  /// and its derivatives; false without one.
+  bool interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
+                   double& fv) const;
+
+  static constexpr int kBlock = 8;  ///< pixels per side of a block of reading bounds
+  int mBlocksX = 0, mBlocksY = 0;
+  std::vector<float> mBlockMin, mBlockMax;  ///< per block, NaN if it has no reading
+
+  Kind mKind = Kind::kOrthographic;
+  int mWidth = 0, mHeight = 0;
+  std::string mName;
+  std::vector<float> mReadings;  ///< NaN where there is no reading
+  std::vector<openvdb::Vec3f> mDirections;
+  std::vector<float> mSigmas;
+  std::vector<bool> mMisses;  ///< per pixel: no reading within the dropout reach (if misses are empty)
+  std::size_t mValidCount = 0;
+  double mSigma = 0.0;
+  double mJumpFactor = 4.0;
+  OrthographicProjection mOrtho;
+  double mInversePixel = 1.0;  ///< 1 / pixel size (orthographic)
+  PinholeProjection mPinhole;
+  openvdb::math::Mat4d mMapToWorld = openvdb::math::Mat4d::identity();
+  openvdb::math::Mat4d mWorldToMap = openvdb::math::Mat4d::identity();
+  openvdb::math::Mat3d mRotation = openvdb::math::Mat3d::identity();  ///< map-to-world rotation
+};
+
+// ---- the hot path of accumulation, inline ----
+
+inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
+                                  double& fv) const {
+  if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
+  i = static_cast<int>(u);
+  j = static_cast<int>(v);
+  fu = u - i;
+  fv = v - j;
+  const std::size_t at = index(i, j);
+  const double r00 = mReadings[at], r10 = mReadings[at + 1];
+  const double r01 = mReadings[at + static_cast<std::size_t>(mWidth)];
+  const double r11 = mReadings[at + static_cast<std::size_t>(mWidth) + 1];
+  // Never across a missing reading (NaN compares false) ...
+  if (!(r00 == r00 && r10 == r10 && r01 == r01 && r11 == r11)) return false;
+  // ... nor across a depth discontinuity.
+  const double lo = std::min(std::min(r00, r10), std::min(r01, r11));
+  const double hi = std::max(std::max(r00, r10), std::max(r01, r11));
+  const double spacing = mKind == Kind::kOrthographic ? mOrtho.pixelSize : hi / std::min(mPinhole.fx, mPinhole.fy);
+  if (hi - lo > mJumpFactor * spacing) return false;
+  r = (1 - fv) * ((1 - fu) * r00 + fu * r10) + fv * ((1 - fu) * r01 + fu * r11);
+  ru = (1 - fv) * (r10 - r00) + fv * (r11 - r01);
+  rv = (1 - fu) * (r01 - r00) + fu * (r11 - r10);
+  return true;
+}
+
+inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSample& out) const {
+  double u, v;
+  if (mKind == Kind::kOrthographic) {
+    u = (p.x() - mOrtho.origin.x()) * mInversePixel;
+    v = (p.y() - mOrtho.origin.y()) * mInversePixel;
+    // Far outside the window of the nearest reading: no interpolation needed.
+    if (u >= 0.0 && v >= 0.0 && u < mWidth && v < mHeight) {
+      const float nearest = mReadings[index(static_cast<int>(u), static_cast<int>(v))];
+      if (nearest == nearest && std::fabs(p.z() - nearest) > reach + mJumpFactor * mOrtho.pixelSize) return false;
+    }
+  } else {
+    if (!(p.z() > 0.0)) return false;
+    u = mPinhole.fx * p.x() / p.z() + mPinhole.cx;
+    v = mPinhole.fy * p.y() / p.z() + mPinhole.cy;
+  }
+  double r, ru, rv, fu, fv;
+  int i, j;
+  if (!interpolate(u, v, r, ru, rv, i, j, fu, fv)) return false;
+  if (mKind == Kind::kOrthographic) {
+    out.D = p.z() - r;  // Eq. 13, rays along +z
+    if (!(std::fabs(out.D) <= reach)) return false;
+    out.gradDSquared = (ru * ru + rv * rv) * (mInversePixel * mInversePixel) + 1.0;
+    out.gamma = mInversePixel * mInversePixel;
+  } else {
+    const double a = (u - mPinhole.cx) / mPinhole.fx, b = (v - mPinhole.cy) / mPinhole.fy;
+    const double k = std::sqrt(1.0 + a * a + b * b);
+    const double distance = p.length();
+    out.D = distance - r * k;
+    if (!(std::fabs(out.D) <= reach)) return false;
+    const double rhoU = ru * k + r * a / (mPinhole.fx * k);
+    const double rhoV = rv * k + r * b / (mPinhole.fy * k);
+    const double z = p.z();
+    const openvdb::Vec3d grad = p / distance -
+                                openvdb::Vec3d(mPinhole.fx / z, 0.0, -mPinhole.fx * p.x() / (z * z)) * rhoU -
+                                openvdb::Vec3d(0.0, mPinhole.fy / z, -mPinhole.fy * p.y() / (z * z)) * rhoV;
+    out.gradDSquared = grad.lengthSqr();
+    out.gamma = mPinhole.fx * mPinhole.fy * k / (z * z);
+  }
+  out.sigma = mSigmas.empty() ? mSigma : mSigmas[index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1)];
+  return true;
+}
+
+}  // namespace levelfuse

@@ -1,0 +1,297 @@
+// levelfuse: depth images, intrinsics and poses.
+
+#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/InputError.h>
+
+#include <png.h>
+
+#if defined(LEVELFUSE_HAVE_OPENEXR)
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImathBox.h>
+#endif
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace levelfuse::io {
+
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kMaxPixels = 1 << 28;  // a quarter of a billion: a gigabyte of floats
+const float kNoReading = std::numeric_limits<float>::quiet_NaN();
+
+void requireFile(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw InputError(path, "no such file");
+}
+
+void requireSize(const std::string& path, double width, double height) {
+  if (width < 1 || height < 1) throw InputError(path, "the image has no pixels");
+  if (width * height > kMaxPixels)
+    throw InputError(path, "the header declares " + std::to_string(long(width)) + " x " + std::to_string(long(height)) +
+                               " pixels: too large for a depth image");
+}
+
+/// libpng reports errors through longjmp; the message is kept here.
+struct PngErrors {
+  std::jmp_buf jump;
+  char message[256] = "";
+};
+
+extern "C" void onPngError(png_structp png, png_const_charp message) {
+  auto* errors = static_cast<PngErrors*>(png_get_error_ptr(png));
+  std::snprintf(errors->message, sizeof(errors->message), "%s", message);
+  std::longjmp(errors->jump, 1);
+}
+extern "C" void onPngWarning(png_structp, png_const_charp) {}
+
+/// Reads a 16-bit grayscale PNG into `samples` (host byte order). Returns an
+/// error message, empty on success. Plain C inside: no destructors are skipped
+/// by libpng's longjmp.
+std::string readPng16(const char* path, int& width, int& height, std::vector<std::uint16_t>& samples) {
+  FILE* file = std::fopen(path, "rb");
+  if (!file) return "cannot be opened for reading";
+  unsigned char signature[8];
+  if (std::fread(signature, 1, 8, file) != 8 || png_sig_cmp(signature, 0, 8) != 0) {
+    std::fclose(file);
+    return "not a PNG file";
+  }
+  PngErrors errors;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &errors, onPngError, onPngWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    std::fclose(file);
+    return "out of memory";
+  }
+  std::vector<png_bytep>* rows = new std::vector<png_bytep>();
+  if (setjmp(errors.jump)) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    std::fclose(file);
+    delete rows;
+    return std::string("corrupt PNG data (") + errors.message + ")";
+  }
+  png_init_io(png, file);
+  png_set_sig_bytes(png, 8);
+  png_read_info(png, info);
+  const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+  const int depth = png_get_bit_depth(png, info), colour = png_get_color_type(png, info);
+  char problem[160] = "";  // no C++ object may live across libpng's longjmp
+  if (colour != PNG_COLOR_TYPE_GRAY)
+    std::snprintf(problem, sizeof(problem),
+                  "not a grayscale image (PNG colour type %d): a depth image has one channel", colour);
+  else if (depth != 16)
+    std::snprintf(problem, sizeof(problem), "has %d-bit samples; a depth image needs 16 bits", depth);
+  else if (double(w) * double(h) > kMaxPixels)
+    std::snprintf(problem, sizeof(problem), "the header declares %u x %u pixels: too large", unsigned(w), unsigned(h));
+  if (problem[0] == 0) {
+    const png_uint_16 probe = 1;
+    if (*reinterpret_cast<const unsigned char*>(&probe) == 1) png_set_swap(png);  // PNG is big-endian
+    width = static_cast<int>(w);
+    height = static_cast<int>(h);
+    samples.assign(static_cast<std::size_t>(w) * h, 0);
+    rows->resize(h);
+    for (png_uint_32 y = 0; y < h; ++y) (*rows)[y] = reinterpret_cast<png_bytep>(samples.data() + std::size_t(y) * w);
+    png_read_image(png, rows->data());
+    png_read_end(png, nullptr);
+  }
+  png_destroy_read_struct(&png, &info, nullptr);
+  std::fclose(file);
+  delete rows;
+  return std::string(problem);
+}
+
+std::vector<double> readNumbers(const std::string& path, std::size_t expected) {
+  requireFile(path);
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot be opened for reading");
+  std::vector<double> values;
+  std::string word;
+  while (in >> word) {
+    double v = 0.0;
+    std::size_t used = 0;
+    try {
+      v = std::stod(word, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != word.size()) throw InputError(path, "'" + word + "' is not a number");
+    if (!std::isfinite(v)) throw InputError(path, "a value is not finite");
+    values.push_back(v);
+    if (values.size() > expected) break;
+  }
+  if (values.size() != expected)
+    throw InputError(path, "expected " + std::to_string(expected) + " numbers, found " +
+                               (values.size() > expected ? "more" : std::to_string(values.size())));
+  return values;
+}
+
+}  // namespace
+
+DepthImage readDepthPng(const std::string& path, double scale, const std::vector<unsigned> invalid) {
+  requireFile(path);
+  if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError(path, "the depth scale must be positive");
+  DepthImage image;
+  std::vector<std::uint16_t> samples;
+  const std::string problem = readPng16(path.c_str(), image.width, image.height, samples);
+  if (!problem.empty()) throw InputError(path, problem);
+  image.depth.resize(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const bool none = std::find(invalid.begin(), invalid.end(), samples[i]) != invalid.end();
+    image.depth[i] = none ? kNoReading : static_cast<float>(samples[i] * scale);
+  }
+  return image;
+}
+
+DepthImage readDepthPfm(const std::string& path) {
+  requireFile(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot be opened for reading");
+  std::string magic;
+  double width = 0, height = 0, scale = 0;
+  if (!(in >> magic)) throw InputError(path, "empty file");
+  if (magic == "PF") throw InputError(path, "a colour PFM (PF): a depth image has one channel (Pf)");
+  if (magic != "Pf") throw InputError(path, "not a PFM file (expected the magic 'Pf')");
+  if (!(in >> width >> height >> scale) || width != std::floor(width) || height != std::floor(height) || scale == 0.0)
+    throw InputError(path, "a malformed PFM header (expected width, height and a non-zero scale)");
+  requireSize(path, width, height);
+  in.get();  // the single whitespace after the scale
+  DepthImage image;
+  image.width = static_cast<int>(width);
+  image.height = static_cast<int>(height);
+  const std::size_t count = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  const auto start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const auto available = static_cast<std::size_t>(in.tellg() - start);
+  if (available < count * sizeof(float))
+    throw InputError(path, "the file holds " + std::to_string(available) + " bytes of pixels, " +
+                               std::to_string(count * sizeof(float)) + " are declared (truncated?)");
+  in.seekg(start);
+  std::vector<float> raw(count);
+  in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(count * sizeof(float)));
+  const std::uint16_t probe = 1;
+  const bool hostLittle = *reinterpret_cast<const unsigned char*>(&probe) == 1;
+  if ((scale < 0.0) != hostLittle)  // negative scale: little-endian data
+    for (float& f : raw) {
+      unsigned char* b = reinterpret_cast<unsigned char*>(&f);
+      std::reverse(b, b + 4);
+    }
+  // PFM rows run bottom to top.
+  image.depth.resize(count);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const float d = raw[static_cast<std::size_t>(image.height - 1 - y) * image.width + x];
+      image.depth[static_cast<std::size_t>(y) * image.width + x] = std::isfinite(d) && d > 0.0f ? d : kNoReading;
+    }
+  return image;
+}
+
+DepthImage readDepthExr(const std::string& path) {
+  requireFile(path);
+#if defined(LEVELFUSE_HAVE_OPENEXR)
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i window = file.header().dataWindow();
+    const double width = window.max.x - window.min.x + 1.0, height = window.max.y - window.min.y + 1.0;
+    requireSize(path, width, height);
+    const char* channel = nullptr;
+    for (const char* name : {"Z", "Y", "R", "depth", "distance"})
+      if (file.header().channels().findChannel(name)) {
+        channel = name;
+        break;
+      }
+    if (!channel) throw InputError(path, "no Z, Y, R or depth channel");
+    DepthImage image;
+    image.width = static_cast<int>(width);
+    image.height = static_cast<int>(height);
+    std::vector<float> raw(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+    Imf::FrameBuffer frame;
+    char* base = reinterpret_cast<char*>(raw.data()) -
+                 (static_cast<std::ptrdiff_t>(window.min.x) + static_cast<std::ptrdiff_t>(window.min.y) * image.width) *
+                     static_cast<std::ptrdiff_t>(sizeof(float));
+    frame.insert(channel, Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * image.width));
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+    image.depth.resize(raw.size());
+    for (std::size_t i = 0; i < raw.size(); ++i)
+      image.depth[i] = std::isfinite(raw[i]) && raw[i] > 0.0f ? raw[i] : kNoReading;
+    return image;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path, std::string("not a readable EXR file (") + e.what() + ")");
+  }
+#else
+  throw InputError(path, "this levelfuse was built without OpenEXR; install libopenexr-dev and rebuild");
+#endif
+}
+
+DepthImage readDepthImage(const std::string& path, double pngScale) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".png") return readDepthPng(path, pngScale);
+  if (ext == ".pfm") return readDepthPfm(path);
+  if (ext == ".exr") return readDepthExr(path);
+  throw InputError(path, "unknown depth image type '" + ext + "' (expected .png, .pfm or .exr)");
+}
+
+PinholeProjection readIntrinsics(const std::string& path) {
+  const std::vector<double> k = readNumbers(path, 9);
+  if (k[1] != 0.0 || k[3] != 0.0 || k[6] != 0.0 || k[7] != 0.0 || k[8] != 1.0)
+    throw InputError(path, "not a pinhole intrinsics matrix (expected fx 0 cx / 0 fy cy / 0 0 1)");
+  if (!(k[0] > 0.0) || !(k[4] > 0.0)) throw InputError(path, "the focal lengths must be positive");
+  return PinholeProjection{k[0], k[4], k[2], k[5]};
+}
+
+openvdb::math::Mat4d poseFromRowMajor(const std::vector<double>& m, const std::string& file,
+                                      const std::string& where) {
+  if (m.size() != 16) throw InputError(file, where + "a pose needs 16 numbers");
+  for (double v : m)
+    if (!std::isfinite(v)) throw InputError(file, where + "the pose holds a non-finite number");
+  if (std::fabs(m[12]) + std::fabs(m[13]) + std::fabs(m[14]) > 1e-9 || std::fabs(m[15] - 1.0) > 1e-9)
+    throw InputError(file, where + "the pose's last row must be 0 0 0 1");
+  // Column-vector convention in, OpenVDB's row vectors out: the transpose.
+  openvdb::math::Mat4d pose(m[0], m[4], m[8], m[12], m[1], m[5], m[9], m[13], m[2], m[6], m[10], m[14], m[3], m[7],
+                            m[11], m[15]);
+  openvdb::math::Mat3d r = pose.getMat3();
+  const openvdb::math::Mat3d rtr = r.transpose() * r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (std::fabs(rtr(i, j) - (i == j ? 1.0 : 0.0)) > 1e-2)
+        throw InputError(file, where + "the pose's rotation is not orthonormal: not a rigid motion");
+  if (r.det() < 0.0) throw InputError(file, where + "the pose mirrors space (determinant -1)");
+  // Tracked camera poses are orthonormal to a few parts in a thousand: take the
+  // nearest rotation (polar decomposition by Newton's iteration).
+  for (int iteration = 0; iteration < 8; ++iteration) r = (r + r.inverse().transpose()) * 0.5;
+  pose.setMat3(r);
+  return pose;
+}
+
+openvdb::math::Mat4d readPose(const std::string& path) { return poseFromRowMajor(readNumbers(path, 16), path, ""); }
+
+RangeMap depthFrame(const DepthImage& image, const PinholeProjection& intrinsics,
+                    const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, const std::string& name) {
+  std::vector<float> sigmas(image.depth.size());
+  for (std::size_t i = 0; i < image.depth.size(); ++i) {
+    const double z = image.depth[i] == image.depth[i] ? image.depth[i] : 1.0;
+    sigmas[i] = static_cast<float>(std::max(noise.minimum, noise.perSquareMetre * z * z));
+  }
+  RangeMap map = RangeMap::pinhole(image.width, image.height, image.depth, intrinsics, cameraToWorld,
+                                   std::max(noise.minimum, noise.perSquareMetre), name);
+  map.setSigmas(std::move(sigmas));
+  return map;
+}
+
+}  // namespace levelfuse::io

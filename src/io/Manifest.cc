@@ -1,0 +1,167 @@
+// levelfuse: JSON scan manifests.
+
+#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/InputError.h>
+#include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/StanfordScans.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace levelfuse::io {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+class Entry {
+ public:
+  Entry(const std::string& manifest, const json& j, std::size_t index)
+      : mManifest(manifest), mJson(j), mWhere("scans[" + std::to_string(index) + "]: ") {
+    if (!j.is_object()) fail("expected an object");
+  }
+
+  [[noreturn]] void fail(const std::string& problem) const { throw InputError(mManifest, mWhere + problem); }
+  bool has(const char* key) const { return mJson.contains(key); }
+
+  std::string string(const char* key) const {
+    if (!has(key)) fail(std::string("missing '") + key + "'");
+    if (!mJson[key].is_string()) fail(std::string("'") + key + "' must be a string");
+    return mJson[key].get<std::string>();
+  }
+  std::string path(const char* key) const {
+    const fs::path p(string(key));
+    return p.is_absolute() ? p.string() : (fs::path(mManifest).parent_path() / p).string();
+  }
+  double number(const char* key, double fallback) const {
+    if (!has(key)) return fallback;
+    if (!mJson[key].is_number()) fail(std::string("'") + key + "' must be a number");
+    const double v = mJson[key].get<double>();
+    if (!std::isfinite(v)) fail(std::string("'") + key + "' is not finite");
+    return v;
+  }
+  double positive(const char* key, double fallback) const {
+    const double v = number(key, fallback);
+    if (!(v > 0.0)) fail(std::string("'") + key + "' must be positive");
+    return v;
+  }
+  std::vector<double> numbers(const json& j, const std::string& key, std::size_t count) const {
+    if (!j.is_array() || j.size() != count)
+      fail("'" + key + "' needs " + std::to_string(count) + " numbers");
+    std::vector<double> v;
+    for (const json& x : j) {
+      if (!x.is_number() || !std::isfinite(x.get<double>())) fail("'" + key + "' holds something that is not a number");
+      v.push_back(x.get<double>());
+    }
+    return v;
+  }
+  std::vector<double> numbers(const char* key, std::size_t count) const {
+    if (!has(key)) fail(std::string("missing '") + key + "'");
+    return numbers(mJson[key], key, count);
+  }
+  const json& operator[](const char* key) const { return mJson[key]; }
+  const std::string& where() const { return mWhere; }
+
+ private:
+  const std::string& mManifest;
+  const json& mJson;
+  std::string mWhere;
+};
+
+StanfordScanOptions stanfordOptions(const Entry& e) {
+  StanfordScanOptions o;
+  if (e.has("toward_scanner")) {
+    const auto v = e.numbers("toward_scanner", 3);
+    o.towardScanner = openvdb::Vec3d(v[0], v[1], v[2]);
+    if (o.towardScanner.length() == 0.0) e.fail("'toward_scanner' is the zero vector");
+  }
+  o.sigma = e.positive("sigma", o.sigma);
+  o.pixelSize = e.number("pixel_size", 0.0);
+  if (o.pixelSize < 0.0) e.fail("'pixel_size' must not be negative");
+  return o;
+}
+
+PinholeProjection intrinsicsOf(const Entry& e) {
+  if (e.has("intrinsics_file")) return readIntrinsics(e.path("intrinsics_file"));
+  if (!e.has("intrinsics")) e.fail("missing 'intrinsics' or 'intrinsics_file'");
+  const json& k = e["intrinsics"];
+  PinholeProjection p;
+  for (const auto& [key, target] : {std::pair<const char*, double*>{"fx", &p.fx}, {"fy", &p.fy}, {"cx", &p.cx}, {"cy", &p.cy}}) {
+    if (!k.contains(key) || !k[key].is_number()) e.fail(std::string("'intrinsics' needs a number '") + key + "'");
+    *target = k[key].get<double>();
+  }
+  if (!(p.fx > 0.0) || !(p.fy > 0.0)) e.fail("the focal lengths must be positive");
+  return p;
+}
+
+openvdb::math::Mat4d poseOf(const Entry& e, const std::string& manifest) {
+  if (e.has("pose_file")) return readPose(e.path("pose_file"));
+  if (!e.has("pose")) e.fail("missing 'pose' or 'pose_file'");
+  return poseFromRowMajor(e.numbers("pose", 16), manifest, e.where());
+}
+
+}  // namespace
+
+std::vector<RangeMap> loadManifest(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, fs::exists(path) ? "cannot be opened for reading" : "no such file");
+  json root;
+  try {
+    root = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw InputError(path, std::string("not valid JSON (") + e.what() + ")");
+  }
+  if (!root.is_object() || !root.contains("scans") || !root["scans"].is_array())
+    throw InputError(path, "expected an object with an array 'scans'");
+  if (root["scans"].empty()) throw InputError(path, "'scans' is empty");
+
+  std::vector<RangeMap> maps;
+  for (std::size_t i = 0; i < root["scans"].size(); ++i) {
+    const Entry e(path, root["scans"][i], i);
+    const std::string format = e.string("format");
+    if (format == "stanford-conf") {
+      for (RangeMap& m : loadStanfordScans(e.path("file"), stanfordOptions(e))) maps.push_back(std::move(m));
+    } else if (format == "stanford-ply") {
+      StanfordPlacement placement;
+      const auto t = e.numbers("translation", 3);
+      const auto q = e.numbers("quaternion", 4);
+      const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+      if (norm < 1e-9 || std::fabs(norm - 1.0) > 1e-3)
+        e.fail("'quaternion' has norm " + std::to_string(norm) + ": a rotation needs a unit quaternion");
+      placement.translation = openvdb::Vec3d(t[0], t[1], t[2]);
+      placement.rotation = openvdb::math::Quatd(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);
+      const std::string file = e.path("file");
+      maps.push_back(rangeMapFromScan(readRangeGridPly(file), placement.scanToWorld(), stanfordOptions(e),
+                                      fs::path(file).filename().string()));
+    } else if (format == "depth-png" || format == "depth-pfm" || format == "depth-exr") {
+      const std::string file = e.path("file");
+      DepthImage image = format == "depth-png" ? readDepthPng(file, e.positive("depth_scale", 0.001))
+                         : format == "depth-pfm" ? readDepthPfm(file)
+                                                 : readDepthExr(file);
+      DepthNoise noise;
+      if (e.has("sigma")) {
+        const json& s = e["sigma"];
+        if (s.is_number()) {
+          noise.minimum = s.get<double>();
+          noise.perSquareMetre = 0.0;
+        } else if (s.is_object()) {
+          noise.minimum = s.value("minimum", noise.minimum);
+          noise.perSquareMetre = s.value("per_square_metre", noise.perSquareMetre);
+        } else {
+          e.fail("'sigma' must be a number or {\"minimum\", \"per_square_metre\"}");
+        }
+        if (!(noise.minimum > 0.0) || noise.perSquareMetre < 0.0) e.fail("'sigma' must be positive");
+      }
+      maps.push_back(depthFrame(image, intrinsicsOf(e), poseOf(e, path), noise, fs::path(file).filename().string()));
+    } else {
+      e.fail("unknown format '" + format + "' (stanford-conf, stanford-ply, depth-png, depth-pfm or depth-exr)");
+    }
+  }
+  return maps;
+}
+
+}  // namespace levelfuse::io

@@ -1,0 +1,288 @@
+// levelfuse: Stanford range scans and their .conf placements.
+
+#include <levelfuse/io/InputError.h>
+#include <levelfuse/io/Ply.h>
+#include <levelfuse/io/StanfordScans.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace levelfuse::io {
+
+namespace fs = std::filesystem;
+using openvdb::Vec3d;
+using Mat4d = openvdb::math::Mat4d;
+
+namespace {
+
+/// The median of `values` (destroys their order); 0 for none.
+double median(std::vector<double>& values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+}  // namespace
+
+Mat4d StanfordPlacement::scanToWorld() const {
+  const double x = rotation.x(), y = rotation.y(), z = rotation.z(), w = rotation.w();
+  // R of the unit quaternion (column-vector convention). p_world = R^T p + t is,
+  // with OpenVDB's row vectors, p_world = p R + t: R itself is the 3x3 block.
+  const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                          {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+                          {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+  return Mat4d(r[0][0], r[0][1], r[0][2], 0.0, r[1][0], r[1][1], r[1][2], 0.0, r[2][0], r[2][1], r[2][2], 0.0,
+               translation.x(), translation.y(), translation.z(), 1.0);
+}
+
+std::vector<StanfordPlacement> readStanfordConf(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, fs::exists(path) ? "cannot be opened for reading" : "no such file");
+  const fs::path folder = fs::path(path).parent_path();
+  std::vector<StanfordPlacement> scans;
+  std::string line;
+  for (int lineNo = 1; std::getline(in, line); ++lineNo) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string key;
+    if (!(words >> key) || key[0] == '#') continue;
+    const std::string at = "line " + std::to_string(lineNo) + ": ";
+    if (key == "camera" || key == "mesh") continue;  // viewer entries, not scans
+    if (key != "bmesh") throw InputError(path, at + "unknown entry '" + key + "' (expected bmesh, mesh or camera)");
+    StanfordPlacement s;
+    s.line = lineNo;
+    double v[7];
+    if (!(words >> s.file))
+      throw InputError(path, at + "expected 'bmesh FILE tx ty tz qi qj qk qr'");
+    for (double& x : v) {
+      std::string word;
+      if (!(words >> word)) throw InputError(path, at + "expected 'bmesh FILE tx ty tz qi qj qk qr'");
+      char* end = nullptr;
+      x = std::strtod(word.c_str(), &end);
+      if (end != word.c_str() + word.size()) throw InputError(path, at + "'" + word + "' is not a number");
+      if (!std::isfinite(x)) throw InputError(path, at + "'" + word + "' is not a finite number");
+    }
+    std::string extra;
+    if (words >> extra) throw InputError(path, at + "unexpected '" + extra + "' after the quaternion");
+    s.translation = Vec3d(v[0], v[1], v[2]);
+    const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+    if (norm < 1e-9) throw InputError(path, at + "the quaternion is zero: it describes no rotation");
+    if (std::fabs(norm - 1.0) > 1e-3)
+      throw InputError(path, at + "the quaternion has norm " + std::to_string(norm) + ", not 1: not a rotation");
+    s.rotation = openvdb::math::Quatd(v[3] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
+    s.path = (folder / s.file).string();
+    if (!fs::is_regular_file(s.path))
+      throw InputError(path, at + "scan file '" + s.file + "' does not exist (looked for " + s.path + ")");
+    scans.push_back(s);
+  }
+  if (scans.empty()) throw InputError(path, "no 'bmesh' lines: the file places no scans");
+  return scans;
+}
+
+RangeGridScan readRangeGridPly(const std::string& path) {
+  const PlyData ply = readPly(path);
+  RangeGridScan scan;
+  scan.path = path;
+  const PlyElement* vertex = ply.element("vertex");
+  if (!vertex) throw InputError(path, "no 'vertex' element");
+  const int px = vertex->property("x"), py = vertex->property("y"), pz = vertex->property("z");
+  if (px < 0 || py < 0 || pz < 0 || vertex->properties[px].isList || vertex->properties[py].isList ||
+      vertex->properties[pz].isList)
+    throw InputError(path, "the vertices have no scalar x, y and z");
+  scan.points.resize(vertex->count);
+  for (std::size_t i = 0; i < vertex->count; ++i) {
+    const Vec3d p(vertex->values[px][i], vertex->values[py][i], vertex->values[pz][i]);
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
+      throw InputError(path, "vertex " + std::to_string(i) + " has a coordinate that is not finite");
+    scan.points[i] = p;
+  }
+
+  const PlyElement* grid = ply.element("range_grid");
+  if (!grid) throw InputError(path, "no 'range_grid' element: not a range scan");
+  const auto readDimension = [&](const char* key) {
+    const std::string text = ply.info(key);
+    std::size_t used = 0;
+    long value = 0;
+    try {
+      value = std::stol(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (text.empty() || used != text.size() || value <= 0 || value > (1 << 20))
+      throw InputError(path, std::string("the header's 'obj_info ") + key + "' is missing or not a positive size");
+    return static_cast<int>(value);
+  };
+  scan.rows = readDimension("num_rows");
+  scan.cols = readDimension("num_cols");
+  const std::size_t cells = static_cast<std::size_t>(scan.rows) * static_cast<std::size_t>(scan.cols);
+  if (grid->count != cells)
+    throw InputError(path, "range_grid has " + std::to_string(grid->count) + " entries, but num_rows x num_cols = " +
+                               std::to_string(scan.rows) + " x " + std::to_string(scan.cols) + " = " +
+                               std::to_string(cells));
+  const int list = grid->property("vertex_indices");
+  if (list < 0 || !grid->properties[list].isList)
+    throw InputError(path, "range_grid has no list property 'vertex_indices'");
+  const auto& offsets = grid->listOffsets[list];
+  const auto& items = grid->values[list];
+  scan.grid.assign(cells, -1);
+  std::vector<char> used(scan.points.size(), 0);
+  for (std::size_t g = 0; g < cells; ++g) {
+    const std::size_t n = offsets[g + 1] - offsets[g];
+    if (n == 0) continue;
+    const std::string where = "range_grid entry " + std::to_string(g) + " (row " + std::to_string(g / scan.cols) +
+                              ", column " + std::to_string(g % scan.cols) + ")";
+    if (n != 1) throw InputError(path, where + " lists " + std::to_string(n) + " vertices; at most 1 is allowed");
+    const double index = items[offsets[g]];
+    if (!(index >= 0.0) || index >= static_cast<double>(scan.points.size()))
+      throw InputError(path, where + " points at vertex " + std::to_string(static_cast<long long>(index)) +
+                                 ", but there are " + std::to_string(scan.points.size()));
+    scan.grid[g] = static_cast<int>(index);
+  }
+  return scan;
+}
+
+std::vector<openvdb::Vec3I> triangulateRangeGrid(const RangeGridScan& scan, double maxEdge) {
+  std::vector<openvdb::Vec3I> triangles;
+  const auto at = [&](int r, int c) { return scan.grid[static_cast<std::size_t>(r) * scan.cols + c]; };
+  const auto shortEdges = [&](int a, int b, int c) {
+    const Vec3d& pa = scan.points[a];
+    const Vec3d& pb = scan.points[b];
+    const Vec3d& pc = scan.points[c];
+    return (pa - pb).length() <= maxEdge && (pb - pc).length() <= maxEdge && (pc - pa).length() <= maxEdge;
+  };
+  for (int r = 0; r + 1 < scan.rows; ++r)
+    for (int c = 0; c + 1 < scan.cols; ++c) {
+      const int a = at(r, c), b = at(r, c + 1), d = at(r + 1, c), e = at(r + 1, c + 1);
+      const int valid = (a >= 0) + (b >= 0) + (d >= 0) + (e >= 0);
+      if (valid < 3) continue;
+      if (valid == 4) {
+        if (shortEdges(a, b, d)) triangles.emplace_back(a, b, d);
+        if (shortEdges(b, e, d)) triangles.emplace_back(b, e, d);
+        continue;
+      }
+      int corner[3], n = 0;
+      for (int v : {a, b, e, d})
+        if (v >= 0) corner[n++] = v;
+      if (shortEdges(corner[0], corner[1], corner[2])) triangles.emplace_back(corner[0], corner[1], corner[2]);
+    }
+  return triangles;
+}
+
+double rangeGridSpacing(const RangeGridScan& scan) {
+  std::vector<double> d;
+  for (int r = 0; r < scan.rows; ++r)
+    for (int c = 0; c < scan.cols; ++c) {
+      const int a = scan.grid[static_cast<std::size_t>(r) * scan.cols + c];
+      if (a < 0) continue;
+      if (c + 1 < scan.cols) {
+        const int b = scan.grid[static_cast<std::size_t>(r) * scan.cols + c + 1];
+        if (b >= 0) d.push_back((scan.points[a] - scan.points[b]).length());
+      }
+      if (r + 1 < scan.rows) {
+        const int b = scan.grid[static_cast<std::size_t>(r + 1) * scan.cols + c];
+        if (b >= 0) d.push_back((scan.points[a] - scan.points[b]).length());
+      }
+    }
+  return median(d);
+}
+
+RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, const StanfordScanOptions& options,
+                          const std::string& name) {
+  const double spacing = rangeGridSpacing(scan);
+  if (!(spacing > 0.0)) throw InputError(scan.path, "the range grid has no neighbouring samples: nothing to triangulate");
+  const std::vector<openvdb::Vec3I> triangles = triangulateRangeGrid(scan, options.maxEdgeFactor * spacing);
+  if (triangles.empty()) throw InputError(scan.path, "no triangles between the range grid's samples");
+
+  // The map frame: +z along the line of sight, away from the scanner.
+  const double tl = options.towardScanner.length();
+  if (!(tl > 0.0) || !std::isfinite(tl)) throw InputError(scan.path, "the direction toward the scanner is zero");
+  const Vec3d zAxis = -options.towardScanner / tl;
+  const Vec3d helper = std::fabs(zAxis.x()) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
+  const Vec3d yAxis = zAxis.cross(helper).unit();
+  const Vec3d xAxis = yAxis.cross(zAxis);
+
+  std::vector<Vec3d> local(scan.points.size());
+  double xmin = std::numeric_limits<double>::max(), ymin = xmin, xmax = -xmin, ymax = -xmin;
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    const Vec3d& p = scan.points[i];
+    local[i] = Vec3d(p.dot(xAxis), p.dot(yAxis), p.dot(zAxis));
+    xmin = std::min(xmin, local[i].x());
+    xmax = std::max(xmax, local[i].x());
+    ymin = std::min(ymin, local[i].y());
+    ymax = std::max(ymax, local[i].y());
+  }
+  // One pixel per sample along the finer of the grid's two directions, as seen
+  // along the line of sight: no reading is lost to the raster.
+  double pixel = options.pixelSize;
+  if (!(pixel > 0.0)) {
+    std::vector<double> along[2];
+    for (int r = 0; r < scan.rows; ++r)
+      for (int c = 0; c < scan.cols; ++c) {
+        const int a = scan.grid[static_cast<std::size_t>(r) * scan.cols + c];
+        if (a < 0) continue;
+        for (int dir = 0; dir < 2; ++dir) {
+          const int rr = r + dir, cc = c + 1 - dir;
+          if (rr >= scan.rows || cc >= scan.cols) continue;
+          const int b = scan.grid[static_cast<std::size_t>(rr) * scan.cols + cc];
+          if (b < 0) continue;
+          const Vec3d d = local[a] - local[b];
+          along[dir].push_back(std::sqrt(d.x() * d.x() + d.y() * d.y()));
+        }
+      }
+    const double m0 = median(along[0]), m1 = median(along[1]);
+    pixel = std::min(m0 > 0.0 ? m0 : m1, m1 > 0.0 ? m1 : m0);
+    if (!(pixel > 0.0)) pixel = spacing;
+  }
+  const double cols = std::ceil((xmax - xmin) / pixel) + 3, rows = std::ceil((ymax - ymin) / pixel) + 3;
+  if (cols * rows > 6.4e7)
+    throw InputError(scan.path, "the scan would need a range map of " + std::to_string(long(cols)) + " x " +
+                                    std::to_string(long(rows)) + " pixels of " + std::to_string(pixel) +
+                                    " m: choose a larger pixel size");
+  const int width = static_cast<int>(cols), height = static_cast<int>(rows);
+  OrthographicProjection projection{pixel, openvdb::math::Vec2d(xmin - pixel, ymin - pixel)};
+
+  // Rasterise the triangles; the nearest surface to the scanner (smallest z) wins.
+  std::vector<float> depth(static_cast<std::size_t>(width) * height, std::numeric_limits<float>::quiet_NaN());
+  for (const openvdb::Vec3I& t : triangles) {
+    const Vec3d* q[3] = {&local[t.x()], &local[t.y()], &local[t.z()]};
+    double u[3], v[3];
+    for (int k = 0; k < 3; ++k) {
+      u[k] = (q[k]->x() - projection.origin.x()) / pixel;
+      v[k] = (q[k]->y() - projection.origin.y()) / pixel;
+    }
+    const double area = (u[1] - u[0]) * (v[2] - v[0]) - (u[2] - u[0]) * (v[1] - v[0]);
+    if (std::fabs(area) < 1e-12) continue;
+    const int u0 = std::max(0, static_cast<int>(std::ceil(std::min({u[0], u[1], u[2]}))));
+    const int u1 = std::min(width - 1, static_cast<int>(std::floor(std::max({u[0], u[1], u[2]}))));
+    const int v0 = std::max(0, static_cast<int>(std::ceil(std::min({v[0], v[1], v[2]}))));
+    const int v1 = std::min(height - 1, static_cast<int>(std::floor(std::max({v[0], v[1], v[2]}))));
+    for (int y = v0; y <= v1; ++y)
+      for (int x = u0; x <= u1; ++x) {
+        const double w0 = ((u[1] - x) * (v[2] - y) - (u[2] - x) * (v[1] - y)) / area;
+        const double w1 = ((u[2] - x) * (v[0] - y) - (u[0] - x) * (v[2] - y)) / area;
+        const double w2 = 1.0 - w0 - w1;
+        if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) continue;
+        const double z = w0 * q[0]->z() + w1 * q[1]->z() + w2 * q[2]->z();
+        float& d = depth[static_cast<std::size_t>(y) * width + x];
+        if (!(d == d) || z < d) d = static_cast<float>(z);
+      }
+  }
+  const Mat4d mapToScan(xAxis.x(), xAxis.y(), xAxis.z(), 0.0, yAxis.x(), yAxis.y(), yAxis.z(), 0.0, zAxis.x(),
+                        zAxis.y(), zAxis.z(), 0.0, 0.0, 0.0, 0.0, 1.0);
+  return RangeMap::orthographic(width, height, std::move(depth), projection, mapToScan * scanToWorld, options.sigma,
+                                name);
+}
+
+std::vector<RangeMap> loadStanfordScans(const std::string& confPath, const StanfordScanOptions& options) {
+  std::vector<RangeMap> maps;
+  for (const StanfordPlacement& s : readStanfordConf(confPath))
+    maps.push_back(rangeMapFromScan(readRangeGridPly(s.path), s.scanToWorld(), options, s.file));
+  return maps;
+}
+
+}  // namespace levelfuse::io

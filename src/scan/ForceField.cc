@@ -1,0 +1,225 @@
+// levelfuse: the MAP data term (Eq. 17) and its accumulation on a sparse grid.
+
+#include <levelfuse/core/Parallel.h>
+#include <levelfuse/scan/ForceField.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+namespace levelfuse {
+
+namespace {
+
+using openvdb::Coord;
+using openvdb::Vec3d;
+using LeafT = openvdb::FloatTree::LeafNodeType;
+
+}  // namespace
+
+ForceField::ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& options)
+    : mMaps(std::move(maps)), mOptions(options) {
+  if (mMaps.empty()) throw std::invalid_argument("ForceField: no range maps");
+  if (!(mOptions.epsilon > 0.0) || !std::isfinite(mOptions.epsilon))
+    throw std::invalid_argument("ForceField: the window width epsilon must be positive");
+  if (!(mOptions.reach > 0.0)) throw std::invalid_argument("ForceField: the window reach must be positive");
+  if (!(mOptions.positionVariance >= 0.0)) throw std::invalid_argument("ForceField: negative position variance");
+  // A typical reading's c gamma: the median over maps of gamma / sigma^2 at their readings.
+  std::vector<double> weights;
+  for (const RangeMap& m : mMaps) {
+    const double spacing = m.maxRaySpacing();
+    weights.push_back(1.0 / (spacing * spacing) / (m.sigma() * m.sigma()));
+  }
+  std::nth_element(weights.begin(), weights.begin() + weights.size() / 2, weights.end());
+  mTypicalWeight = weights[weights.size() / 2];
+  // The Gaussian window exp(-D^2 / (2 eps^2)), tabulated in x = (D / eps)^2 up to
+  // the reach; interpolated linearly it is within 1e-6 of the exponential.
+  const std::size_t entries = 4096;
+  const double reachSq = mOptions.reach * mOptions.reach;
+  mTableScale = static_cast<double>(entries - 1) / reachSq;
+  mInverseEpsilonSq = 1.0 / (mOptions.epsilon * mOptions.epsilon);
+  mGaussian.resize(entries + 1);
+  for (std::size_t i = 0; i < entries; ++i) mGaussian[i] = std::exp(-0.5 * static_cast<double>(i) / mTableScale);
+  mGaussian[entries] = 0.0;  // beyond the reach
+}
+
+double ForceField::windowReach() const {
+  return mOptions.window == WindowKind::kBinary ? mOptions.epsilon : mOptions.reach * mOptions.epsilon;
+}
+
+bool ForceField::term(std::size_t j, const Vec3d& x, double& gTerm, double& wTerm, Vec3d* lineOfSight) const {
+  RangeSample s;
+  if (!mMaps[j].sample(x, s)) return false;
+  const double w = window(s.D);
+  if (w == 0.0) return false;
+  const double c = 1.0 / (s.sigma * s.sigma + s.gradD.lengthSqr() * mOptions.positionVariance);  // Eq. 38
+  wTerm = c * w * s.gamma;
+  gTerm = wTerm * s.D;  // Eq. 17
+  if (lineOfSight) *lineOfSight = s.lineOfSight;
+  return true;
+}
+
+double ForceField::g(const Vec3d& x) const {
+  double sum = 0.0, gt, wt;
+  for (std::size_t j = 0; j < mMaps.size(); ++j)
+    if (term(j, x, gt, wt, nullptr)) sum += gt;
+  return sum;
+}
+
+double ForceField::weight(const Vec3d& x) const {
+  double sum = 0.0, gt, wt;
+  for (std::size_t j = 0; j < mMaps.size(); ++j)
+    if (term(j, x, gt, wt, nullptr)) sum += wt;
+  return sum;
+}
+
+double ForceField::facing(const Vec3d& x, const Vec3d& normal) const {
+  double sum = 0.0, gt, wt;
+  Vec3d los;
+  for (std::size_t j = 0; j < mMaps.size(); ++j)
+    if (term(j, x, gt, wt, &los) && los.dot(normal) < 0.0) sum += gt;  // Eq. 37
+  return sum;
+}
+
+AccumulatedField ForceField::accumulate(double voxelSize) const {
+  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
+    throw std::invalid_argument("ForceField::accumulate: the voxel size must be positive");
+  const double reach = windowReach();
+  const int leafDim = static_cast<int>(LeafT::DIM);
+
+  // 1. Which leaf nodes each range map's windows reach: per 2x2 cell of
+  //    readings, the slab swept by the window along the lines of sight.
+  // Marked in a coarse mask whose voxels are leaves: duplicates cost nothing.
+  std::vector<std::vector<Coord>> touched(mMaps.size());
+  parallelFor(mMaps.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end; ++j) {
+      const RangeMap& m = mMaps[j];
+      const Vec3d scanner = m.scannerPosition();
+      openvdb::MaskTree coarse;
+      openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(coarse);
+      for (int v = 0; v + 1 < m.height(); ++v)
+        for (int u = 0; u + 1 < m.width(); ++u) {
+          if (!m.valid(u, v) || !m.valid(u + 1, v) || !m.valid(u, v + 1) || !m.valid(u + 1, v + 1)) continue;
+          openvdb::BBoxd box;
+          for (int c = 0; c < 4; ++c) {
+            const Vec3d p = m.readingPoint(u + (c & 1), v + (c >> 1));
+            Vec3d dir = p - scanner;
+            dir.normalize();
+            box.expand(p - dir * reach);
+            box.expand(p + dir * reach);
+          }
+          const Coord lo = Coord::floor(box.min() / (voxelSize * leafDim));
+          const Coord hi = Coord::floor(box.max() / (voxelSize * leafDim));
+          for (int x = lo.x(); x <= hi.x(); ++x)
+            for (int y = lo.y(); y <= hi.y(); ++y)
+              for (int z = lo.z(); z <= hi.z(); ++z) marks.setValueOn(Coord(x, y, z));
+        }
+      std::vector<Coord>& leaves = touched[j];
+      leaves.reserve(coarse.activeVoxelCount());
+      for (auto it = coarse.cbeginValueOn(); it; ++it) leaves.push_back(it.getCoord() << 3);
+    }
+  });
+
+  // 2. The union, with the range maps reaching each leaf in map order.
+  std::vector<std::pair<Coord, std::uint32_t>> pairs;
+  for (std::size_t j = 0; j < touched.size(); ++j)
+    for (const Coord& c : touched[j]) pairs.emplace_back(c, static_cast<std::uint32_t>(j));
+  touched.clear();
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<std::size_t> firstPair;  // leaf l owns pairs [firstPair[l], firstPair[l + 1])
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    if (i == 0 || pairs[i].first != pairs[i - 1].first) firstPair.push_back(i);
+  const std::size_t leafCount = firstPair.size();
+  firstPair.push_back(pairs.size());
+
+  // 3. Per leaf and voxel, the terms of Eq. 17 in map order: deterministic.
+  //    Per (leaf, map) the leaf's depth range is first held against the
+  //    readings over its footprint; then voxels step through the map's frame
+  //    incrementally, and a voxel outside the window costs one lookup.
+  std::vector<std::unique_ptr<LeafT>> gLeaves(leafCount), wLeaves(leafCount);
+  std::vector<std::size_t> evaluations(leafCount, 0);
+  const double sigmaX2 = mOptions.positionVariance;
+  parallelFor(leafCount, mOptions.grainSize, [&](std::size_t begin, std::size_t end) {
+    std::vector<double> gSum(LeafT::SIZE), wSum(LeafT::SIZE);
+    for (std::size_t l = begin; l < end; ++l) {
+      const Coord origin = pairs[firstPair[l]].first;
+      std::fill(gSum.begin(), gSum.end(), 0.0);
+      std::fill(wSum.begin(), wSum.end(), 0.0);
+      for (std::size_t p = firstPair[l]; p < firstPair[l + 1]; ++p) {
+        const RangeMap& m = mMaps[pairs[p].second];
+        const openvdb::math::Mat4d& toMap = m.worldToMap();
+        const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
+        const Vec3d step[3] = {toMap.transform3x3(Vec3d(voxelSize, 0, 0)), toMap.transform3x3(Vec3d(0, voxelSize, 0)),
+                               toMap.transform3x3(Vec3d(0, 0, voxelSize))};
+        // Cull: the window cannot reach the leaf if its depths and the readings
+        // over its footprint are more than `reach` apart.
+        double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300, z0 = 1e300, z1 = -1e300;
+        bool behind = false;
+        for (int c = 0; c < 8; ++c) {
+          const Vec3d q = base + step[0] * ((c & 1) * (leafDim - 1)) + step[1] * (((c >> 1) & 1) * (leafDim - 1)) +
+                          step[2] * ((c >> 2) * (leafDim - 1));
+          if (m.kind() == RangeMap::Kind::kPinhole && !(q.z() > 0.0)) behind = true;
+          const openvdb::math::Vec2d uv = m.project(q);
+          u0 = std::min(u0, uv.x());
+          u1 = std::max(u1, uv.x());
+          v0 = std::min(v0, uv.y());
+          v1 = std::max(v1, uv.y());
+          z0 = std::min(z0, q.z());
+          z1 = std::max(z1, q.z());
+        }
+        double lo, hi;
+        if (!behind && (!m.readingBounds(u0, v0, u1 + 1.0, v1 + 1.0, lo, hi) || z0 - hi > reach || z1 - lo < -reach))
+          continue;
+        RangeMap::LocalSample sample;
+        for (int i = 0; i < leafDim; ++i)
+          for (int j = 0; j < leafDim; ++j) {
+            Vec3d q = base + step[0] * i + step[1] * j;
+            const std::size_t row = static_cast<std::size_t>((i << 6) | (j << 3));
+            for (int k = 0; k < leafDim; ++k, q += step[2]) {
+              ++evaluations[l];
+              if (!m.sampleLocal(q, reach, sample)) continue;
+              const double w = window(sample.D);
+              if (w == 0.0) continue;
+              const double c = 1.0 / (sample.sigma * sample.sigma + sample.gradDSquared * sigmaX2);  // Eq. 38
+              const double weight = c * w * sample.gamma;
+              gSum[row + k] += weight * sample.D;  // Eq. 17
+              wSum[row + k] += weight;
+            }
+          }
+      }
+      auto gLeaf = std::make_unique<LeafT>(origin, 0.0f);
+      auto wLeaf = std::make_unique<LeafT>(origin, 0.0f);
+      bool any = false;
+      for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
+        if (!(wSum[o] > 0.0)) continue;
+        gLeaf->setValueOn(o, static_cast<float>(gSum[o]));
+        wLeaf->setValueOn(o, static_cast<float>(wSum[o]));
+        any = true;
+      }
+      if (any) {
+        gLeaves[l] = std::move(gLeaf);
+        wLeaves[l] = std::move(wLeaf);
+      }
+    }
+  });
+
+  AccumulatedField out;
+  out.g = openvdb::FloatGrid::create(0.0f);
+  out.weight = openvdb::FloatGrid::create(0.0f);
+  for (auto* grid : {&out.g, &out.weight}) {
+    (*grid)->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
+    (*grid)->setGridClass(openvdb::GRID_UNKNOWN);
+  }
+  out.g->setName("g");
+  out.weight->setName("weight");
+  for (std::size_t l = 0; l < leafCount; ++l) {
+    out.evaluations += evaluations[l];
+    if (!gLeaves[l]) continue;
+    out.g->tree().addLeaf(gLeaves[l].release());
+    out.weight->tree().addLeaf(wLeaves[l].release());
+  }
+  return out;
+}
+
+}  // namespace levelfuse

@@ -1,0 +1,159 @@
+// levelfuse: the linear solution, the zero set of g (section 3), as a level set.
+
+#include <levelfuse/core/Parallel.h>
+#include <levelfuse/levelset/Background.h>
+#include <levelfuse/scan/ForceField.h>
+
+#include <openvdb/tools/ChangeBackground.h>
+#include <openvdb/tools/LevelSetRebuild.h>
+#include <openvdb/tree/LeafManager.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace levelfuse {
+
+namespace {
+
+using openvdb::Coord;
+using openvdb::Vec3d;
+using LeafT = openvdb::FloatTree::LeafNodeType;
+
+/// Space carving: outside if some line of sight saw x as empty; inside if
+/// more than half of all the range maps see x behind their readings; else
+/// outside. (A point one range map sees behind a grazing surface, while the
+/// others cannot tell or do not reach it, is not taken for solid.)
+bool carvedInside(const std::vector<RangeMap>& maps, const Vec3d& x, double margin) {
+  std::size_t behind = 0;
+  for (const RangeMap& m : maps) {
+    const RangeMap::Sight s = m.sight(x, margin);
+    if (s == RangeMap::Sight::kEmpty) return false;
+    behind += s == RangeMap::Sight::kBehind;
+  }
+  return 2 * behind > maps.size();
+}
+
+/// The blocks (leaf-node-sized cells) around the data, each outside, inside
+/// or reached by the data.
+class BlockClasses {
+ public:
+  enum : std::uint8_t { kOutside = 0, kInside = 1, kData = 2 };
+
+  explicit BlockClasses(const openvdb::CoordBBox& blocks) : mBox(blocks), mDim(blocks.dim()) {
+    mClass.assign(static_cast<std::size_t>(mDim.x()) * mDim.y() * mDim.z(), kOutside);
+  }
+  std::size_t size() const { return mClass.size(); }
+  Coord block(std::size_t i) const {
+    const int z = static_cast<int>(i % mDim.z()), y = static_cast<int>(i / mDim.z() % mDim.y());
+    const int x = static_cast<int>(i / (static_cast<std::size_t>(mDim.z()) * mDim.y()));
+    return mBox.min().offsetBy(x, y, z);
+  }
+  std::size_t index(const Coord& b) const {
+    const Coord d = b - mBox.min();
+    return (static_cast<std::size_t>(d.x()) * mDim.y() + d.y()) * mDim.z() + d.z();
+  }
+  std::uint8_t& operator[](std::size_t i) { return mClass[i]; }
+  std::uint8_t at(const Coord& b) const { return mBox.isInside(b) ? mClass[index(b)] : std::uint8_t(kOutside); }
+
+ private:
+  openvdb::CoordBBox mBox;
+  Coord mDim;
+  std::vector<std::uint8_t> mClass;
+};
+
+}  // namespace
+
+openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double halfWidth, const std::string& name) const {
+  if (!(halfWidth >= 1.0)) throw std::invalid_argument("ForceField::linearSolution: half-width below one voxel");
+  const AccumulatedField field = accumulate(voxelSize);
+  if (field.g->tree().leafCount() == 0)
+    throw std::invalid_argument("ForceField::linearSolution: no reading reaches any voxel");
+  const float width = levelSetBackground(halfWidth, voxelSize);
+  const double margin = windowReach();
+  const openvdb::math::Transform& xform = field.g->transform();
+  const auto inside = [&](const Coord& ijk) { return carvedInside(mMaps, xform.indexToWorld(ijk), margin); };
+  const auto clamp = [width](float value) { return std::max(-width, std::min(width, value)); };
+
+  // 1. Where the data reaches, the weighted mean signed distance along the
+  //    lines of sight, -g / w: its zero set is the zero set of g (Eq. 17).
+  //    Voxels of these leaves that no window reaches are carved.
+  openvdb::tree::LeafManager<const openvdb::FloatTree> dataLeaves(field.g->tree());
+  std::vector<std::unique_ptr<LeafT>> leaves(dataLeaves.leafCount());
+  parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const LeafT& g = dataLeaves.leaf(i);
+      const LeafT& w = *field.weight->tree().probeConstLeaf(g.origin());
+      auto leaf = std::make_unique<LeafT>(g.origin(), width);
+      for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
+        leaf->setValueOn(o, g.isValueOn(o) ? clamp(-g.getValue(o) / w.getValue(o))
+                                           : (inside(g.offsetToGlobalCoord(o)) ? -width : width));
+      }
+      leaves[i] = std::move(leaf);
+    }
+  });
+
+  // 2. The blocks around the data, carved at their centres.
+  openvdb::CoordBBox box;
+  for (std::size_t i = 0; i < dataLeaves.leafCount(); ++i) box.expand(dataLeaves.leaf(i).origin() >> LeafT::LOG2DIM);
+  box.expand(1);
+  BlockClasses classes(box);
+  for (std::size_t i = 0; i < dataLeaves.leafCount(); ++i)
+    classes[classes.index(dataLeaves.leaf(i).origin() >> LeafT::LOG2DIM)] = BlockClasses::kData;
+  const Coord centre(LeafT::DIM / 2);
+  parallelFor(classes.size(), 256, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      if (classes[i] != BlockClasses::kData)
+        classes[i] = inside((classes.block(i) << LeafT::LOG2DIM) + centre) ? BlockClasses::kInside
+                                                                           : BlockClasses::kOutside;
+  });
+
+  // 3. Blocks beside a block of the other class hold the carved surface: carve
+  //    their every voxel. The others are uniform: inside ones become tiles.
+  std::vector<Coord> boundary, insideTiles;
+  for (std::size_t i = 0; i < classes.size(); ++i) {
+    const std::uint8_t c = classes[i];
+    if (c == BlockClasses::kData) continue;
+    const Coord b = classes.block(i);
+    bool differs = false;
+    for (int axis = 0; axis < 3 && !differs; ++axis)
+      for (int side = -1; side <= 1; side += 2) {
+        Coord n = b;
+        n[axis] += side;
+        const std::uint8_t nc = classes.at(n);
+        if (nc != BlockClasses::kData && nc != c) differs = true;
+      }
+    if (differs) boundary.push_back(b << LeafT::LOG2DIM);
+    else if (c == BlockClasses::kInside) insideTiles.push_back(b << LeafT::LOG2DIM);
+  }
+  std::vector<std::unique_ptr<LeafT>> carved(boundary.size());
+  parallelFor(boundary.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      auto leaf = std::make_unique<LeafT>(boundary[i], width);
+      for (openvdb::Index o = 0; o < LeafT::SIZE; ++o)
+        leaf->setValueOn(o, inside(leaf->offsetToGlobalCoord(o)) ? -width : width);
+      carved[i] = std::move(leaf);
+    }
+  });
+
+  // 4. Together they make a level set whose values are distances along the
+  //    lines of sight, and steps where carving closes what no scan saw:
+  //    rebuilt into a true narrow band of Euclidean distances. (Every voxel of
+  //    the leaves is active: the mesher of the rebuild sees only active ones.)
+  openvdb::FloatGrid::Ptr raw = openvdb::FloatGrid::create(width);
+  raw->setTransform(xform.copy());
+  raw->setGridClass(openvdb::GRID_LEVEL_SET);
+  for (auto* set : {&leaves, &carved})
+    for (auto& leaf : *set) raw->tree().addLeaf(leaf.release());
+  for (const Coord& origin : insideTiles) raw->tree().addTile(1, origin, -width, false);
+  openvdb::FloatGrid::Ptr psi = openvdb::tools::levelSetRebuild(*raw, 0.0f, static_cast<float>(halfWidth));
+  openvdb::tools::changeLevelSetBackground(psi->tree(), width);
+  psi->setGridClass(openvdb::GRID_LEVEL_SET);
+  psi->setName(name);
+  return psi;
+}
+
+}  // namespace levelfuse

@@ -1,0 +1,256 @@
+// levelfuse: range maps.
+
+#include <levelfuse/scan/RangeMap.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace levelfuse {
+
+namespace {
+
+using openvdb::Vec3d;
+
+void requireRigid(const openvdb::math::Mat4d& m, const std::string& name) {
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (!std::isfinite(m(i, j))) throw std::invalid_argument(name + ": the pose holds a non-finite number");
+  const openvdb::math::Mat3d r = m.getMat3();
+  const openvdb::math::Mat3d rtr = r.transpose() * r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (std::fabs(rtr(i, j) - (i == j ? 1.0 : 0.0)) > 1e-4)
+        throw std::invalid_argument(name + ": the pose is not a rigid motion (its rotation is not orthonormal)");
+  if (r.det() < 0.0) throw std::invalid_argument(name + ": the pose mirrors space (its rotation has determinant -1)");
+  if (std::fabs(m(0, 3)) + std::fabs(m(1, 3)) + std::fabs(m(2, 3)) > 1e-9 || std::fabs(m(3, 3) - 1.0) > 1e-9)
+    throw std::invalid_argument(name + ": the pose has a projective part (expected OpenVDB's row-vector layout)");
+}
+
+}  // namespace
+
+void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld, double sigma) {
+  const std::string who = mName.empty() ? std::string("range map") : "range map '" + mName + "'";
+  if (mWidth < 2 || mHeight < 2) throw std::invalid_argument(who + ": needs at least 2 x 2 readings");
+  if (readings.size() != static_cast<std::size_t>(mWidth) * static_cast<std::size_t>(mHeight))
+    throw std::invalid_argument(who + ": " + std::to_string(readings.size()) + " readings for " +
+                                std::to_string(mWidth) + " x " + std::to_string(mHeight) + " pixels");
+  if (!(sigma > 0.0) || !std::isfinite(sigma)) throw std::invalid_argument(who + ": sigma must be positive");
+  requireRigid(mapToWorld, who);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  mValidCount = 0;
+  for (float& r : readings) {
+    if (!std::isfinite(r) || (mKind == Kind::kPinhole && r <= 0.0f)) r = nan;
+    else ++mValidCount;
+  }
+  mReadings = std::move(readings);
+  // Per-block bounds of the readings, for culling in accumulation.
+  mBlocksX = (mWidth + kBlock - 1) / kBlock;
+  mBlocksY = (mHeight + kBlock - 1) / kBlock;
+  mBlockMin.assign(static_cast<std::size_t>(mBlocksX) * mBlocksY, nan);
+  mBlockMax.assign(mBlockMin.size(), nan);
+  for (int v = 0; v < mHeight; ++v)
+    for (int u = 0; u < mWidth; ++u) {
+      const float r = mReadings[index(u, v)];
+      if (!(r == r)) continue;
+      const std::size_t b = static_cast<std::size_t>(v / kBlock) * mBlocksX + static_cast<std::size_t>(u / kBlock);
+      if (!(mBlockMin[b] <= r)) mBlockMin[b] = r;
+      if (!(mBlockMax[b] >= r)) mBlockMax[b] = r;
+    }
+  mSigma = sigma;
+  mMapToWorld = mapToWorld;
+  mWorldToMap = mapToWorld.inverse();
+  mRotation = mapToWorld.getMat3();
+}
+
+RangeMap RangeMap::orthographic(int width, int height, std::vector<float> readings, const OrthographicProjection& p,
+                                const openvdb::math::Mat4d& mapToWorld, double sigma, std::string name) {
+  RangeMap m;
+  m.mKind = Kind::kOrthographic;
+  m.mWidth = width;
+  m.mHeight = height;
+  m.mName = std::move(name);
+  if (!(p.pixelSize > 0.0) || !std::isfinite(p.pixelSize) || !std::isfinite(p.origin.x()) ||
+      !std::isfinite(p.origin.y()))
+    throw std::invalid_argument("range map '" + m.mName + "': the pixel size must be positive and finite");
+  m.mOrtho = p;
+  m.mInversePixel = 1.0 / p.pixelSize;
+  m.finish(std::move(readings), mapToWorld, sigma);
+  return m;
+}
+
+RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
+                           const openvdb::math::Mat4d& cameraToWorld, double sigma, std::string name) {
+  RangeMap m;
+  m.mKind = Kind::kPinhole;
+  m.mWidth = width;
+  m.mHeight = height;
+  m.mName = std::move(name);
+  if (!(p.fx > 0.0) || !(p.fy > 0.0) || !std::isfinite(p.fx) || !std::isfinite(p.fy) || !std::isfinite(p.cx) ||
+      !std::isfinite(p.cy))
+    throw std::invalid_argument("range map '" + m.mName + "': focal lengths must be positive and finite");
+  m.mPinhole = p;
+  m.finish(std::move(depths), cameraToWorld, sigma);
+  return m;
+}
+
+void RangeMap::setRayDirections(std::vector<openvdb::Vec3f> directions) {
+  if (directions.size() != mReadings.size())
+    throw std::invalid_argument("range map '" + mName + "': one ray direction per pixel is needed");
+  for (openvdb::Vec3f& d : directions) {
+    const float length = d.length();
+    if (!(length > 0.0f) || !std::isfinite(length))
+      throw std::invalid_argument("range map '" + mName + "': a ray direction is zero or not finite");
+    d /= length;
+  }
+  mDirections = std::move(directions);
+}
+
+void RangeMap::setSigmas(std::vector<float> sigmas) {
+  if (sigmas.size() != mReadings.size())
+    throw std::invalid_argument("range map '" + mName + "': one sigma per pixel is needed");
+  for (float s : sigmas)
+    if (!(s > 0.0f) || !std::isfinite(s))
+      throw std::invalid_argument("range map '" + mName + "': sigmas must be positive and finite");
+  mSigmas = std::move(sigmas);
+}
+
+void RangeMap::setMissesAreEmpty(bool empty, int dropoutReach) {
+  if (dropoutReach < 0) throw std::invalid_argument("range map '" + mName + "': negative dropout reach");
+  mMisses.clear();
+  if (!empty) return;
+  mMisses.assign(mReadings.size(), false);
+  for (int v = 0; v < mHeight; ++v)
+    for (int u = 0; u < mWidth; ++u) {
+      bool nearReading = false;
+      for (int j = std::max(0, v - dropoutReach); j <= std::min(mHeight - 1, v + dropoutReach) && !nearReading; ++j)
+        for (int i = std::max(0, u - dropoutReach); i <= std::min(mWidth - 1, u + dropoutReach); ++i)
+          if (valid(i, j)) {
+            nearReading = true;
+            break;
+          }
+      mMisses[index(u, v)] = !nearReading;
+    }
+}
+
+RangeMap::Sight RangeMap::sight(const Vec3d& x, double margin) const {
+  const Vec3d p = mWorldToMap.transform(x);
+  if (mKind == Kind::kPinhole && !(p.z() > 0.0)) return Sight::kOutside;
+  const openvdb::math::Vec2d uv = project(p);
+  if (!(uv.x() >= 0.0 && uv.y() >= 0.0 && uv.x() <= mWidth - 1 && uv.y() <= mHeight - 1)) return Sight::kOutside;
+  // The four pixels around x must agree: near a depth discontinuity or a
+  // silhouette the nearest ray alone could pass either side of x.
+  const int i = std::min(static_cast<int>(uv.x()), mWidth - 2), j = std::min(static_cast<int>(uv.y()), mHeight - 2);
+  int empty = 0, behind = 0;
+  for (int c = 0; c < 4; ++c) {
+    const std::size_t at = index(i + (c & 1), j + (c >> 1));
+    const float r = mReadings[at];
+    if (!(r == r)) {
+      empty += !mMisses.empty() && mMisses[at];
+      continue;
+    }
+    const double D = p.z() - r;  // along the rays (parallel) or the optical axis (pinhole)
+    empty += D < -margin;
+    behind += D > margin;
+  }
+  if (empty == 4) return Sight::kEmpty;
+  if (behind == 4) return Sight::kBehind;
+  return Sight::kUnknown;
+}
+
+openvdb::math::Vec2d RangeMap::project(const Vec3d& p) const {
+  if (mKind == Kind::kOrthographic)
+    return {(p.x() - mOrtho.origin.x()) / mOrtho.pixelSize, (p.y() - mOrtho.origin.y()) / mOrtho.pixelSize};
+  return {mPinhole.fx * p.x() / p.z() + mPinhole.cx, mPinhole.fy * p.y() / p.z() + mPinhole.cy};
+}
+
+bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi) const {
+  const int b0 = std::max(0, static_cast<int>(std::floor(u0)) / kBlock);
+  const int b1 = std::min(mBlocksX - 1, static_cast<int>(std::ceil(u1)) / kBlock);
+  const int c0 = std::max(0, static_cast<int>(std::floor(v0)) / kBlock);
+  const int c1 = std::min(mBlocksY - 1, static_cast<int>(std::ceil(v1)) / kBlock);
+  if (!(u1 >= 0.0) || !(v1 >= 0.0) || !(u0 <= mWidth - 1) || !(v0 <= mHeight - 1)) return false;
+  bool any = false;
+  lo = std::numeric_limits<double>::max();
+  hi = -lo;
+  for (int c = c0; c <= c1; ++c)
+    for (int b = b0; b <= b1; ++b) {
+      const std::size_t at = static_cast<std::size_t>(c) * mBlocksX + b;
+      if (!(mBlockMin[at] == mBlockMin[at])) continue;
+      lo = std::min(lo, static_cast<double>(mBlockMin[at]));
+      hi = std::max(hi, static_cast<double>(mBlockMax[at]));
+      any = true;
+    }
+  return any;
+}
+
+bool RangeMap::sample(const openvdb::Vec3d& x, RangeSample& out) const {
+  const Vec3d p = mWorldToMap.transform(x);
+  if (mKind == Kind::kPinhole && !(p.z() > 0.0)) return false;
+  const openvdb::math::Vec2d uv = project(p);
+  double r, ru, rv, fu, fv;
+  int i, j;
+  if (!interpolate(uv.x(), uv.y(), r, ru, rv, i, j, fu, fv)) return false;
+  Vec3d grad, los;
+  if (mKind == Kind::kOrthographic) {
+    // D = z - r(u(x), v(x)) (Eq. 13), rays along +z.
+    out.D = p.z() - r;
+    grad = Vec3d(-ru / mOrtho.pixelSize, -rv / mOrtho.pixelSize, 1.0);
+    los = Vec3d(0.0, 0.0, 1.0);
+    out.gamma = 1.0 / (mOrtho.pixelSize * mOrtho.pixelSize);
+  } else {
+    // Readings are depths z; along the ray the reading lies at rho = z k, with
+    // k = |(a, b, 1)|. D = |p| - rho(u(x), v(x)).
+    const double a = (uv.x() - mPinhole.cx) / mPinhole.fx, b = (uv.y() - mPinhole.cy) / mPinhole.fy;
+    const double k = std::sqrt(1.0 + a * a + b * b);
+    const double distance = p.length();
+    out.D = distance - r * k;
+    const double rhoU = ru * k + r * a / (mPinhole.fx * k);
+    const double rhoV = rv * k + r * b / (mPinhole.fy * k);
+    const double z = p.z();
+    const Vec3d gradU(mPinhole.fx / z, 0.0, -mPinhole.fx * p.x() / (z * z));
+    const Vec3d gradV(0.0, mPinhole.fy / z, -mPinhole.fy * p.y() / (z * z));
+    los = p / distance;
+    grad = los - (gradU * rhoU + gradV * rhoV);
+    // Rays per unit area across the line of sight: fx fy / (|p|^2 cos^3) = fx fy k / z^2.
+    out.gamma = mPinhole.fx * mPinhole.fy * k / (z * z);
+  }
+  if (!mDirections.empty()) los = Vec3d(mDirections[index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1)]);
+  out.gradD = mMapToWorld.transform3x3(grad);
+  out.lineOfSight = mMapToWorld.transform3x3(los);
+  out.sigma = mSigmas.empty() ? mSigma : mSigmas[index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1)];
+  return true;
+}
+
+openvdb::Vec3d RangeMap::readingPoint(int u, int v) const {
+  const double r = mReadings[index(u, v)];
+  Vec3d p;
+  if (mKind == Kind::kOrthographic)
+    p = Vec3d(mOrtho.origin.x() + u * mOrtho.pixelSize, mOrtho.origin.y() + v * mOrtho.pixelSize, r);
+  else
+    p = Vec3d((u - mPinhole.cx) / mPinhole.fx * r, (v - mPinhole.cy) / mPinhole.fy * r, r);
+  return mMapToWorld.transform(p);
+}
+
+openvdb::Vec3d RangeMap::scannerPosition() const {
+  if (mKind == Kind::kPinhole) return mMapToWorld.transform(Vec3d(0.0));
+  double zmin = std::numeric_limits<double>::max();
+  for (float r : mReadings)
+    if (r == r) zmin = std::min(zmin, static_cast<double>(r));
+  const double extent = std::max(mWidth, mHeight) * mOrtho.pixelSize;
+  const Vec3d centre(mOrtho.origin.x() + 0.5 * (mWidth - 1) * mOrtho.pixelSize,
+                     mOrtho.origin.y() + 0.5 * (mHeight - 1) * mOrtho.pixelSize,
+                     (zmin == std::numeric_limits<double>::max() ? 0.0 : zmin) - 10.0 * extent);
+  return mMapToWorld.transform(centre);
+}
+
+double RangeMap::maxRaySpacing() const {
+  if (mKind == Kind::kOrthographic) return mOrtho.pixelSize;
+  double zmax = 0.0;
+  for (float r : mReadings)
+    if (r == r) zmax = std::max(zmax, static_cast<double>(r));
+  return zmax / std::min(mPinhole.fx, mPinhole.fy);
+}
+
+}  // namespace levelfuse

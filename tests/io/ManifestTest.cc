@@ -1,0 +1,92 @@
+// JSON scan manifests.
+
+#include "support/Files.h"
+#include "support/TestSupport.h"
+
+#include <levelfuse/io/InputError.h>
+#include <levelfuse/io/Manifest.h>
+
+#include <gtest/gtest.h>
+
+namespace levelfuse::io {
+namespace {
+
+using test::TempDir;
+using test::writeText;
+
+void expectManifestError(const std::string& path, const std::string& fragment) {
+  try {
+    loadManifest(path);
+    ADD_FAILURE() << "no error (expected '" << fragment << "')";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(Manifest, DescribesDepthCamerasWithoutCode) {
+  TempDir dir;
+  std::vector<std::uint16_t> depth(8 * 6, 1500);
+  depth[0] = 0;
+  test::writePng(dir.path("d.png"), 8, 6, 16, 1, depth);
+  writeText(dir.path("k.txt"), "10 0 3.5\n0 10 2.5\n0 0 1\n");
+  writeText(dir.path("m.json"), R"({
+    "scans": [
+      { "format": "depth-png", "file": "d.png", "depth_scale": 0.001,
+        "intrinsics_file": "k.txt", "pose": [1,0,0,0.5, 0,1,0,0, 0,0,1,0, 0,0,0,1] },
+      { "format": "depth-png", "file": "d.png", "depth_scale": 0.002,
+        "intrinsics": { "fx": 10, "fy": 10, "cx": 3.5, "cy": 2.5 },
+        "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1], "sigma": 0.004 }
+    ] })");
+  const auto maps = loadManifest(dir.path("m.json"));
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_EQ(maps[0].validCount(), 47u);
+  // The centre pixel's reading, 1.5 m straight ahead of a camera moved by 0.5 m in x.
+  const openvdb::Vec3d p = maps[0].readingPoint(3, 2);
+  EXPECT_NEAR(p.z(), 1.5, 1e-6);
+  EXPECT_NEAR(p.x(), 0.5 + (3 - 3.5) / 10.0 * 1.5, 1e-6);
+  EXPECT_NEAR(maps[1].readingPoint(3, 2).z(), 3.0, 1e-6);
+  RangeSample s;
+  ASSERT_TRUE(maps[1].sample(openvdb::Vec3d(0.0, 0.0, 2.9), s));
+  EXPECT_NEAR(s.sigma, 0.004, 1e-9);
+}
+
+TEST(Manifest, NamesTheEntryAtFault) {
+  TempDir dir;
+  const auto manifest = [&](const std::string& text) {
+    writeText(dir.path("m.json"), text);
+    return dir.path("m.json");
+  };
+  expectManifestError(manifest("{ \"scans\": [ "), "not valid JSON");
+  expectManifestError(manifest("[1, 2]"), "an array 'scans'");
+  expectManifestError(manifest("{ \"scans\": [] }"), "'scans' is empty");
+  expectManifestError(manifest(R"({ "scans": [ { "file": "x.png" } ] })"), "scans[0]: missing 'format'");
+  expectManifestError(manifest(R"({ "scans": [ { "format": "lidar", "file": "x" } ] })"),
+                      "scans[0]: unknown format 'lidar'");
+  expectManifestError(
+      manifest(R"({ "scans": [ { "format": "depth-png", "file": "d.png", "intrinsics_file": "k.txt", "pose": [1, 2] } ] })"),
+      "no such file");
+  test::writePng(dir.path("d.png"), 4, 4, 16, 1, std::vector<std::uint16_t>(16, 1000));
+  writeText(dir.path("k.txt"), "10 0 2\n0 10 2\n0 0 1\n");
+  expectManifestError(
+      manifest(R"({ "scans": [ { "format": "depth-png", "file": "d.png", "intrinsics_file": "k.txt", "pose": [1, 2] } ] })"),
+      "scans[0]: 'pose' needs 16 numbers");
+  expectManifestError(manifest(R"({ "scans": [ { "format": "stanford-ply", "file": "a.ply",
+                                   "translation": [0, 0, 0], "quaternion": [0, 0, 0, 0] } ] })"),
+                      "scans[0]: 'quaternion' has norm 0");
+  expectManifestError(manifest(R"({ "scans": [ { "format": "depth-png", "file": "d.png", "depth_scale": -1,
+                                   "intrinsics_file": "k.txt", "pose_file": "k.txt" } ] })"),
+                      "'depth_scale' must be positive");
+}
+
+TEST(Manifest, ListsTheBunny) {
+  if (test::sharedData("").empty()) GTEST_SKIP() << "../shared/data is absent";
+  TempDir dir;
+  writeText(dir.path("bunny.json"), "{ \"scans\": [ { \"format\": \"stanford-conf\", \"file\": \"" +
+                                        test::sharedData("stanford/bunny/bun.conf") + "\", \"sigma\": 0.0003 } ] }");
+  const auto maps = loadManifest(dir.path("bunny.json"));
+  ASSERT_EQ(maps.size(), 10u);
+  EXPECT_DOUBLE_EQ(maps[3].sigma(), 0.0003);
+}
+
+}  // namespace
+}  // namespace levelfuse::io
