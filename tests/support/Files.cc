@@ -64,4 +64,19 @@ void writePng(const std::string& path, int width, int height, int bitDepth, int 
   std::fclose(file);
 }
 
+PngImage readPng8(const std::string& path) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&image, path.c_str())) throw std::runtime_error("cannot read " + path);
+  image.format = PNG_FORMAT_RGB;
+  PngImage out;
+  out.width = static_cast<int>(image.width);
+  out.height = static_cast<int>(image.height);
+  out.channels = 3;
+  out.samples.resize(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, out.samples.data(), 0, nullptr))
+    throw std::runtime_error("cannot decode " + path);
+  return out;
+}
+
 }  // namespace levelfuse::test

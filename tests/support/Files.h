@@ -29,4 +29,14 @@ void writeBytes(const std::string& path, const std::vector<unsigned char>& bytes
 void writePng(const std::string& path, int width, int height, int bitDepth, int channels,
               const std::vector<std::uint16_t>& samples);
 
+/// An 8-bit PNG read back: width, height, channels and samples, row-major.
+struct PngImage {
+  int width = 0, height = 0, channels = 0;
+  std::vector<std::uint8_t> samples;
+  const std::uint8_t* pixel(int x, int y) const {
+    return &samples[(static_cast<std::size_t>(y) * width + x) * channels];
+  }
+};
+PngImage readPng8(const std::string& path);
+
 }  // namespace levelfuse::test

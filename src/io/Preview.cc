@@ -1,0 +1,116 @@
+// levelfuse: shaded previews of level sets.
+
+#include <levelfuse/core/Parallel.h>
+#include <levelfuse/io/AtomicWrite.h>
+#include <levelfuse/io/Preview.h>
+
+#include <openvdb/math/Ray.h>
+#include <openvdb/tools/RayIntersector.h>
+
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace levelfuse::io {
+
+namespace {
+
+using openvdb::Vec3d;
+
+void writeRgbPng(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (!file) throw std::runtime_error("cannot open for writing");
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    std::fclose(file);
+    throw std::runtime_error("libpng failed to write the image");
+  }
+  png_init_io(png, file);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < height; ++y)
+    png_write_row(png, const_cast<png_bytep>(rgb.data() + static_cast<std::size_t>(y) * width * 3));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  if (std::fclose(file) != 0) throw std::runtime_error("cannot finish the file");
+}
+
+std::uint8_t toByte(double linear) {
+  const double srgb = std::pow(std::clamp(linear, 0.0, 1.0), 1.0 / 2.2);
+  return static_cast<std::uint8_t>(std::lround(255.0 * srgb));
+}
+
+}  // namespace
+
+void writePreviewPng(const openvdb::FloatGrid& levelSet, const std::string& path, const PreviewOptions& options) {
+  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
+    throw std::invalid_argument("preview: the grid '" + levelSet.getName() + "' is not a level set");
+  if (options.width < 8 || options.height < 8 || options.width > 16384 || options.height > 16384)
+    throw std::invalid_argument("preview: the picture must be 8 to 16384 pixels a side");
+  if (levelSet.activeVoxelCount() == 0) throw std::invalid_argument("preview: the level set '" + levelSet.getName() + "' has no surface");
+
+  // The camera's axes.
+  const Vec3d back = options.toward.length() > 0.0 ? options.toward.unit() : Vec3d(0, 0, 1);
+  Vec3d right = options.up.cross(back);
+  if (right.length() < 1e-6) right = Vec3d(0, 0, 1).cross(back);
+  right.normalize();
+  const Vec3d up = back.cross(right);
+  // Frame the band: its leaf nodes' extents across and along the view.
+  Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  const double leafRadius = 0.5 * std::sqrt(3.0) * openvdb::FloatTree::LeafNodeType::DIM * levelSet.voxelSize()[0];
+  for (auto leaf = levelSet.tree().cbeginLeaf(); leaf; ++leaf) {
+    if (leaf->isEmpty()) continue;
+    const Vec3d c = levelSet.indexToWorld(leaf->origin().asVec3d() + Vec3d(0.5 * (leaf->DIM - 1)));
+    const Vec3d q(c.dot(right), c.dot(up), c.dot(back));
+    lo = openvdb::math::minComponent(lo, q - Vec3d(leafRadius));
+    hi = openvdb::math::maxComponent(hi, q + Vec3d(leafRadius));
+  }
+  const Vec3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  const double tanHalf = std::tan(0.5 * options.fieldOfViewDegrees * M_PI / 180.0);
+  const double aspect = static_cast<double>(options.width) / options.height;
+  const double distance = 1.05 * std::max(half.x() / (tanHalf * aspect), half.y() / tanHalf) + half.z();
+  const Vec3d eye = right * mid.x() + up * mid.y() + back * (mid.z() + distance);
+
+  // A key light from the upper left and a fill from the camera.
+  const Vec3d key = (up * 0.8 - right * 0.5 + back * 0.6).unit();
+  const Vec3d albedo(0.86, 0.80, 0.70);
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(options.width) * options.height * 3);
+  const openvdb::tools::LevelSetRayIntersector<openvdb::FloatGrid> shared(levelSet);
+  parallelFor(static_cast<std::size_t>(options.height), 4, [&](std::size_t begin, std::size_t end) {
+    openvdb::tools::LevelSetRayIntersector<openvdb::FloatGrid> intersector(shared);  // one accessor per task
+    for (std::size_t y = begin; y < end; ++y)
+      for (int x = 0; x < options.width; ++x) {
+        const double sx = (2.0 * (x + 0.5) / options.width - 1.0) * tanHalf * aspect;
+        const double sy = (1.0 - 2.0 * (y + 0.5) / options.height) * tanHalf;
+        const Vec3d direction = (right * sx + up * sy - back).unit();
+        openvdb::math::Ray<double> ray(eye, direction);
+        Vec3d hit, normal;
+        Vec3d colour;
+        if (intersector.intersectsWS(ray, hit, normal) && normal.length() > 0.0) {
+          normal.normalize();
+          if (normal.dot(direction) > 0.0) normal = -normal;  // seen from inside: shade the back face alike
+          const double diffuse = 0.75 * std::max(0.0, normal.dot(key)) + 0.35 * std::max(0.0, -normal.dot(direction));
+          const Vec3d halfway = (key - direction).unit();
+          const double specular = 0.15 * std::pow(std::max(0.0, normal.dot(halfway)), 40.0);
+          colour = albedo * (0.08 + diffuse) + Vec3d(specular);
+        } else {
+          const double t = static_cast<double>(y) / options.height;
+          colour = Vec3d(0.30, 0.33, 0.38) * (1.0 - t) + Vec3d(0.12, 0.13, 0.15) * t;
+        }
+        std::uint8_t* pixel = &rgb[(y * options.width + x) * 3];
+        for (int c = 0; c < 3; ++c) pixel[c] = toByte(colour[c]);
+      }
+  });
+  writeAtomically(path, [&](const std::string& temporary) { writeRgbPng(temporary, options.width, options.height, rgb); });
+}
+
+}  // namespace levelfuse::io
