@@ -18,6 +18,19 @@ using LeafT = openvdb::FloatTree::LeafNodeType;
 
 }  // namespace
 
+ForceFieldOptions defaultForceFieldOptions(const std::vector<RangeMap>& maps, double voxelSize) {
+  if (maps.empty()) throw std::invalid_argument("defaultForceFieldOptions: no range maps");
+  if (!(voxelSize > 0.0)) throw std::invalid_argument("defaultForceFieldOptions: the voxel size must be positive");
+  std::vector<double> sigmas;
+  for (const RangeMap& m : maps) sigmas.push_back(m.sigma());
+  std::nth_element(sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end());
+  ForceFieldOptions options;
+  options.window = WindowKind::kGaussian;
+  options.epsilon = std::max(3.0 * sigmas[sigmas.size() / 2], voxelSize);
+  options.positionVariance = voxelSize * voxelSize / 120.0;  // Eq. 38 with subcell positioning
+  return options;
+}
+
 ForceField::ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& options)
     : mMaps(std::move(maps)), mOptions(options) {
   if (mMaps.empty()) throw std::invalid_argument("ForceField: no range maps");

@@ -45,6 +45,7 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
     else ++mValidCount;
   }
   mReadings = std::move(readings);
+  findUsableCells();
   // Per-block bounds of the readings, for culling in accumulation.
   mBlocksX = (mWidth + kBlock - 1) / kBlock;
   mBlocksY = (mHeight + kBlock - 1) / kBlock;
@@ -62,6 +63,28 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
   mMapToWorld = mapToWorld;
   mWorldToMap = mapToWorld.inverse();
   mRotation = mapToWorld.getMat3();
+}
+
+void RangeMap::findUsableCells() {
+  mUsableCell.assign(mReadings.size(), 0);
+  for (int j = 0; j + 1 < mHeight; ++j)
+    for (int i = 0; i + 1 < mWidth; ++i) {
+      const std::size_t at = index(i, j);
+      const float r[4] = {mReadings[at], mReadings[at + 1], mReadings[at + static_cast<std::size_t>(mWidth)],
+                          mReadings[at + static_cast<std::size_t>(mWidth) + 1]};
+      if (!(r[0] == r[0] && r[1] == r[1] && r[2] == r[2] && r[3] == r[3])) continue;
+      const double lo = std::min(std::min(r[0], r[1]), std::min(r[2], r[3]));
+      const double hi = std::max(std::max(r[0], r[1]), std::max(r[2], r[3]));
+      // The distance between neighbouring rays at the readings.
+      const double spacing = mKind == Kind::kOrthographic ? mOrtho.pixelSize : hi / std::min(mPinhole.fx, mPinhole.fy);
+      mUsableCell[at] = hi - lo <= mJumpFactor * spacing;
+    }
+}
+
+void RangeMap::setDiscontinuityFactor(double factor) {
+  if (!(factor > 0.0)) throw std::invalid_argument("range map '" + mName + "': the discontinuity factor must be positive");
+  mJumpFactor = factor;
+  findUsableCells();
 }
 
 RangeMap RangeMap::orthographic(int width, int height, std::vector<float> readings, const OrthographicProjection& p,

@@ -34,6 +34,13 @@ struct ForceFieldOptions {
   std::size_t grainSize = 1;  ///< leaf nodes per parallel task; 0 runs serially
 };
 
+/// Options derived from the data for a grid of `voxelSize`: a Gaussian window
+/// of width eps = max(3 sigma, voxelSize), sigma the range maps' median noise,
+/// so that a reading reaches past its own noise and at least a voxel either
+/// side of the surface, and the positional variance of subcell positioning,
+/// voxelSize^2 / 120 (section 6).
+ForceFieldOptions defaultForceFieldOptions(const std::vector<RangeMap>& maps, double voxelSize);
+
 /// Where the data term reaches, accumulated on a grid: the terms of Eq. 17
 /// summed per voxel, and their weights.
 struct AccumulatedField {

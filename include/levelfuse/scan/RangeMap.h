@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -64,7 +65,7 @@ class RangeMap {
   void setSigmas(std::vector<float> sigmas);
   /// A 2x2 cell whose readings differ by more than `factor` times the distance
   /// between its rays is a depth discontinuity: never interpolated across.
-  void setDiscontinuityFactor(double factor) { mJumpFactor = factor; }
+  void setDiscontinuityFactor(double factor);
 
   /// The reading on the line of sight through x, interpolated bilinearly
   /// between the four surrounding readings; false where one of them is missing
@@ -76,6 +77,9 @@ class RangeMap {
   struct LocalSample {
     double D, gradDSquared, gamma, sigma;
   };
+#if defined(__GNUC__)
+  __attribute__((always_inline))
+#endif
   bool sampleLocal(const openvdb::Vec3d& p, double reach, LocalSample& out) const;
   /// What the line of sight through a point says about it, away from the
   /// reading (space carving, as in VRIP's hole filling).
@@ -134,6 +138,8 @@ class RangeMap {
     return static_cast<std::size_t>(v) * static_cast<std::size_t>(mWidth) + static_cast<std::size_t>(u);
   }
   void finish(std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld, double sigma);
+  /// Marks the 2x2 cells of readings that may be interpolated.
+  void findUsableCells();
   /// Shared by sample() and sampleLocal(): the bilinear reading at pixel (u, v)
   /// and its derivatives; false without one.
   bool interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
@@ -147,6 +153,9 @@ class RangeMap {
   int mWidth = 0, mHeight = 0;
   std::string mName;
   std::vector<float> mReadings;  ///< NaN where there is no reading
+  /// Per cell (i, j) between pixels i..i+1, j..j+1: 1 if its four readings are
+  /// valid and span no depth discontinuity (indexed like the pixels).
+  std::vector<std::uint8_t> mUsableCell;
   std::vector<openvdb::Vec3f> mDirections;
   std::vector<float> mSigmas;
   std::vector<bool> mMisses;  ///< per pixel: no reading within the dropout reach (if misses are empty)
@@ -168,19 +177,14 @@ inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, dou
   if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
   i = static_cast<int>(u);
   j = static_cast<int>(v);
+  const std::size_t at = index(i, j);
+  // Never across a missing reading nor a depth discontinuity.
+  if (!mUsableCell[at]) return false;
   fu = u - i;
   fv = v - j;
-  const std::size_t at = index(i, j);
   const double r00 = mReadings[at], r10 = mReadings[at + 1];
   const double r01 = mReadings[at + static_cast<std::size_t>(mWidth)];
   const double r11 = mReadings[at + static_cast<std::size_t>(mWidth) + 1];
-  // Never across a missing reading (NaN compares false) ...
-  if (!(r00 == r00 && r10 == r10 && r01 == r01 && r11 == r11)) return false;
-  // ... nor across a depth discontinuity.
-  const double lo = std::min(std::min(r00, r10), std::min(r01, r11));
-  const double hi = std::max(std::max(r00, r10), std::max(r01, r11));
-  const double spacing = mKind == Kind::kOrthographic ? mOrtho.pixelSize : hi / std::min(mPinhole.fx, mPinhole.fy);
-  if (hi - lo > mJumpFactor * spacing) return false;
   r = (1 - fv) * ((1 - fu) * r00 + fu * r10) + fv * ((1 - fu) * r01 + fu * r11);
   ru = (1 - fv) * (r10 - r00) + fv * (r11 - r01);
   rv = (1 - fu) * (r01 - r00) + fu * (r11 - r10);
@@ -192,11 +196,11 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
   if (mKind == Kind::kOrthographic) {
     u = (p.x() - mOrtho.origin.x()) * mInversePixel;
     v = (p.y() - mOrtho.origin.y()) * mInversePixel;
-    // Far outside the window of the nearest reading: no interpolation needed.
-    if (u >= 0.0 && v >= 0.0 && u < mWidth && v < mHeight) {
-      const float nearest = mReadings[index(static_cast<int>(u), static_cast<int>(v))];
-      if (nearest == nearest && std::fabs(p.z() - nearest) > reach + mJumpFactor * mOrtho.pixelSize) return false;
-    }
+    // Far outside the window of the cell's first reading (the others differ
+    // from it by less than the discontinuity step): no interpolation needed.
+    if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
+    const std::size_t at = index(static_cast<int>(u), static_cast<int>(v));
+    if (!mUsableCell[at] || std::fabs(p.z() - mReadings[at]) > reach + mJumpFactor * mOrtho.pixelSize) return false;
   } else {
     if (!(p.z() > 0.0)) return false;
     u = mPinhole.fx * p.x() / p.z() + mPinhole.cx;
