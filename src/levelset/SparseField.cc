@@ -40,6 +40,8 @@ void validateOptions(const SparseFieldOptions& options) {
     throw std::invalid_argument("SparseFieldOptions::maxStepChange must lie in (0, 0.5) voxel");
   if (!(options.curvatureStepLimit > 0.0))
     throw std::invalid_argument("SparseFieldOptions::curvatureStepLimit must be positive");
+  if (!(options.stiffnessStepLimit > 0.0))
+    throw std::invalid_argument("SparseFieldOptions::stiffnessStepLimit must be positive");
 }
 
 void validateTransform(const openvdb::GridBase& grid) {

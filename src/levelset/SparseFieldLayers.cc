@@ -74,13 +74,18 @@ std::size_t indexActivePoints(SparseFieldState& state) {
   return total;
 }
 
-double chooseTimeStep(const SparseFieldState& state, double maxSpeed, double curvatureWeight, double maxDt) {
+double chooseTimeStep(const SparseFieldState& state, double maxSpeed, double curvatureWeight, double stiffness,
+                      double maxDt) {
   double dt = maxDt;
   // Eqs. 31-32: the fastest front over the active set may move maxStepChange voxels.
   if (maxSpeed > 0.0) dt = std::min(dt, state.options.maxStepChange * state.dx / maxSpeed);
-  // Stability of the explicit curvature term (Eq. 26).
-  if (curvatureWeight > 0.0)
-    dt = std::min(dt, state.options.curvatureStepLimit * state.dx * state.dx / curvatureWeight);
+  // Stability of the explicit curvature term (Eq. 26) and of a stiff force,
+  // combined as rates.
+  const double curvatureDt = state.options.curvatureStepLimit * state.dx * state.dx / curvatureWeight;
+  const double stiffnessDt = state.options.stiffnessStepLimit / stiffness;
+  if (curvatureWeight > 0.0 && stiffness > 0.0) dt = std::min(dt, 1.0 / (1.0 / curvatureDt + 1.0 / stiffnessDt));
+  else if (curvatureWeight > 0.0) dt = std::min(dt, curvatureDt);
+  else if (stiffness > 0.0) dt = std::min(dt, stiffnessDt);
   if (!std::isfinite(dt) || dt < 0.0) dt = 0.0;
   return dt;
 }

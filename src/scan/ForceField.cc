@@ -32,20 +32,35 @@ ForceFieldOptions defaultForceFieldOptions(const std::vector<RangeMap>& maps, do
 }
 
 ForceField::ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& options)
+    : ForceField(std::make_shared<const std::vector<RangeMap>>(std::move(maps)), options) {}
+
+ForceField::ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const ForceFieldOptions& options)
     : mMaps(std::move(maps)), mOptions(options) {
-  if (mMaps.empty()) throw std::invalid_argument("ForceField: no range maps");
+  if (!mMaps || mMaps->empty()) throw std::invalid_argument("ForceField: no range maps");
   if (!(mOptions.epsilon > 0.0) || !std::isfinite(mOptions.epsilon))
     throw std::invalid_argument("ForceField: the window width epsilon must be positive");
   if (!(mOptions.reach > 0.0)) throw std::invalid_argument("ForceField: the window reach must be positive");
   if (!(mOptions.positionVariance >= 0.0)) throw std::invalid_argument("ForceField: negative position variance");
   // A typical reading's c gamma: the median over maps of gamma / sigma^2 at their readings.
   std::vector<double> weights;
-  for (const RangeMap& m : mMaps) {
+  for (const RangeMap& m : *mMaps) {
     const double spacing = m.maxRaySpacing();
     weights.push_back(1.0 / (spacing * spacing) / (m.sigma() * m.sigma()));
   }
   std::nth_element(weights.begin(), weights.begin() + weights.size() / 2, weights.end());
   mTypicalWeight = weights[weights.size() / 2];
+  // Where each map's windows reach, and its line of sight if it is one.
+  const double reach = windowReach();
+  for (const RangeMap& m : *mMaps) {
+    openvdb::BBoxd box;
+    for (int v = 0; v < m.height(); ++v)
+      for (int u = 0; u < m.width(); ++u)
+        if (m.valid(u, v)) box.expand(m.readingPoint(u, v));
+    box.expand(reach);
+    mReach.push_back(box);
+    const bool parallel = m.kind() == RangeMap::Kind::kOrthographic && !m.hasRayDirections();
+    mParallelSight.push_back(parallel ? m.mapToWorld().transform3x3(Vec3d(0, 0, 1)) : Vec3d(0.0));
+  }
   // The Gaussian window exp(-D^2 / (2 eps^2)), tabulated in x = (D / eps)^2 up to
   // the reach; interpolated linearly it is within 1e-6 of the exponential.
   const std::size_t entries = 4096;
@@ -63,7 +78,7 @@ double ForceField::windowReach() const {
 
 bool ForceField::term(std::size_t j, const Vec3d& x, double& gTerm, double& wTerm, Vec3d* lineOfSight) const {
   RangeSample s;
-  if (!mMaps[j].sample(x, s)) return false;
+  if (!(*mMaps)[j].sample(x, s)) return false;
   const double w = window(s.D);
   if (w == 0.0) return false;
   const double c = 1.0 / (s.sigma * s.sigma + s.gradD.lengthSqr() * mOptions.positionVariance);  // Eq. 38
@@ -75,23 +90,45 @@ bool ForceField::term(std::size_t j, const Vec3d& x, double& gTerm, double& wTer
 
 double ForceField::g(const Vec3d& x) const {
   double sum = 0.0, gt, wt;
-  for (std::size_t j = 0; j < mMaps.size(); ++j)
+  for (std::size_t j = 0; j < mMaps->size(); ++j)
     if (term(j, x, gt, wt, nullptr)) sum += gt;
   return sum;
 }
 
 double ForceField::weight(const Vec3d& x) const {
   double sum = 0.0, gt, wt;
-  for (std::size_t j = 0; j < mMaps.size(); ++j)
+  for (std::size_t j = 0; j < mMaps->size(); ++j)
     if (term(j, x, gt, wt, nullptr)) sum += wt;
   return sum;
 }
 
-double ForceField::facing(const Vec3d& x, const Vec3d& normal) const {
-  double sum = 0.0, gt, wt;
-  Vec3d los;
-  for (std::size_t j = 0; j < mMaps.size(); ++j)
-    if (term(j, x, gt, wt, &los) && los.dot(normal) < 0.0) sum += gt;  // Eq. 37
+double ForceField::facing(const Vec3d& x, const Vec3d& normal) const { return facingTerms(x, normal).g; }
+
+ForceField::Terms ForceField::facingTerms(const Vec3d& x, const Vec3d& normal) const {
+  Terms sum;
+  const double reach = windowReach();
+  for (std::size_t j = 0; j < mMaps->size(); ++j) {
+    if (!mReach[j].isInside(x)) continue;
+    const Vec3d& sight = mParallelSight[j];
+    if (sight.x() != 0.0 || sight.y() != 0.0 || sight.z() != 0.0) {
+      // Parallel rays: the facing check (Eq. 37) before any lookup.
+      if (!(sight.dot(normal) < 0.0)) continue;
+      RangeMap::LocalSample s;
+      if (!(*mMaps)[j].sampleLocal((*mMaps)[j].worldToMap().transform(x), reach, s)) continue;
+      const double w = window(s.D);
+      if (w == 0.0) continue;
+      const double c = 1.0 / (s.sigma * s.sigma + s.gradDSquared * mOptions.positionVariance);  // Eq. 38
+      sum.weight += c * w * s.gamma;
+      sum.g += c * w * s.gamma * s.D;  // Eq. 17
+      continue;
+    }
+    double gt, wt;
+    Vec3d los;
+    if (term(j, x, gt, wt, &los) && los.dot(normal) < 0.0) {  // Eq. 37
+      sum.g += gt;
+      sum.weight += wt;
+    }
+  }
   return sum;
 }
 
@@ -104,10 +141,10 @@ AccumulatedField ForceField::accumulate(double voxelSize) const {
   // 1. Which leaf nodes each range map's windows reach: per 2x2 cell of
   //    readings, the slab swept by the window along the lines of sight.
   // Marked in a coarse mask whose voxels are leaves: duplicates cost nothing.
-  std::vector<std::vector<Coord>> touched(mMaps.size());
-  parallelFor(mMaps.size(), 1, [&](std::size_t begin, std::size_t end) {
+  std::vector<std::vector<Coord>> touched(mMaps->size());
+  parallelFor(mMaps->size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) {
-      const RangeMap& m = mMaps[j];
+      const RangeMap& m = (*mMaps)[j];
       const Vec3d scanner = m.scannerPosition();
       openvdb::MaskTree coarse;
       openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(coarse);
@@ -160,7 +197,7 @@ AccumulatedField ForceField::accumulate(double voxelSize) const {
       std::fill(gSum.begin(), gSum.end(), 0.0);
       std::fill(wSum.begin(), wSum.end(), 0.0);
       for (std::size_t p = firstPair[l]; p < firstPair[l + 1]; ++p) {
-        const RangeMap& m = mMaps[pairs[p].second];
+        const RangeMap& m = (*mMaps)[pairs[p].second];
         const openvdb::math::Mat4d& toMap = m.worldToMap();
         const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
         const Vec3d step[3] = {toMap.transform3x3(Vec3d(voxelSize, 0, 0)), toMap.transform3x3(Vec3d(0, voxelSize, 0)),

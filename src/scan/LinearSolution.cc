@@ -75,7 +75,7 @@ openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double half
   const float width = levelSetBackground(halfWidth, voxelSize);
   const double margin = windowReach();
   const openvdb::math::Transform& xform = field.g->transform();
-  const auto inside = [&](const Coord& ijk) { return carvedInside(mMaps, xform.indexToWorld(ijk), margin); };
+  const auto inside = [&](const Coord& ijk) { return carvedInside(*mMaps, xform.indexToWorld(ijk), margin); };
   const auto clamp = [width](float value) { return std::max(-width, std::min(width, value)); };
 
   // 1. Where the data reaches, the weighted mean signed distance along the

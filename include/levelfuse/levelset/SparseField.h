@@ -37,6 +37,11 @@ struct SparseFieldOptions {
   /// explicit limit is 1/4 (2D); measured on noisy spheres, 0.25 damps noise as
   /// fast as 1/6 while 0.3 lets it grow for a while.
   double curvatureStepLimit = 0.25;
+  /// Limit for speeds with a stiffness k (see speedStiffness): dt k <= this,
+  /// so that a displaced surface relaxes without overshooting. With a
+  /// curvature term as well, the two limits combine as rates do:
+  /// 1 / dt >= k / stiffnessStepLimit + beta / (curvatureStepLimit dx^2).
+  double stiffnessStepLimit = 0.5;
   /// Leaf nodes per parallel task; 0 runs every phase serially.
   std::size_t grainSize = 4;
 };

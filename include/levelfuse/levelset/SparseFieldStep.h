@@ -58,7 +58,7 @@ StepResult SparseField::step(const Speed& speed, double maxDt) {
   detail::SparseFieldState& state = *mState;
   detail::indexActivePoints(state);
   const double maxSpeed = detail::computeRates(state, speed);
-  const double dt = detail::chooseTimeStep(state, maxSpeed, speed.curvatureWeight(), maxDt);
+  const double dt = detail::chooseTimeStep(state, maxSpeed, speed.curvatureWeight(), speedStiffness(speed), maxDt);
   return detail::applyRates(state, dt, maxSpeed);
 }
 

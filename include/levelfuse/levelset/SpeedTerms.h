@@ -9,6 +9,8 @@
 // A speed is any type with
 //   float operator()(const ActivePoint&) const;   // d psi / dt, world units per unit time
 //   double curvatureWeight() const;               // beta, for the time-step limit (0 if none)
+// and optionally
+//   double stiffness() const;                     // see speedStiffness() below
 // Engines are templates over the speed, so the per-point call inlines.
 #pragma once
 
@@ -18,8 +20,28 @@
 #include <openvdb/math/Transform.h>
 
 #include <functional>
+#include <type_traits>
+#include <utility>
 
 namespace levelfuse {
+
+namespace detail {
+template <typename T, typename = void>
+struct HasStiffness : std::false_type {};
+template <typename T>
+struct HasStiffness<T, std::void_t<decltype(std::declval<const T&>().stiffness())>> : std::true_type {};
+}  // namespace detail
+
+/// How fast a speed (or force) pulls a displaced surface back, per unit time:
+/// an upper bound of -d(rate)/d(psi) of its part other than the curvature
+/// term, e.g. 1 for a force that is the distance to a target surface. An
+/// explicit step must keep dt * stiffness well below 1; 0 for types without a
+/// stiffness() member.
+template <typename T>
+double speedStiffness(const T& speed) {
+  if constexpr (detail::HasStiffness<T>::value) return speed.stiffness();
+  else return 0.0;
+}
 
 /// What a speed sees of one grid point being updated.
 struct ActivePoint {
@@ -83,6 +105,7 @@ struct ForceSpeed {
     return rate;
   }
   double curvatureWeight() const { return beta; }
+  double stiffness() const { return speedStiffness(force); }
 };
 
 /// A constant outward normal speed (negative: the surface shrinks).

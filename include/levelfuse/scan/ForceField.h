@@ -14,6 +14,7 @@
 #include <openvdb/openvdb.h>
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace levelfuse {
@@ -52,6 +53,8 @@ struct AccumulatedField {
 class ForceField {
  public:
   ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& options);
+  /// Shares the range maps, e.g. between the force fields of several grids.
+  ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const ForceFieldOptions& options);
 
   /// g(x), Eq. 17.
   double g(const openvdb::Vec3d& x) const;
@@ -60,6 +63,16 @@ class ForceField {
   double facing(const openvdb::Vec3d& x, const openvdb::Vec3d& normal) const;
   /// Sum of the weights c_j w_j gamma_j at x.
   double weight(const openvdb::Vec3d& x) const;
+
+  /// The facing-checked data term at x (Eq. 37) and its weight: the sums of
+  /// c_j D_j w_j gamma_j and of c_j w_j gamma_j over the range maps whose
+  /// scanner a surface through x with outward normal N faces. The hot path of
+  /// the evolution: maps whose windows cannot reach x are skipped at once.
+  struct Terms {
+    double g = 0.0;
+    double weight = 0.0;
+  };
+  Terms facingTerms(const openvdb::Vec3d& x, const openvdb::Vec3d& normal) const;
 
   /// Accumulates g over the voxels (of size `voxelSize`, centred on multiples
   /// of it) within the window of some reading. Parallel over leaf nodes and
@@ -77,7 +90,8 @@ class ForceField {
   openvdb::FloatGrid::Ptr linearSolution(double voxelSize, double halfWidth = 3.0,
                                          const std::string& name = "surface") const;
 
-  const std::vector<RangeMap>& maps() const { return mMaps; }
+  const std::vector<RangeMap>& maps() const { return *mMaps; }
+  const std::shared_ptr<const std::vector<RangeMap>>& sharedMaps() const { return mMaps; }
   const ForceFieldOptions& options() const { return mOptions; }
   /// A typical single reading's weight c gamma: divides g into a force of
   /// length units (see Reconstructor).
@@ -99,7 +113,11 @@ class ForceField {
   }
   double windowReach() const;
 
-  std::vector<RangeMap> mMaps;
+  std::shared_ptr<const std::vector<RangeMap>> mMaps;
+  /// Per map: the world box its windows reach, and its line of sight where it
+  /// is one direction for all pixels (parallel rays), else zero.
+  std::vector<openvdb::BBoxd> mReach;
+  std::vector<openvdb::Vec3d> mParallelSight;
   ForceFieldOptions mOptions;
   double mTypicalWeight = 1.0;
   std::vector<double> mGaussian;  ///< exp(-x / 2) at x = i / mTableScale, x up to reach^2

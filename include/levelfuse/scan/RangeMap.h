@@ -61,6 +61,7 @@ class RangeMap {
   /// Per-pixel lines of sight (unit vectors in the map frame, away from the
   /// scanner), e.g. for scanners with a fan of rays per row.
   void setRayDirections(std::vector<openvdb::Vec3f> directions);
+  bool hasRayDirections() const { return !mDirections.empty(); }
   /// Per-pixel standard deviations (world units), replacing the map's sigma.
   void setSigmas(std::vector<float> sigmas);
   /// A 2x2 cell whose readings differ by more than `factor` times the distance

@@ -141,7 +141,8 @@ void rebuildLayers(SparseFieldState& state);
 std::size_t indexActivePoints(SparseFieldState& state);
 
 /// Time step for the largest speed and curvature weight (section 4.1, Eq. 31).
-double chooseTimeStep(const SparseFieldState& state, double maxSpeed, double curvatureWeight, double maxDt);
+double chooseTimeStep(const SparseFieldState& state, double maxSpeed, double curvatureWeight, double stiffness,
+                      double maxDt);
 
 /// Adds dt times the rates in pointValues to the active values, resolves
 /// conflicting moves, moves points between layers (section 5, steps 2-4).

@@ -1,0 +1,28 @@
+// levelfuse: the zero set of a level set as a triangle mesh.
+#pragma once
+
+#include <openvdb/openvdb.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace levelfuse {
+
+/// A triangle mesh in world units: xyz holds three floats per vertex,
+/// triangles three vertex indices each, counter-clockwise seen from outside.
+struct TriangleMesh {
+  std::vector<float> xyz;
+  std::vector<std::uint32_t> triangles;
+
+  std::size_t vertexCount() const { return xyz.size() / 3; }
+  std::size_t triangleCount() const { return triangles.size() / 3; }
+  /// Enclosed volume (positive for a closed, outward-facing mesh) and area.
+  double volume() const;
+  double area() const;
+};
+
+/// The zero set of `levelSet` by OpenVDB's volumeToMesh (quads split into
+/// triangles), with `adaptivity` in [0, 1] (0: uniform, as fine as the grid).
+TriangleMesh meshFromLevelSet(const openvdb::FloatGrid& levelSet, double adaptivity = 0.0);
+
+}  // namespace levelfuse

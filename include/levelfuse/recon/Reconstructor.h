@@ -1,0 +1,128 @@
+// levelfuse: surfaces from range maps, the pipeline of section 6 of the paper.
+//
+//  1. The linear solution (the zero set of g, Eq. 17) on a coarse grid is the
+//     initial model.
+//  2. A sparse field evolves it under the facing-checked data term sampled at
+//     subcell positions plus the surface-area prior (DataSpeed.h) until the
+//     change per iteration falls below a threshold.
+//  3. The result is resampled to half the voxel size and evolved again, down
+//     to the requested voxel size: a continuation from coarse to fine.
+#pragma once
+
+#include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/scan/ForceField.h>
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/openvdb.h>
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace levelfuse {
+
+/// Settings of a reconstruction. Zeros mean "derive from the data" and are
+/// replaced by the values Reconstructor::options() reports.
+struct ReconstructionOptions {
+  /// Voxel size of the finest grid (world units). 0: the scans' median
+  /// distance between neighbouring rays, the resolution the data supports.
+  double voxelSize = 0.0;
+  /// Number of grids, each with half the voxel size of the one before. 0: so
+  /// many that the coarsest grid is about 64 voxels across the data.
+  int levels = 0;
+  /// Weight of the surface-area prior (Eq. 19), in voxels of the finest grid:
+  /// where the data support a surface, a sphere of radius R voxels settles
+  /// 2 beta / R voxels inside it. 0 turns the prior off.
+  double beta = 0.5;
+  /// Width of the data term's window (Eqs. 8-9), world units. 0: three times
+  /// the scans' median noise sigma, but at least a voxel of each grid.
+  double epsilon = 0.0;
+  WindowKind window = WindowKind::kGaussian;
+  /// A grid has converged when the rms speed of its active values falls below
+  /// this many voxels per unit time (the data term relaxes in about one).
+  double tolerance = 0.02;
+  /// A grid has also settled when its rms speed has not fallen (by 5%) for
+  /// this many iterations: points whose zero crossing lies near the edge of
+  /// their voxel keep trading places with their neighbours, so the speed of a
+  /// settled surface does not fall to zero.
+  int patience = 8;
+  int minIterations = 4;    ///< per grid
+  int maxIterations = 100;  ///< per grid
+  std::string name = "surface";  ///< the output grid's name
+  SparseFieldOptions engine;     ///< the sparse-field engine's settings
+};
+
+/// Where a reconstruction is; passed to the progress callback.
+struct ReconstructionProgress {
+  enum class Stage { kInitialModel, kEvolving, kResampling, kDone };
+  Stage stage = Stage::kInitialModel;
+  int level = 0;           ///< 0 is the coarsest grid
+  int levels = 0;
+  double voxelSize = 0.0;
+  int iteration = 0;       ///< within the grid
+  int maxIterations = 0;
+  std::size_t activeVoxels = 0;
+  double speed = 0.0;      ///< rms speed of the active values in the last iteration (voxels per unit time)
+  double seconds = 0.0;    ///< since the start
+};
+
+/// Called between iterations; return false to cancel the reconstruction.
+using ProgressCallback = std::function<bool(const ReconstructionProgress&)>;
+
+/// Thrown by Reconstructor::run when the progress callback asks to stop.
+class ReconstructionCancelled : public std::runtime_error {
+ public:
+  ReconstructionCancelled() : std::runtime_error("the reconstruction was cancelled") {}
+};
+
+/// What one grid of the reconstruction did.
+struct LevelReport {
+  double voxelSize = 0.0;
+  int iterations = 0;
+  bool converged = false;  ///< its speed fell below the tolerance
+  bool settled = false;    ///< its speed stopped falling
+  double simulatedTime = 0.0;
+  double seconds = 0.0;
+  std::size_t activeVoxels = 0;
+  std::size_t bandVoxels = 0;
+  std::size_t engineBytes = 0;  ///< the sparse field's memory at the end of the grid
+};
+
+struct ReconstructionResult {
+  /// A standard OpenVDB level set: GRID_LEVEL_SET, half-width 3, named as the
+  /// options say, with the parameters in its metadata (levelfuse_*).
+  openvdb::FloatGrid::Ptr levelSet;
+  std::vector<LevelReport> levels;
+  double seconds = 0.0;
+  std::size_t peakEngineBytes = 0;  ///< the largest sparse field along the way
+};
+
+class Reconstructor {
+ public:
+  /// Resolves the options' defaults from the data; throws std::invalid_argument
+  /// for no range maps or unusable options, with a hint.
+  Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options = {});
+
+  /// Runs the pipeline. Throws ReconstructionCancelled if `progress` returns false.
+  ReconstructionResult run(const ProgressCallback& progress = {}) const;
+
+  /// The options with every default resolved.
+  const ReconstructionOptions& options() const { return mOptions; }
+  /// Voxel size of grid `level` (0 is the coarsest).
+  double voxelSize(int level) const;
+  /// The data term's settings on grid `level`.
+  ForceFieldOptions forceOptions(int level) const;
+  const std::vector<RangeMap>& maps() const { return *mMaps; }
+  /// World box of the scans' readings.
+  const openvdb::BBoxd& bounds() const { return mBounds; }
+
+ private:
+  std::shared_ptr<const std::vector<RangeMap>> mMaps;
+  ReconstructionOptions mOptions;
+  openvdb::BBoxd mBounds;
+};
+
+}  // namespace levelfuse

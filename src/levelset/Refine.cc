@@ -1,0 +1,63 @@
+// levelfuse: refining a level set to half the voxel size.
+
+#include <levelfuse/core/Parallel.h>
+#include <levelfuse/levelset/Background.h>
+#include <levelfuse/levelset/Refine.h>
+
+#include <openvdb/tools/Interpolation.h>
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace levelfuse {
+
+openvdb::FloatGrid::Ptr refineLevelSet(const openvdb::FloatGrid& levelSet, double halfWidth) {
+  using LeafT = openvdb::FloatTree::LeafNodeType;
+  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
+    throw std::invalid_argument("refineLevelSet: the grid '" + levelSet.getName() + "' is not a level set");
+  if (!levelSet.hasUniformVoxels() || !levelSet.transform().isLinear())
+    throw std::invalid_argument("refineLevelSet: the grid '" + levelSet.getName() + "' needs uniform, linear voxels");
+  if (!(halfWidth >= 1.0)) throw std::invalid_argument("refineLevelSet: the half-width must be at least one voxel");
+
+  openvdb::math::Transform::Ptr fineTransform = levelSet.transform().copy();
+  fineTransform->preScale(0.5);  // fine index j lies at coarse index j / 2
+  const float width = levelSetBackground(halfWidth, fineTransform->voxelSize()[0]);
+  openvdb::FloatGrid::Ptr fine = openvdb::FloatGrid::create(width);
+  fine->setTransform(fineTransform);
+  fine->setGridClass(openvdb::GRID_LEVEL_SET);
+  fine->setName(levelSet.getName());
+
+  // Inside tiles cover twice the index range on the fine grid.
+  for (auto tile = levelSet.tree().cbeginValueAll(); tile; ++tile) {
+    if (tile.isVoxelValue() || !(*tile < 0.0f)) continue;
+    openvdb::CoordBBox box;
+    tile.getBoundingBox(box);
+    fine->tree().fill(openvdb::CoordBBox(box.min() << 1, (box.max() << 1) + openvdb::Coord(1)), -width, false);
+  }
+
+  // Each coarse leaf becomes the eight fine leaves over the same space.
+  std::vector<const LeafT*> coarse;
+  levelSet.tree().getNodes(coarse);
+  std::vector<std::unique_ptr<LeafT>> leaves(coarse.size() * 8);
+  parallelFor(coarse.size(), 1, [&](std::size_t begin, std::size_t end) {
+    openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
+    for (std::size_t i = begin; i < end; ++i)
+      for (int child = 0; child < 8; ++child) {
+        const openvdb::Coord origin = (coarse[i]->origin() << 1) +
+                                      (openvdb::Coord(child & 1, (child >> 1) & 1, child >> 2) << LeafT::LOG2DIM);
+        auto leaf = std::make_unique<LeafT>(origin, width);
+        for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
+          const float v = openvdb::tools::BoxSampler::sample(acc, leaf->offsetToGlobalCoord(o).asVec3d() * 0.5);
+          if (std::fabs(v) < width) leaf->setValueOn(o, v);
+          else leaf->setValueOff(o, v < 0.0f ? -width : width);
+        }
+        leaves[8 * i + static_cast<std::size_t>(child)] = std::move(leaf);
+      }
+  });
+  for (auto& leaf : leaves) fine->tree().addLeaf(leaf.release());
+  return fine;
+}
+
+}  // namespace levelfuse

@@ -1,0 +1,172 @@
+// levelfuse: the reconstruction pipeline (section 6).
+
+#include <levelfuse/Version.h>
+#include <levelfuse/levelset/Refine.h>
+#include <levelfuse/recon/DataSpeed.h>
+#include <levelfuse/recon/Reconstructor.h>
+
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace levelfuse {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double median(std::vector<double> values) {
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+}  // namespace
+
+Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options)
+    : mMaps(std::make_shared<const std::vector<RangeMap>>(std::move(maps))), mOptions(options) {
+  if (mMaps->empty()) throw std::invalid_argument("reconstruction: no range maps to reconstruct from");
+  std::vector<double> spacings, sigmas;
+  for (const RangeMap& m : *mMaps) {
+    for (int v = 0; v < m.height(); ++v)
+      for (int u = 0; u < m.width(); ++u)
+        if (m.valid(u, v)) mBounds.expand(m.readingPoint(u, v));
+    spacings.push_back(m.maxRaySpacing());
+    sigmas.push_back(m.sigma());
+  }
+  if (mBounds.empty()) throw std::invalid_argument("reconstruction: the range maps hold no readings");
+
+  ReconstructionOptions& o = mOptions;
+  if (o.voxelSize == 0.0) o.voxelSize = median(spacings);
+  if (!(o.voxelSize > 0.0) || !std::isfinite(o.voxelSize))
+    throw std::invalid_argument("reconstruction: the voxel size must be positive");
+  const double extent = mBounds.extents()[mBounds.maxExtent()];
+  if (extent / o.voxelSize > 1e5)
+    throw std::invalid_argument("reconstruction: a voxel size of " + std::to_string(o.voxelSize) +
+                                " makes the data " + std::to_string(extent / o.voxelSize) +
+                                " voxels across; choose a voxel size of at least " + std::to_string(extent / 1e5));
+  if (o.levels == 0) o.levels = 1 + std::max(0, static_cast<int>(std::lround(std::log2(extent / (64.0 * o.voxelSize)))));
+  if (o.levels < 1 || o.levels > 12) throw std::invalid_argument("reconstruction: the number of grids must be 1 to 12");
+  if (o.epsilon == 0.0) o.epsilon = 3.0 * median(sigmas);
+  if (!(o.epsilon > 0.0) || !std::isfinite(o.epsilon))
+    throw std::invalid_argument("reconstruction: the window width epsilon must be positive");
+  if (!(o.beta >= 0.0) || !std::isfinite(o.beta)) throw std::invalid_argument("reconstruction: beta must be >= 0");
+  if (!(o.tolerance > 0.0)) throw std::invalid_argument("reconstruction: the tolerance must be positive");
+  if (o.minIterations < 0 || o.maxIterations < std::max(1, o.minIterations))
+    throw std::invalid_argument("reconstruction: iterations must satisfy 0 <= min <= max, max >= 1");
+}
+
+double Reconstructor::voxelSize(int level) const {
+  return std::ldexp(mOptions.voxelSize, mOptions.levels - 1 - level);
+}
+
+ForceFieldOptions Reconstructor::forceOptions(int level) const {
+  const double h = voxelSize(level);
+  ForceFieldOptions f;
+  f.window = mOptions.window;
+  f.epsilon = std::max(mOptions.epsilon, h);  // the window never narrows below a voxel of the grid
+  f.positionVariance = h * h / 120.0;         // Eq. 38 with subcell positioning
+  f.grainSize = mOptions.engine.grainSize == 0 ? 0 : 1;
+  return f;
+}
+
+ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const {
+  const auto start = Clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  ReconstructionProgress state;
+  state.levels = mOptions.levels;
+  state.maxIterations = mOptions.maxIterations;
+  const auto report = [&] {
+    state.seconds = elapsed();
+    if (progress && !progress(state)) throw ReconstructionCancelled();
+  };
+
+  ReconstructionResult result;
+  state.voxelSize = voxelSize(0);
+  report();
+  // 1. The initial model: the linear solution on the coarsest grid.
+  std::unique_ptr<SparseField> field;
+  {
+    const ForceField force(mMaps, forceOptions(0));
+    field = std::make_unique<SparseField>(SparseField::fromLevelSet(*force.linearSolution(voxelSize(0)), mOptions.engine));
+  }
+  const double finest = mOptions.voxelSize;
+  int totalIterations = 0;
+  for (int level = 0; level < mOptions.levels; ++level) {
+    const auto levelStart = Clock::now();
+    const double h = voxelSize(level);
+    state.level = level;
+    state.voxelSize = h;
+    state.iteration = 0;
+    if (level > 0) {
+      // 3. Resample to half the voxel size.
+      state.stage = ReconstructionProgress::Stage::kResampling;
+      report();
+      field = std::make_unique<SparseField>(SparseField::fromLevelSet(*refineLevelSet(*field->toLevelSet(3.0)),
+                                                                      mOptions.engine));
+    }
+    // 2. Evolve under the data term and the prior until the surface settles.
+    const ForceField force(mMaps, forceOptions(level));
+    DataSpeed speed;
+    speed.force = DataForce{&force, force.typicalWeight()};
+    speed.beta = mOptions.beta * finest * finest;  // beta in voxels of the finest grid
+    speed.sampling = ForceSampling::kSubcell;      // Eqs. 34-36
+    state.stage = ReconstructionProgress::Stage::kEvolving;
+    LevelReport done;
+    done.voxelSize = h;
+    double slowest = std::numeric_limits<double>::infinity();
+    int lastProgress = 0;
+    for (int iteration = 1; iteration <= mOptions.maxIterations; ++iteration) {
+      const StepResult step = field->step(speed);
+      done.simulatedTime += step.dt;
+      state.iteration = iteration;
+      state.activeVoxels = step.activeVoxels;
+      state.speed = step.dt > 0.0 ? step.rmsChange / step.dt / h : 0.0;
+      done.iterations = iteration;
+      report();
+      if (iteration < mOptions.minIterations) continue;
+      if (state.speed < mOptions.tolerance || step.dt <= 0.0) {
+        done.converged = true;
+        break;
+      }
+      // Settled: the speed has stopped falling. Points whose zero crossing
+      // lies near the edge of their voxel keep trading places with their
+      // neighbours, so the speed of a settled surface does not reach zero.
+      if (state.speed < 0.95 * slowest) {
+        slowest = state.speed;
+        lastProgress = iteration;
+      } else if (iteration - lastProgress >= mOptions.patience) {
+        done.settled = true;
+        break;
+      }
+    }
+    totalIterations += done.iterations;
+    const SparseFieldStats stats = field->stats();
+    done.activeVoxels = stats.activeVoxels;
+    done.bandVoxels = stats.bandVoxels;
+    done.engineBytes = stats.memoryBytes;
+    done.seconds = std::chrono::duration<double>(Clock::now() - levelStart).count();
+    result.peakEngineBytes = std::max(result.peakEngineBytes, stats.memoryBytes);
+    result.levels.push_back(done);
+  }
+
+  result.levelSet = field->toLevelSet(3.0, mOptions.name);
+  openvdb::FloatGrid& out = *result.levelSet;
+  out.insertMeta("levelfuse_version", openvdb::StringMetadata(version()));
+  out.insertMeta("levelfuse_voxel_size", openvdb::DoubleMetadata(finest));
+  out.insertMeta("levelfuse_levels", openvdb::Int32Metadata(mOptions.levels));
+  out.insertMeta("levelfuse_beta", openvdb::DoubleMetadata(mOptions.beta));
+  out.insertMeta("levelfuse_epsilon", openvdb::DoubleMetadata(mOptions.epsilon));
+  out.insertMeta("levelfuse_window",
+                 openvdb::StringMetadata(mOptions.window == WindowKind::kGaussian ? "gaussian" : "binary"));
+  out.insertMeta("levelfuse_tolerance", openvdb::DoubleMetadata(mOptions.tolerance));
+  out.insertMeta("levelfuse_iterations", openvdb::Int32Metadata(totalIterations));
+  out.insertMeta("levelfuse_scans", openvdb::Int32Metadata(static_cast<int>(mMaps->size())));
+  result.seconds = elapsed();
+  state.stage = ReconstructionProgress::Stage::kDone;
+  report();
+  return result;
+}
+
+}  // namespace levelfuse

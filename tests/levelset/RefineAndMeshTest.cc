@@ -1,0 +1,69 @@
+// Refining a level set to half its voxel size, and meshing its zero set.
+
+#include "support/TestSupport.h"
+
+#include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/levelset/Refine.h>
+#include <levelfuse/levelset/ZeroCrossings.h>
+
+#include <openvdb/tools/Diagnostics.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+namespace levelfuse {
+namespace {
+
+TEST(Refine, HalvesTheVoxelAndKeepsTheSurface) {
+  const openvdb::Vec3d centre(0.3, -0.2, 0.1);
+  const auto coarse = test::makeSphere(12.0, centre, 0.1);  // radius 1.2
+  const auto fine = refineLevelSet(*coarse);
+  EXPECT_NEAR(fine->voxelSize()[0], 0.5 * coarse->voxelSize()[0], 1e-12);
+  EXPECT_EQ(fine->getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_EQ(openvdb::tools::checkLevelSet(*fine, 6), "");
+  // The zero set is the trilinear interpolant's: as near the sphere as the
+  // coarse grid's, measured in coarse voxels.
+  const auto sphere = [&](const openvdb::Vec3d& p) { return (p - centre).length() - 1.2; };
+  const double coarseRms = rmsOver(zeroCrossings(*coarse), sphere) / 0.1;
+  const double fineRms = rmsOver(zeroCrossings(*fine), sphere) / 0.1;
+  EXPECT_LT(coarseRms, 0.01);
+  EXPECT_LT(fineRms, 0.02);
+  EXPECT_GT(zeroCrossings(*fine).size(), 3.5 * zeroCrossings(*coarse).size());
+  // Inside stays inside, far from the band too (tiles are carried over).
+  EXPECT_LT(fine->tree().getValue(openvdb::Coord::round(fine->worldToIndex(centre))), 0.0f);
+  EXPECT_GT(fine->tree().getValue(openvdb::Coord::round(fine->worldToIndex(centre + openvdb::Vec3d(3, 0, 0)))), 0.0f);
+}
+
+TEST(Refine, RefusesWhatIsNotALevelSet) {
+  auto fog = openvdb::FloatGrid::create(0.0f);
+  fog->setGridClass(openvdb::GRID_FOG_VOLUME);
+  EXPECT_THROW(refineLevelSet(*fog), std::invalid_argument);
+}
+
+TEST(Mesh, IsClosedOutwardFacingAndOnTheSurface) {
+  const openvdb::Vec3d centre(0.3, -0.2, 0.1);
+  const auto sphere = test::makeSphere(20.0, centre, 0.05);  // radius 1
+  const TriangleMesh mesh = meshFromLevelSet(*sphere);
+  ASSERT_GT(mesh.triangleCount(), 1000u);
+  EXPECT_NEAR(mesh.volume(), 4.0 / 3.0 * M_PI, 0.01 * 4.0 / 3.0 * M_PI);  // positive: outward
+  EXPECT_NEAR(mesh.area(), 4.0 * M_PI, 0.02 * 4.0 * M_PI);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < mesh.vertexCount(); ++i) {
+    const openvdb::Vec3d p(mesh.xyz[3 * i], mesh.xyz[3 * i + 1], mesh.xyz[3 * i + 2]);
+    worst = std::max(worst, std::fabs((p - centre).length() - 1.0));
+  }
+  EXPECT_LT(worst, 0.01);
+  // Closed: every edge is shared by exactly two triangles, in opposite directions.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (std::size_t t = 0; t < mesh.triangles.size(); t += 3)
+    for (int k = 0; k < 3; ++k) ++edges[{mesh.triangles[t + k], mesh.triangles[t + (k + 1) % 3]}];
+  for (const auto& [edge, count] : edges) {
+    ASSERT_EQ(count, 1);
+    ASSERT_EQ(edges.count({edge.second, edge.first}), 1u);
+  }
+}
+
+}  // namespace
+}  // namespace levelfuse

@@ -1,0 +1,124 @@
+// The reconstruction pipeline on synthetic scans with known answers.
+
+#include "support/TestSupport.h"
+
+#include <levelfuse/geometry/Shapes.h>
+#include <levelfuse/levelset/Components.h>
+#include <levelfuse/levelset/ZeroCrossings.h>
+#include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/scan/Synth.h>
+
+#include <openvdb/tools/Diagnostics.h>
+#include <tbb/global_control.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace levelfuse {
+namespace {
+
+using openvdb::Vec3d;
+
+const shapes::Sphere kSphere{Vec3d(0.013, -0.021, 0.007), 1.0};
+
+/// Six views of the unit sphere, 120 x 120 pixels, with Gaussian range noise.
+std::vector<RangeMap> noisySphere(double sigma, std::uint64_t seed = 1) {
+  std::vector<RangeMap> maps;
+  for (const synth::View& view : synth::sixAxisViews(Vec3d(0.0), 2.4, 120)) {
+    synth::Noise noise;
+    noise.gaussianSigma = sigma;
+    noise.seed = seed++;
+    maps.push_back(synth::renderDistanceFunction(kSphere, view, noise, std::max(sigma, 0.002)));
+  }
+  return maps;
+}
+
+ReconstructionOptions smallOptions() {
+  ReconstructionOptions options;
+  options.voxelSize = 0.04;  // 50 voxels across the sphere
+  options.levels = 2;
+  return options;
+}
+
+TEST(Reconstructor, ResolvesItsDefaultsFromTheData) {
+  const Reconstructor r(noisySphere(0.01));
+  const ReconstructionOptions& o = r.options();
+  EXPECT_NEAR(o.voxelSize, 0.02, 1e-9);            // the views' ray spacing, 2.4 / 120
+  EXPECT_NEAR(o.epsilon, 0.03, 1e-9);              // three sigma
+  EXPECT_EQ(o.levels, 2);                          // 100 voxels across: the coarsest grid about 64
+  EXPECT_NEAR(r.voxelSize(0), 2.0 * o.voxelSize, 1e-12);
+  EXPECT_NEAR(r.voxelSize(1), o.voxelSize, 1e-12);
+  EXPECT_GT(r.bounds().extents().x(), 1.9);
+  EXPECT_THROW(Reconstructor({}), std::invalid_argument);
+  ReconstructionOptions bad;
+  bad.voxelSize = 1e-9;
+  EXPECT_THROW(Reconstructor(noisySphere(0.01), bad), std::invalid_argument);  // 10^9 voxels across
+  bad = ReconstructionOptions();
+  bad.beta = -1.0;
+  EXPECT_THROW(Reconstructor(noisySphere(0.01), bad), std::invalid_argument);
+}
+
+TEST(Reconstructor, BeatsTheLinearSolutionOnNoisyData) {
+  const double sigma = 0.03;  // three quarters of a voxel
+  const std::vector<RangeMap> maps = noisySphere(sigma);
+  const Reconstructor r(maps, smallOptions());
+  const ReconstructionResult result = r.run();
+  const openvdb::FloatGrid& surface = *result.levelSet;
+  EXPECT_EQ(surface.getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_EQ(surface.getName(), "surface");
+  EXPECT_EQ(openvdb::tools::checkLevelSet(surface, 6), "");
+  EXPECT_EQ(insideComponents(surface), 1);
+  EXPECT_NEAR(surface.metaValue<double>("levelfuse_voxel_size"), 0.04, 1e-12);
+  EXPECT_EQ(surface.metaValue<int>("levelfuse_scans"), 6);
+  ASSERT_EQ(result.levels.size(), 2u);
+  EXPECT_NEAR(result.levels[0].voxelSize, 0.08, 1e-12);
+  for (const LevelReport& level : result.levels) EXPECT_TRUE(level.converged || level.settled);
+
+  // The linear solution on the same data and grid, for comparison.
+  const ForceField force(maps, r.forceOptions(1));
+  const auto linear = force.linearSolution(0.04);
+  const double linearRms = rmsOver(zeroCrossings(*linear), kSphere);
+  const double rms = rmsOver(zeroCrossings(surface), kSphere);
+  RecordProperty("rms_linear_over_sigma", std::to_string(linearRms / sigma));
+  RecordProperty("rms_over_sigma", std::to_string(rms / sigma));
+  EXPECT_LT(rms, 0.7 * linearRms);
+  EXPECT_LT(rms, 0.25 * sigma);
+}
+
+TEST(Reconstructor, ReportsProgressAndCanBeCancelled) {
+  const Reconstructor r(noisySphere(0.01), smallOptions());
+  std::vector<ReconstructionProgress> seen;
+  r.run([&](const ReconstructionProgress& p) {
+    seen.push_back(p);
+    return true;
+  });
+  ASSERT_GT(seen.size(), 5u);
+  EXPECT_EQ(seen.front().stage, ReconstructionProgress::Stage::kInitialModel);
+  EXPECT_EQ(seen.back().stage, ReconstructionProgress::Stage::kDone);
+  for (std::size_t i = 1; i < seen.size(); ++i) {
+    EXPECT_GE(seen[i].level, seen[i - 1].level);
+    EXPECT_GE(seen[i].seconds, seen[i - 1].seconds);
+  }
+  int calls = 0;
+  EXPECT_THROW(r.run([&](const ReconstructionProgress&) { return ++calls < 4; }), ReconstructionCancelled);
+  EXPECT_EQ(calls, 4);
+}
+
+TEST(Reconstructor, OneAndTwoThreadsGiveIdenticalSurfaces) {
+  const Reconstructor r(noisySphere(0.02), smallOptions());
+  openvdb::FloatGrid::Ptr one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = r.run().levelSet;
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = r.run().levelSet;
+  }
+  std::string why;
+  EXPECT_TRUE(test::identical(*one, *two, &why)) << why;
+}
+
+}  // namespace
+}  // namespace levelfuse
