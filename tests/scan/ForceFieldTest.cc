@@ -198,7 +198,7 @@ TEST(ForceField, RejectsUnusableOptions) {
   ForceFieldOptions options;
   EXPECT_THROW(ForceField({planeSeenFromAbove()}, options), std::invalid_argument);  // no epsilon
   options.epsilon = 0.1;
-  EXPECT_THROW(ForceField({}, options), std::invalid_argument);
+  EXPECT_THROW(ForceField(std::vector<RangeMap>{}, options), std::invalid_argument);
   const ForceField field({planeSeenFromAbove()}, options);
   EXPECT_THROW(field.accumulate(0.0), std::invalid_argument);
 }
