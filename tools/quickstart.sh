@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # levelfuse quick start on Debian bookworm: install what is needed, build, run.
 #
-#   tools/quickstart.sh demo    evolve a generated dumbbell into out/dumbbell.vdb
+#   tools/quickstart.sh demo    reconstruct a noisy synthetic torus (and the bunny) into out/
 #   tools/quickstart.sh test    build everything and run the whole test suite
 #   tools/quickstart.sh bench   also install ITK and run the benchmarks (JSON in out/)
 #
@@ -39,9 +39,19 @@ mkdir -p "$root/out"
 case "$mode" in
   demo)
     cmake --build "$build" -j "$jobs" --target levelfuse_cli
-    echo "== evolving a dumbbell under mean-curvature flow"
-    "$build/tools/levelfuse/levelfuse" evolve --shape dumbbell -o "$root/out/dumbbell.vdb"
-    vdb_print "$root/out/dumbbell.vdb"
+    levelfuse="$build/tools/levelfuse/levelfuse"
+    echo "== six range scans of a torus with noise of 20% of its tube's diameter (the paper's Fig. 10)"
+    "$levelfuse" synth --shape torus --noise 0.2 -o "$root/out/torus-scans"
+    echo "== reconstructing it"
+    "$levelfuse" reconstruct "$root/out/torus-scans/scans.json" -o "$root/out/torus.vdb" \
+      --mesh "$root/out/torus.ply" --preview "$root/out/torus.png"
+    vdb_print "$root/out/torus.vdb"
+    bunny="$root/../shared/data/stanford/bunny/bun.conf"
+    if [ -f "$bunny" ]; then
+      echo "== reconstructing the Stanford bunny from its ten scans"
+      "$levelfuse" reconstruct "$bunny" -o "$root/out/bunny.vdb" --mesh "$root/out/bunny.ply" \
+        --preview "$root/out/bunny.png"
+    fi
     ;;
   test)
     cmake --build "$build" -j "$jobs"
@@ -49,9 +59,11 @@ case "$mode" in
     (cd "$build" && ctest --output-on-failure -j "$jobs")
     ;;
   bench)
-    cmake --build "$build" -j "$jobs" --target levelset_benchmarks
+    cmake --build "$build" -j "$jobs" --target levelset_benchmarks scan_benchmarks
     echo "== running the benchmarks (this takes a while)"
     ITK_GLOBAL_DEFAULT_THREADER=Platform "$build/benchmarks/levelset_benchmarks" \
       --benchmark_format=json --benchmark_out="$root/out/levelset_benchmarks.json" --benchmark_out_format=json
+    "$build/benchmarks/scan_benchmarks" \
+      --benchmark_format=json --benchmark_out="$root/out/scan_benchmarks.json" --benchmark_out_format=json
     ;;
 esac

@@ -1,5 +1,6 @@
 // levelfuse: depth images, intrinsics and poses.
 
+#include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
 
@@ -155,7 +156,7 @@ DepthImage readDepthPng(const std::string& path, double scale, const std::vector
   return image;
 }
 
-DepthImage readDepthPfm(const std::string& path) {
+DepthImage readDepthPfm(const std::string& path, bool positiveOnly) {
   requireFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot be opened for reading");
@@ -193,9 +194,32 @@ DepthImage readDepthPfm(const std::string& path) {
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
       const float d = raw[static_cast<std::size_t>(image.height - 1 - y) * image.width + x];
-      image.depth[static_cast<std::size_t>(y) * image.width + x] = std::isfinite(d) && d > 0.0f ? d : kNoReading;
+      image.depth[static_cast<std::size_t>(y) * image.width + x] =
+          std::isfinite(d) && (d > 0.0f || !positiveOnly) ? d : kNoReading;
     }
   return image;
+}
+
+void writeDepthPfm(const std::string& path, const DepthImage& image) {
+  if (image.width < 1 || image.height < 1 ||
+      image.depth.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
+    throw std::invalid_argument("writeDepthPfm: the image's size and its pixels disagree");
+  writeAtomically(path, [&](const std::string& temporary) {
+    std::ofstream out(temporary, std::ios::binary);
+    if (!out) throw std::runtime_error("cannot open a temporary file beside it");
+    out << "Pf\n" << image.width << " " << image.height << "\n-1\n";  // negative scale: little-endian
+    const std::uint16_t probe = 1;
+    const bool hostLittle = *reinterpret_cast<const unsigned char*>(&probe) == 1;
+    for (int y = image.height - 1; y >= 0; --y)  // PFM rows run bottom to top
+      for (int x = 0; x < image.width; ++x) {
+        float d = image.depth[static_cast<std::size_t>(y) * image.width + x];
+        unsigned char* b = reinterpret_cast<unsigned char*>(&d);
+        if (!hostLittle) std::reverse(b, b + 4);
+        out.write(reinterpret_cast<const char*>(b), 4);
+      }
+    out.close();
+    if (!out) throw std::runtime_error("write error (disk full?)");
+  });
 }
 
 DepthImage readDepthExr(const std::string& path) {

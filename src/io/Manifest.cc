@@ -1,5 +1,6 @@
 // levelfuse: JSON scan manifests.
 
+#include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/Manifest.h>
@@ -104,17 +105,20 @@ openvdb::math::Mat4d poseOf(const Entry& e, const std::string& manifest) {
   return poseFromRowMajor(e.numbers("pose", 16), manifest, e.where());
 }
 
-}  // namespace
-
-std::vector<RangeMap> loadManifest(const std::string& path) {
+json parseManifest(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, fs::exists(path) ? "cannot be opened for reading" : "no such file");
-  json root;
   try {
-    root = json::parse(in);
+    return json::parse(in);
   } catch (const json::parse_error& e) {
     throw InputError(path, std::string("not valid JSON (") + e.what() + ")");
   }
+}
+
+}  // namespace
+
+std::vector<RangeMap> loadManifest(const std::string& path) {
+  const json root = parseManifest(path);
   if (!root.is_object() || !root.contains("scans") || !root["scans"].is_array())
     throw InputError(path, "expected an object with an array 'scans'");
   if (root["scans"].empty()) throw InputError(path, "'scans' is empty");
@@ -123,6 +127,7 @@ std::vector<RangeMap> loadManifest(const std::string& path) {
   for (std::size_t i = 0; i < root["scans"].size(); ++i) {
     const Entry e(path, root["scans"][i], i);
     const std::string format = e.string("format");
+    const std::size_t first = maps.size();
     if (format == "stanford-conf") {
       for (RangeMap& m : loadStanfordScans(e.path("file"), stanfordOptions(e))) maps.push_back(std::move(m));
     } else if (format == "stanford-ply") {
@@ -157,11 +162,162 @@ std::vector<RangeMap> loadManifest(const std::string& path) {
         if (!(noise.minimum > 0.0) || noise.perSquareMetre < 0.0) e.fail("'sigma' must be positive");
       }
       maps.push_back(depthFrame(image, intrinsicsOf(e), poseOf(e, path), noise, fs::path(file).filename().string()));
+    } else if (format == "orthographic-pfm") {
+      const std::string file = e.path("file");
+      DepthImage image = readDepthPfm(file, false);
+      if (!e.has("pixel_size")) e.fail("missing 'pixel_size'");
+      OrthographicProjection projection;
+      projection.pixelSize = e.positive("pixel_size", 0.0);
+      if (e.has("origin")) {
+        const auto o = e.numbers("origin", 2);
+        projection.origin = openvdb::math::Vec2d(o[0], o[1]);
+      }
+      if (!e.has("sigma")) e.fail("missing 'sigma'");
+      const double sigma = e.positive("sigma", 0.0);
+      try {
+        maps.push_back(RangeMap::orthographic(image.width, image.height, std::move(image.depth), projection,
+                                              poseOf(e, path), sigma, fs::path(file).filename().string()));
+      } catch (const std::invalid_argument& error) {
+        e.fail(error.what());
+      }
     } else {
-      e.fail("unknown format '" + format + "' (stanford-conf, stanford-ply, depth-png, depth-pfm or depth-exr)");
+      e.fail("unknown format '" + format +
+             "' (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr or orthographic-pfm)");
+    }
+    if (e.has("misses_are_empty")) {
+      if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");
+      const double reach = e.number("dropout_reach", 2.0);
+      if (reach < 0.0 || reach > 1000.0 || reach != std::floor(reach))
+        e.fail("'dropout_reach' must be a whole number of pixels, 0 to 1000");
+      for (std::size_t m = first; m < maps.size(); ++m)
+        maps[m].setMissesAreEmpty(e["misses_are_empty"].get<bool>(), static_cast<int>(reach));
     }
   }
   return maps;
+}
+
+double TruthShape::operator()(const openvdb::Vec3d& p) const {
+  switch (kind) {
+    case Kind::kSphere: return sphere(p);
+    case Kind::kTorus: return torus(p);
+    case Kind::kMug: return mug(p);
+  }
+  return 0.0;
+}
+
+const char* TruthShape::name() const {
+  switch (kind) {
+    case Kind::kSphere: return "sphere";
+    case Kind::kTorus: return "torus";
+    case Kind::kMug: return "mug";
+  }
+  return "";
+}
+
+std::optional<TruthShape> loadManifestTruth(const std::string& path) {
+  const json root = parseManifest(path);
+  if (!root.contains("truth")) return std::nullopt;
+  const json& t = root["truth"];
+  const auto fail = [&](const std::string& problem) -> void { throw InputError(path, "truth: " + problem); };
+  if (!t.is_object() || !t.contains("shape") || !t["shape"].is_string()) fail("expected an object with a 'shape'");
+  const auto number = [&](const char* key) {
+    if (!t.contains(key) || !t[key].is_number() || !std::isfinite(t[key].get<double>()))
+      fail(std::string("'") + key + "' must be a number");
+    return t[key].get<double>();
+  };
+  openvdb::Vec3d centre(0.0);
+  if (t.contains("centre")) {
+    if (!t["centre"].is_array() || t["centre"].size() != 3) fail("'centre' needs 3 numbers");
+    for (int i = 0; i < 3; ++i) {
+      if (!t["centre"][i].is_number()) fail("'centre' needs 3 numbers");
+      centre[i] = t["centre"][i].get<double>();
+    }
+  }
+  TruthShape truth;
+  const std::string shape = t["shape"].get<std::string>();
+  if (shape == "sphere") {
+    truth.kind = TruthShape::Kind::kSphere;
+    truth.sphere = shapes::Sphere{centre, number("radius")};
+  } else if (shape == "torus") {
+    truth.kind = TruthShape::Kind::kTorus;
+    truth.torus = shapes::Torus{centre, number("major"), number("minor")};
+  } else if (shape == "mug") {
+    truth.kind = TruthShape::Kind::kMug;
+    truth.mug = shapes::Mug{centre,          number("radius"),      number("height"),
+                            number("wall"), number("handle_bend"), number("handle_radius")};
+  } else {
+    fail("unknown shape '" + shape + "' (sphere, torus or mug)");
+  }
+  return truth;
+}
+
+std::string writeScanSet(const std::string& directory, const std::vector<RangeMap>& maps,
+                         const std::optional<TruthShape>& truth) {
+  std::error_code ec;
+  fs::create_directories(directory, ec);
+  if (ec) throw std::runtime_error("cannot create the folder '" + directory + "': " + ec.message());
+  const auto rowMajor = [](const openvdb::math::Mat4d& m) {
+    std::vector<double> v(16);
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) v[static_cast<std::size_t>(4 * r + c)] = m(c, r);  // OpenVDB's row vectors: the transpose
+    return v;
+  };
+  json scans = json::array();
+  for (std::size_t j = 0; j < maps.size(); ++j) {
+    const RangeMap& m = maps[j];
+    if (m.hasRayDirections()) throw std::invalid_argument("writeScanSet: per-pixel rays cannot be written");
+    const std::string file = "scan" + std::to_string(j) + ".pfm";
+    DepthImage image;
+    image.width = m.width();
+    image.height = m.height();
+    image.depth.reserve(static_cast<std::size_t>(m.width()) * m.height());
+    for (int v = 0; v < m.height(); ++v)
+      for (int u = 0; u < m.width(); ++u) image.depth.push_back(m.reading(u, v));
+    writeDepthPfm((fs::path(directory) / file).string(), image);
+    json entry{{"file", file}, {"pose", rowMajor(m.mapToWorld())}, {"sigma", m.sigma()}};
+    if (m.kind() == RangeMap::Kind::kOrthographic) {
+      entry["format"] = "orthographic-pfm";
+      entry["pixel_size"] = m.orthographicProjection().pixelSize;
+      entry["origin"] = {m.orthographicProjection().origin.x(), m.orthographicProjection().origin.y()};
+    } else {
+      const PinholeProjection& p = m.pinholeProjection();
+      entry["format"] = "depth-pfm";
+      entry["intrinsics"] = {{"fx", p.fx}, {"fy", p.fy}, {"cx", p.cx}, {"cy", p.cy}};
+    }
+    if (m.missesAreEmpty()) {
+      entry["misses_are_empty"] = true;
+      entry["dropout_reach"] = m.dropoutReach();
+    }
+    scans.push_back(entry);
+  }
+  json root{{"scans", scans}};
+  if (truth) {
+    const auto vec = [](const openvdb::Vec3d& v) { return json::array({v.x(), v.y(), v.z()}); };
+    switch (truth->kind) {
+      case TruthShape::Kind::kSphere:
+        root["truth"] = {{"shape", "sphere"}, {"centre", vec(truth->sphere.centre)}, {"radius", truth->sphere.radius}};
+        break;
+      case TruthShape::Kind::kTorus:
+        root["truth"] = {{"shape", "torus"}, {"centre", vec(truth->torus.centre)}, {"major", truth->torus.major},
+                         {"minor", truth->torus.minor}};
+        break;
+      case TruthShape::Kind::kMug:
+        root["truth"] = {{"shape", "mug"},          {"centre", vec(truth->mug.centre)},
+                         {"radius", truth->mug.radius}, {"height", truth->mug.height},
+                         {"wall", truth->mug.wall},     {"handle_bend", truth->mug.handleBend},
+                         {"handle_radius", truth->mug.handleRadius}};
+        break;
+    }
+  }
+  const std::string manifest = (fs::path(directory) / "scans.json").string();
+  writeAtomically(manifest, [&](const std::string& temporary) {
+    std::ofstream out(temporary);
+    if (!out) throw std::runtime_error("cannot open a temporary file beside it");
+    out << root.dump(2) << "\n";
+    out.close();
+    if (!out) throw std::runtime_error("write error (disk full?)");
+  });
+  return manifest;
 }
 
 }  // namespace levelfuse::io

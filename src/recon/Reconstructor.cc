@@ -51,8 +51,10 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
   if (o.epsilon == 0.0) o.epsilon = 3.0 * median(sigmas);
   if (!(o.epsilon > 0.0) || !std::isfinite(o.epsilon))
     throw std::invalid_argument("reconstruction: the window width epsilon must be positive");
-  if (!(o.beta >= 0.0) || !std::isfinite(o.beta)) throw std::invalid_argument("reconstruction: beta must be >= 0");
+  if (o.beta < 0.0) o.beta = std::max(0.5, median(sigmas) / o.voxelSize);
+  if (!(o.beta >= 0.0) || !std::isfinite(o.beta)) throw std::invalid_argument("reconstruction: beta must be finite");
   if (!(o.tolerance > 0.0)) throw std::invalid_argument("reconstruction: the tolerance must be positive");
+  if (o.patience < 1) throw std::invalid_argument("reconstruction: the patience must be at least one iteration");
   if (o.minIterations < 0 || o.maxIterations < std::max(1, o.minIterations))
     throw std::invalid_argument("reconstruction: iterations must satisfy 0 <= min <= max, max >= 1");
 }

@@ -45,6 +45,7 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
     else ++mValidCount;
   }
   mReadings = std::move(readings);
+  mSigma = sigma;
   findUsableCells();
   // Per-block bounds of the readings, for culling in accumulation.
   mBlocksX = (mWidth + kBlock - 1) / kBlock;
@@ -59,7 +60,6 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
       if (!(mBlockMin[b] <= r)) mBlockMin[b] = r;
       if (!(mBlockMax[b] >= r)) mBlockMax[b] = r;
     }
-  mSigma = sigma;
   mMapToWorld = mapToWorld;
   mWorldToMap = mapToWorld.inverse();
   mRotation = mapToWorld.getMat3();
@@ -75,10 +75,19 @@ void RangeMap::findUsableCells() {
       if (!(r[0] == r[0] && r[1] == r[1] && r[2] == r[2] && r[3] == r[3])) continue;
       const double lo = std::min(std::min(r[0], r[1]), std::min(r[2], r[3]));
       const double hi = std::max(std::max(r[0], r[1]), std::max(r[2], r[3]));
-      // The distance between neighbouring rays at the readings.
+      // The distance between neighbouring rays at the readings, and the noise:
+      // two readings of one surface differ by sqrt(2) sigma typically.
       const double spacing = mKind == Kind::kOrthographic ? mOrtho.pixelSize : hi / std::min(mPinhole.fx, mPinhole.fy);
-      mUsableCell[at] = hi - lo <= mJumpFactor * spacing;
+      double sigma = mSigma;
+      if (!mSigmas.empty())
+        sigma = std::max(std::max(mSigmas[at], mSigmas[at + 1]),
+                         std::max(mSigmas[at + static_cast<std::size_t>(mWidth)],
+                                  mSigmas[at + static_cast<std::size_t>(mWidth) + 1]));
+      mUsableCell[at] = hi - lo <= mJumpFactor * spacing + kJumpNoise * sigma;
     }
+  double largestSigma = mSigma;
+  for (float sigma : mSigmas) largestSigma = std::max(largestSigma, static_cast<double>(sigma));
+  mLargestStep = mJumpFactor * mOrtho.pixelSize + kJumpNoise * largestSigma;
 }
 
 void RangeMap::setDiscontinuityFactor(double factor) {
@@ -137,11 +146,13 @@ void RangeMap::setSigmas(std::vector<float> sigmas) {
     if (!(s > 0.0f) || !std::isfinite(s))
       throw std::invalid_argument("range map '" + mName + "': sigmas must be positive and finite");
   mSigmas = std::move(sigmas);
+  findUsableCells();
 }
 
 void RangeMap::setMissesAreEmpty(bool empty, int dropoutReach) {
   if (dropoutReach < 0) throw std::invalid_argument("range map '" + mName + "': negative dropout reach");
   mMisses.clear();
+  mDropoutReach = dropoutReach;
   if (!empty) return;
   mMisses.assign(mReadings.size(), false);
   for (int v = 0; v < mHeight; ++v)

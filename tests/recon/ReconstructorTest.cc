@@ -46,6 +46,7 @@ TEST(Reconstructor, ResolvesItsDefaultsFromTheData) {
   const ReconstructionOptions& o = r.options();
   EXPECT_NEAR(o.voxelSize, 0.02, 1e-9);            // the views' ray spacing, 2.4 / 120
   EXPECT_NEAR(o.epsilon, 0.03, 1e-9);              // three sigma
+  EXPECT_NEAR(o.beta, 0.5, 1e-9);                  // sigma is half a voxel: the floor
   EXPECT_EQ(o.levels, 2);                          // 100 voxels across: the coarsest grid about 64
   EXPECT_NEAR(r.voxelSize(0), 2.0 * o.voxelSize, 1e-12);
   EXPECT_NEAR(r.voxelSize(1), o.voxelSize, 1e-12);
@@ -54,13 +55,14 @@ TEST(Reconstructor, ResolvesItsDefaultsFromTheData) {
   ReconstructionOptions bad;
   bad.voxelSize = 1e-9;
   EXPECT_THROW(Reconstructor(noisySphere(0.01), bad), std::invalid_argument);  // 10^9 voxels across
+  EXPECT_NEAR(Reconstructor(noisySphere(0.08)).options().beta, 4.0, 1e-9);  // sigma / voxel
   bad = ReconstructionOptions();
-  bad.beta = -1.0;
+  bad.patience = 0;
   EXPECT_THROW(Reconstructor(noisySphere(0.01), bad), std::invalid_argument);
 }
 
 TEST(Reconstructor, BeatsTheLinearSolutionOnNoisyData) {
-  const double sigma = 0.03;  // three quarters of a voxel
+  const double sigma = 0.08;  // two voxels
   const std::vector<RangeMap> maps = noisySphere(sigma);
   const Reconstructor r(maps, smallOptions());
   const ReconstructionResult result = r.run();

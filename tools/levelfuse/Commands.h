@@ -21,7 +21,11 @@ struct Command {
   std::function<int()> run;
 };
 
-/// Registers `levelfuse evolve` on `app`.
+/// Register the subcommands on `app`.
+Command addReconstructCommand(CLI::App& app);
+Command addSynthCommand(CLI::App& app);
+Command addInfoCommand(CLI::App& app);
+Command addMeshCommand(CLI::App& app);
 Command addEvolveCommand(CLI::App& app);
 
 }  // namespace levelfuse::cli

@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
       "Run 'levelfuse <command> --help' for a command's options and examples.\n"
       "Exit codes: 0 success, 1 failure (bad input, I/O), 2 usage error, 130 interrupted.");
 
-  const std::vector<Command> commands{addEvolveCommand(app)};
+  const std::vector<Command> commands{addReconstructCommand(app), addSynthCommand(app), addInfoCommand(app),
+                                      addMeshCommand(app), addEvolveCommand(app)};
 
   try {
     app.parse(argc, argv);

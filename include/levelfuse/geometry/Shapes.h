@@ -70,4 +70,43 @@ struct Dumbbell {
   }
 };
 
+/// A cylinder around the z axis through `centre`, of radius `radius`, between
+/// heights centre.z + zmin and centre.z + zmax, with flat caps.
+struct CappedCylinder {
+  Vec3d centre{0.0};
+  double radius = 1.0;
+  double zmin = -1.0, zmax = 1.0;
+  double operator()(const Vec3d& p) const {
+    const Vec3d q = p - centre;
+    const double radial = std::sqrt(q.x() * q.x() + q.y() * q.y()) - radius;
+    const double axial = std::fabs(q.z() - 0.5 * (zmin + zmax)) - 0.5 * (zmax - zmin);
+    const double outside = std::sqrt(std::max(radial, 0.0) * std::max(radial, 0.0) +
+                                     std::max(axial, 0.0) * std::max(axial, 0.0));
+    return outside + std::min(std::max(radial, axial), 0.0);
+  }
+};
+
+/// A mug standing on its base at `centre`, around the z axis (the paper's
+/// Fig. 14): a cup of outer radius `radius` and height `height` whose wall and
+/// bottom are `wall` thick, open at the top, and on its +x side a handle, a
+/// tube of radius `handleRadius` bent in the xz plane around a circle of
+/// radius `handleBend` centred on the wall at half height.
+struct Mug {
+  Vec3d centre{0.0};
+  double radius = 1.0;
+  double height = 2.0;
+  double wall = 0.12;
+  double handleBend = 0.55;
+  double handleRadius = 0.12;
+  double operator()(const Vec3d& p) const {
+    const CappedCylinder outer{centre, radius, 0.0, height};
+    const CappedCylinder hollow{centre, radius - wall, wall, height + 1.0};  // open at the top
+    const double cup = std::max(outer(p), -hollow(p));
+    const Vec3d h = p - centre - Vec3d(radius, 0.0, 0.5 * height);
+    const double ring = std::sqrt(h.x() * h.x() + h.z() * h.z()) - handleBend;
+    const double handle = std::max(std::sqrt(ring * ring + h.y() * h.y()) - handleRadius, -hollow(p));
+    return std::min(cup, handle);
+  }
+};
+
 }  // namespace levelfuse::shapes

@@ -25,9 +25,13 @@ struct DepthImage {
 /// colour types are refused.
 DepthImage readDepthPng(const std::string& path, double scale = 0.001,
                         const std::vector<unsigned> invalid = {0u, 65535u});
-/// A single-channel float PFM ("Pf") in metres; non-finite or non-positive
-/// values mean no reading.
-DepthImage readDepthPfm(const std::string& path);
+/// A single-channel float PFM ("Pf") in metres; non-finite values mean no
+/// reading, and so do non-positive ones unless `positiveOnly` is false (range
+/// maps of parallel rays may hold negative readings).
+DepthImage readDepthPfm(const std::string& path, bool positiveOnly = true);
+/// Writes `image` as a little-endian single-channel PFM (NaN where there is no
+/// reading), atomically.
+void writeDepthPfm(const std::string& path, const DepthImage& image);
 /// A float EXR with a Z, Y, R or depth channel, in metres (if levelfuse was
 /// built with OpenEXR; otherwise InputError says so).
 DepthImage readDepthExr(const std::string& path);

@@ -17,12 +17,24 @@
 //   }
 //
 // Paths are relative to the manifest. Formats: stanford-conf, stanford-ply,
-// depth-png, depth-pfm, depth-exr. Poses are camera-to-world, 16 numbers in
-// row-major order with the translation in the last column.
+// depth-png, depth-pfm, depth-exr, and orthographic-pfm (a range map of
+// parallel rays: "pixel_size", "origin" [x, y] of pixel (0, 0) and a "pose"
+// from the map's frame, whose rays run along +z, to the world). Poses are
+// camera-to-world, 16 numbers in row-major order with the translation in the
+// last column. Any entry may say "misses_are_empty": true (a pixel without a
+// reading saw nothing on its line of sight; RangeMap::setMissesAreEmpty) with a
+// "dropout_reach" in pixels (default 2).
+//
+// A manifest of synthetic scans may record the shape they show as "truth":
+// {"shape": "sphere", "centre": [x, y, z], "radius": r}, {"shape": "torus",
+// "centre", "major", "minor"} or {"shape": "mug", "centre", "radius", "height",
+// "wall", "handle_bend", "handle_radius"}.
 #pragma once
 
+#include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/scan/RangeMap.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,5 +43,27 @@ namespace levelfuse::io {
 /// Loads every scan a manifest lists; InputError names the manifest and the
 /// entry (e.g. "scans[2]: 'pose' needs 16 numbers") or the scan file at fault.
 std::vector<RangeMap> loadManifest(const std::string& path);
+
+/// An analytic shape recorded as the truth of synthetic scans.
+struct TruthShape {
+  enum class Kind { kSphere, kTorus, kMug };
+  Kind kind = Kind::kSphere;
+  shapes::Sphere sphere;
+  shapes::Torus torus;
+  shapes::Mug mug;
+  /// Signed distance (a bound inside the mug), negative inside.
+  double operator()(const openvdb::Vec3d& p) const;
+  const char* name() const;
+};
+
+/// The manifest's "truth", if it records one.
+std::optional<TruthShape> loadManifestTruth(const std::string& path);
+
+/// Writes range maps as a manifest `directory`/scans.json with one PFM per
+/// map beside it (orthographic-pfm or depth-pfm; a pinhole map's sigma is its
+/// constant sigma), and the truth if given. Files are written atomically; the
+/// directory is created if need be. Returns the manifest's path.
+std::string writeScanSet(const std::string& directory, const std::vector<RangeMap>& maps,
+                         const std::optional<TruthShape>& truth = std::nullopt);
 
 }  // namespace levelfuse::io

@@ -24,8 +24,8 @@
 
 namespace levelfuse {
 
-/// Settings of a reconstruction. Zeros mean "derive from the data" and are
-/// replaced by the values Reconstructor::options() reports.
+/// Settings of a reconstruction. Zeros (a negative beta) mean "derive from the
+/// data" and are replaced by the values Reconstructor::options() reports.
 struct ReconstructionOptions {
   /// Voxel size of the finest grid (world units). 0: the scans' median
   /// distance between neighbouring rays, the resolution the data supports.
@@ -35,8 +35,10 @@ struct ReconstructionOptions {
   int levels = 0;
   /// Weight of the surface-area prior (Eq. 19), in voxels of the finest grid:
   /// where the data support a surface, a sphere of radius R voxels settles
-  /// 2 beta / R voxels inside it. 0 turns the prior off.
-  double beta = 0.5;
+  /// 2 beta / R voxels inside it. 0 turns the prior off. Negative: derived,
+  /// max(0.5, sigma / voxel size) with sigma the scans' median noise, the
+  /// best weight measured on noisy synthetic scans (docs/RESULTS.md).
+  double beta = -1.0;
   /// Width of the data term's window (Eqs. 8-9), world units. 0: three times
   /// the scans' median noise sigma, but at least a voxel of each grid.
   double epsilon = 0.0;

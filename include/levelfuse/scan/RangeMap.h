@@ -65,7 +65,9 @@ class RangeMap {
   /// Per-pixel standard deviations (world units), replacing the map's sigma.
   void setSigmas(std::vector<float> sigmas);
   /// A 2x2 cell whose readings differ by more than `factor` times the distance
-  /// between its rays is a depth discontinuity: never interpolated across.
+  /// between its rays, plus six sigma of noise (four standard deviations of
+  /// the difference of two readings), is a depth discontinuity: never
+  /// interpolated across. The factor is 4 by default.
   void setDiscontinuityFactor(double factor);
 
   /// The reading on the line of sight through x, interpolated bilinearly
@@ -104,6 +106,7 @@ class RangeMap {
   /// (0 for exact renderings, whose every miss is real).
   void setMissesAreEmpty(bool empty, int dropoutReach = 2);
   bool missesAreEmpty() const { return !mMisses.empty(); }
+  int dropoutReach() const { return mDropoutReach; }
 
   /// Transforms world points into the map's frame.
   const openvdb::math::Mat4d& worldToMap() const { return mWorldToMap; }
@@ -160,9 +163,12 @@ class RangeMap {
   std::vector<openvdb::Vec3f> mDirections;
   std::vector<float> mSigmas;
   std::vector<bool> mMisses;  ///< per pixel: no reading within the dropout reach (if misses are empty)
+  int mDropoutReach = 2;
   std::size_t mValidCount = 0;
   double mSigma = 0.0;
   double mJumpFactor = 4.0;
+  static constexpr double kJumpNoise = 6.0;  ///< sigmas of noise a cell may span on top
+  double mLargestStep = 0.0;  ///< the most a usable cell's readings differ (parallel rays)
   OrthographicProjection mOrtho;
   double mInversePixel = 1.0;  ///< 1 / pixel size (orthographic)
   PinholeProjection mPinhole;
@@ -201,7 +207,7 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
     // from it by less than the discontinuity step): no interpolation needed.
     if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
     const std::size_t at = index(static_cast<int>(u), static_cast<int>(v));
-    if (!mUsableCell[at] || std::fabs(p.z() - mReadings[at]) > reach + mJumpFactor * mOrtho.pixelSize) return false;
+    if (!mUsableCell[at] || std::fabs(p.z() - mReadings[at]) > reach + mLargestStep) return false;
   } else {
     if (!(p.z() > 0.0)) return false;
     u = mPinhole.fx * p.x() / p.z() + mPinhole.cx;

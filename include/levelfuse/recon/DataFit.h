@@ -1,0 +1,28 @@
+// levelfuse: how well a surface fits the scans it was made from.
+#pragma once
+
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/openvdb.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace levelfuse {
+
+/// Distances from the scans' readings to the zero set of a level set (world
+/// units), |psi| interpolated trilinearly at each reading. Readings beyond the
+/// narrow band are counted as far (their distance is at least the band's
+/// half-width): a hole in the surface where the scans saw it shows there.
+struct DataFit {
+  std::size_t readings = 0;   ///< readings measured
+  double mean = 0.0, rms = 0.0, median = 0.0, p90 = 0.0, p99 = 0.0;
+  double withinVoxel = 0.0;   ///< fraction of readings within one voxel of the surface
+  double beyondBand = 0.0;    ///< fraction of readings beyond the narrow band
+};
+
+/// Measures the fit of `levelSet` to the readings of `maps`, using every
+/// `stride`-th reading in each direction of each map.
+DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride = 1);
+
+}  // namespace levelfuse

@@ -1,0 +1,64 @@
+// levelfuse: loading scans by what the path is.
+
+#include <levelfuse/io/InputError.h>
+#include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/Scans.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace levelfuse::io {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOptions& options) {
+  if (options.frameStride < 1) throw InputError(folder.string(), "the frame stride must be at least 1");
+  std::vector<fs::path> frames;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && (endsWith(name, ".depth.png") || endsWith(name, ".depth.pfm") ||
+                                    endsWith(name, ".depth.exr")))
+      frames.push_back(entry.path());
+  }
+  if (frames.empty())
+    throw InputError(folder.string(), "no depth frames (*.depth.png, *.depth.pfm or *.depth.exr) in this folder");
+  std::sort(frames.begin(), frames.end());
+  const fs::path intrinsicsFile = folder / "camera-intrinsics.txt";
+  if (!fs::exists(intrinsicsFile))
+    throw InputError(folder.string(), "no camera-intrinsics.txt (the 3x3 pinhole intrinsics) in this folder");
+  const PinholeProjection intrinsics = readIntrinsics(intrinsicsFile.string());
+  std::vector<RangeMap> maps;
+  for (std::size_t i = 0; i < frames.size(); i += static_cast<std::size_t>(options.frameStride)) {
+    const std::string image = frames[i].string();
+    const std::string stem = image.substr(0, image.size() - std::string(".depth.png").size());
+    const std::string pose = stem + ".pose.txt";
+    if (!fs::exists(pose)) throw InputError(image, "no pose beside it (expected " + pose + ")");
+    maps.push_back(depthFrame(readDepthImage(image, options.depthScale), intrinsics, readPose(pose),
+                              options.depthNoise, frames[i].filename().string()));
+  }
+  return maps;
+}
+
+}  // namespace
+
+std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& options) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) return loadDepthFolder(path, options);
+  if (!fs::exists(path, ec)) throw InputError(path, "no such file or folder");
+  std::string extension = fs::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".conf") return loadStanfordScans(path, options.stanford);
+  if (extension == ".json") return loadManifest(path);
+  throw InputError(path, "not a kind of scan levelfuse reads: give a Stanford .conf file, a JSON manifest "
+                         "(.json) or a folder of depth frames");
+}
+
+}  // namespace levelfuse::io

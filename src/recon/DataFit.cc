@@ -1,0 +1,62 @@
+// levelfuse: the fit of a surface to its scans.
+
+#include <levelfuse/core/Parallel.h>
+#include <levelfuse/recon/DataFit.h>
+
+#include <openvdb/tools/Interpolation.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace levelfuse {
+
+DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride) {
+  if (stride < 1) throw std::invalid_argument("measureDataFit: the stride must be at least 1");
+  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
+    throw std::invalid_argument("measureDataFit: the grid '" + levelSet.getName() + "' is not a level set");
+  std::vector<openvdb::Vec3d> points;
+  for (const RangeMap& m : maps)
+    for (int v = 0; v < m.height(); v += stride)
+      for (int u = 0; u < m.width(); u += stride)
+        if (m.valid(u, v)) points.push_back(m.readingPoint(u, v));
+  DataFit fit;
+  fit.readings = points.size();
+  if (points.empty()) return fit;
+
+  const double background = levelSet.background();
+  std::vector<double> distance(points.size());
+  std::vector<char> beyond(points.size());
+  parallelFor(points.size(), 4096, [&](std::size_t begin, std::size_t end) {
+    openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
+    for (std::size_t i = begin; i < end; ++i) {
+      const openvdb::Vec3d ijk = levelSet.worldToIndex(points[i]);
+      const double d = std::fabs(openvdb::tools::BoxSampler::sample(acc, ijk));
+      // Beyond the band where the nearest voxel is not in it.
+      beyond[i] = !acc.isValueOn(openvdb::Coord::round(ijk)) && d >= 0.999 * background;
+      distance[i] = d;
+    }
+  });
+  const double voxel = levelSet.voxelSize()[0];
+  double sum = 0.0, sumSq = 0.0;
+  std::size_t near = 0, far = 0;
+  for (std::size_t i = 0; i < distance.size(); ++i) {
+    sum += distance[i];
+    sumSq += distance[i] * distance[i];
+    near += distance[i] <= voxel;
+    far += beyond[i] != 0;
+  }
+  const double n = static_cast<double>(distance.size());
+  fit.mean = sum / n;
+  fit.rms = std::sqrt(sumSq / n);
+  fit.withinVoxel = static_cast<double>(near) / n;
+  fit.beyondBand = static_cast<double>(far) / n;
+  std::sort(distance.begin(), distance.end());
+  const auto quantile = [&](double q) { return distance[std::min(distance.size() - 1, static_cast<std::size_t>(q * n))]; };
+  fit.median = quantile(0.5);
+  fit.p90 = quantile(0.9);
+  fit.p99 = quantile(0.99);
+  return fit;
+}
+
+}  // namespace levelfuse

@@ -1,0 +1,142 @@
+// levelfuse synth, reconstruct, info and mesh, run as a user runs them.
+
+#include "CliSupport.h"
+#include "support/TestSupport.h"
+
+#include <levelfuse/io/Ply.h>
+#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/levelset/Components.h>
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace levelfuse {
+namespace {
+
+nlohmann::json jsonOf(const CliRun& run) {
+  try {
+    return nlohmann::json::parse(run.output);
+  } catch (const std::exception&) {
+    ADD_FAILURE() << "not JSON:\n" << run.output;
+    return nlohmann::json::object();
+  }
+}
+
+openvdb::FloatGrid::Ptr readSurface(const std::string& path) {
+  const openvdb::GridPtrVecPtr grids = io::readVdb(path);
+  return openvdb::GridBase::grid<openvdb::FloatGrid>(grids->at(0));
+}
+
+class ReconstructCli : public Cli {
+ protected:
+  /// Synthetic scans of a sphere of radius 1, 80 pixels a side.
+  std::string sphereScans(const std::string& extra = "") {
+    const CliRun run = levelfuse("synth --shape sphere --resolution 80 " + extra + " -o " + path("scans"));
+    EXPECT_EQ(run.exitCode, 0) << run.output;
+    return path("scans/scans.json");
+  }
+};
+
+TEST_F(ReconstructCli, SynthThenReconstructFindsTheSphere) {
+  const std::string scans = sphereScans("--noise 0.02");
+  const CliRun info = levelfuse("info --json " + scans);
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  EXPECT_EQ(jsonOf(info)["scans"].size(), 6u);
+  EXPECT_EQ(jsonOf(info)["truth"], "sphere");
+
+  const CliRun run = levelfuse("reconstruct " + scans + " -o " + path("s.vdb") + " --mesh " + path("s.ply") +
+                               " --preview " + path("s.png") + " --json");
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  const nlohmann::json j = jsonOf(run);
+  EXPECT_EQ(j["scans"], 6);
+  EXPECT_EQ(j["method"], "evolution");
+  // Noise of 2% of the diameter (0.04): the surface lies far closer to the truth.
+  EXPECT_LT(j["truth"]["rms_error"].get<double>(), 0.01);
+  EXPECT_LT(j["fit"]["beyond_band"].get<double>(), 0.01);  // no holes where the scans saw the sphere
+  EXPECT_GT(j["triangles"].get<std::size_t>(), 1000u);
+
+  const openvdb::FloatGrid::Ptr surface = readSurface(path("s.vdb"));
+  EXPECT_EQ(surface->getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_EQ(insideComponents(*surface), 1);
+  EXPECT_EQ(surface->metaValue<std::string>("levelfuse_inputs"), scans);
+  const io::PlyData mesh = io::readPly(path("s.ply"));
+  EXPECT_EQ(mesh.element("face")->count, j["triangles"].get<std::size_t>());
+  EXPECT_TRUE(fs::exists(path("s.png")));
+  const CliRun vdbInfo = levelfuse("info " + path("s.vdb"));
+  EXPECT_NE(vdbInfo.output.find("levelfuse_beta"), std::string::npos) << vdbInfo.output;
+}
+
+TEST_F(ReconstructCli, ThreadCountDoesNotChangeTheResult) {
+  const std::string scans = sphereScans("--noise 0.05");
+  ASSERT_EQ(levelfuse("reconstruct -q --threads 1 " + scans + " -o " + path("one.vdb")).exitCode, 0);
+  ASSERT_EQ(levelfuse("reconstruct -q --threads 2 " + scans + " -o " + path("two.vdb")).exitCode, 0);
+  std::string why;
+  EXPECT_TRUE(test::identical(*readSurface(path("one.vdb")), *readSurface(path("two.vdb")), &why)) << why;
+}
+
+TEST_F(ReconstructCli, LinearSolutionAndMeshCommand) {
+  const std::string scans = sphereScans();
+  const CliRun run = levelfuse("reconstruct --linear --json " + scans + " -o " + path("lin.vdb"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_EQ(jsonOf(run)["method"], "linear");
+  const CliRun mesh = levelfuse("mesh --json " + path("lin.vdb") + " -o " + path("lin.obj"));
+  ASSERT_EQ(mesh.exitCode, 0) << mesh.output;
+  EXPECT_NEAR(jsonOf(mesh)["volume"].get<double>(), 4.0 / 3.0 * M_PI, 0.05);
+  std::ifstream obj(path("lin.obj"));
+  std::string first;
+  std::getline(obj, first);
+  EXPECT_EQ(first.rfind("# written by levelfuse", 0), 0u) << first;
+}
+
+TEST_F(ReconstructCli, BadInputFailsClearlyAndWritesNothing) {
+  std::ofstream(path("broken.json")) << "{ \"scans\": [ { \"format\": \"depth-png\" } ] }";
+  CliRun run = levelfuse("reconstruct " + path("broken.json") + " -o " + path("out.vdb"));
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find(path("broken.json")), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("missing 'file'"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(path("out.vdb")));
+
+  std::ofstream(path("notes.txt")) << "hello";
+  run = levelfuse("reconstruct " + path("notes.txt") + " -o " + path("out.vdb"));
+  EXPECT_EQ(run.exitCode, 1);
+  EXPECT_NE(run.output.find("not a kind of scan"), std::string::npos) << run.output;
+
+  const std::string scans = sphereScans();
+  run = levelfuse("reconstruct " + scans);  // no output asked for
+  EXPECT_EQ(run.exitCode, 1);
+  EXPECT_NE(run.output.find("nothing to write"), std::string::npos) << run.output;
+  run = levelfuse("reconstruct " + scans + " -o " + path("no/such/folder/out.vdb"));
+  EXPECT_EQ(run.exitCode, 1);
+  EXPECT_NE(run.output.find("does not exist"), std::string::npos) << run.output;
+  run = levelfuse("reconstruct " + scans + " --mesh " + path("out.stl"));
+  EXPECT_EQ(run.exitCode, 1);
+  EXPECT_NE(run.output.find(".ply or .obj"), std::string::npos) << run.output;
+  run = levelfuse("reconstruct " + scans + " --beta -1 -o " + path("out.vdb"));
+  EXPECT_EQ(run.exitCode, 2) << run.output;
+  EXPECT_FALSE(fs::exists(path("out.vdb")));
+  EXPECT_FALSE(fs::exists(path("out.stl")));
+}
+
+TEST_F(ReconstructCli, InterruptedRunWritesNothing) {
+  const std::string scans = sphereScans("--noise 0.05");
+  // SIGINT shortly after the start: the run stops between iterations.
+  const std::string command = "timeout --preserve-status -s INT 0.3 " + std::string(LEVELFUSE_CLI) + " reconstruct --max-iterations 100000 "
+                              "--tolerance 1e-12 --voxel-size 0.01 " + scans + " -o " + path("out.vdb") + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  char buffer[4096];
+  while (std::size_t n = std::fread(buffer, 1, sizeof(buffer), pipe)) output.append(buffer, n);
+  const int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130) << output;
+  EXPECT_NE(output.find("interrupted; nothing written"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(path("out.vdb")));
+  for (const auto& entry : fs::directory_iterator(mDir)) EXPECT_EQ(entry.path().extension(), "") << entry.path();
+}
+
+}  // namespace
+}  // namespace levelfuse

@@ -1,0 +1,154 @@
+// levelfuse info: what is in a .vdb file or a set of scans.
+
+#include "Commands.h"
+#include "Support.h"
+
+#include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/levelset/Components.h>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+namespace levelfuse::cli {
+namespace {
+
+struct InfoSettings {
+  std::vector<std::string> paths;
+  std::string towardScanner;
+  bool json = false;
+};
+
+nlohmann::json describeVdb(const std::string& path) {
+  openvdb::MetaMap::Ptr fileMeta;
+  const openvdb::GridPtrVecPtr grids = io::readVdb(path, &fileMeta);
+  nlohmann::json list = nlohmann::json::array();
+  for (const openvdb::GridBase::Ptr& base : *grids) {
+    nlohmann::json g{{"name", base->getName()},
+                     {"type", base->valueType()},
+                     {"class", openvdb::GridBase::gridClassToString(base->getGridClass())},
+                     {"voxel_size", base->voxelSize()[0]},
+                     {"active_voxels", base->activeVoxelCount()},
+                     {"memory_bytes", base->memUsage()}};
+    const openvdb::CoordBBox box = base->evalActiveVoxelBoundingBox();
+    if (!box.empty()) {
+      const openvdb::Vec3d lo = base->indexToWorld(box.min()), hi = base->indexToWorld(box.max());
+      g["bounds"] = {{lo.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), hi.z()}};
+    }
+    if (const auto grid = openvdb::GridBase::grid<openvdb::FloatGrid>(base);
+        grid && grid->getGridClass() == openvdb::GRID_LEVEL_SET) {
+      g["background"] = grid->background();
+      g["inside_components"] = insideComponents(*grid);
+    }
+    nlohmann::json meta = nlohmann::json::object();
+    for (auto it = base->beginMeta(); it != base->endMeta(); ++it)
+      if (it->first.rfind("levelfuse_", 0) == 0) meta[it->first] = it->second->str();
+    if (!meta.empty()) g["levelfuse"] = meta;
+    list.push_back(g);
+  }
+  return {{"path", path}, {"kind", "vdb"}, {"grids", list}};
+}
+
+nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
+  io::ScanLoadOptions load;
+  if (!s.towardScanner.empty()) {
+    const auto v = parseTriple(s.towardScanner);
+    load.stanford.towardScanner = openvdb::Vec3d(v[0], v[1], v[2]);
+  }
+  const std::vector<RangeMap> maps = io::loadScans(path, load);
+  nlohmann::json list = nlohmann::json::array();
+  openvdb::BBoxd all;
+  std::size_t readings = 0;
+  for (const RangeMap& m : maps) {
+    openvdb::BBoxd box;
+    for (int v = 0; v < m.height(); ++v)
+      for (int u = 0; u < m.width(); ++u)
+        if (m.valid(u, v)) box.expand(m.readingPoint(u, v));
+    all.expand(box);
+    readings += m.validCount();
+    const openvdb::Vec3d scanner = m.kind() == RangeMap::Kind::kPinhole
+                                       ? m.scannerPosition()
+                                       : -m.mapToWorld().transform3x3(openvdb::Vec3d(0, 0, 1));
+    list.push_back({{"name", m.name()},
+                    {"projection", m.kind() == RangeMap::Kind::kOrthographic ? "orthographic" : "pinhole"},
+                    {"width", m.width()},
+                    {"height", m.height()},
+                    {"readings", m.validCount()},
+                    {"ray_spacing", m.maxRaySpacing()},
+                    {"sigma", m.sigma()},
+                    {m.kind() == RangeMap::Kind::kPinhole ? "camera_position" : "toward_scanner",
+                     {scanner.x(), scanner.y(), scanner.z()}}});
+  }
+  nlohmann::json j{{"path", path},
+                   {"kind", "scans"},
+                   {"scans", list},
+                   {"readings", readings},
+                   {"bounds", {{all.min().x(), all.min().y(), all.min().z()}, {all.max().x(), all.max().y(), all.max().z()}}}};
+  if (std::filesystem::path(path).extension() == ".json")
+    if (const auto truth = io::loadManifestTruth(path)) j["truth"] = truth->name();
+  return j;
+}
+
+void print(const nlohmann::json& j) {
+  const std::string path = j["path"];
+  if (j["kind"] == "vdb") {
+    std::cout << path << ": OpenVDB file, " << j["grids"].size() << (j["grids"].size() == 1 ? " grid\n" : " grids\n");
+    for (const auto& g : j["grids"]) {
+      std::cout << "  '" << g["name"].get<std::string>() << "': " << g["type"].get<std::string>() << " "
+                << g["class"].get<std::string>() << ", voxel " << fixed(g["voxel_size"].get<double>()) << ", "
+                << withCommas(g["active_voxels"].get<std::size_t>()) << " active voxels, "
+                << mebibytes(g["memory_bytes"].get<std::size_t>()) << "\n";
+      if (g.contains("bounds"))
+        std::cout << "    bounds " << g["bounds"][0].dump() << " to " << g["bounds"][1].dump() << "\n";
+      if (g.contains("inside_components"))
+        std::cout << "    level set: background " << fixed(g["background"].get<double>()) << ", "
+                  << g["inside_components"].get<int>() << " inside component(s)\n";
+      if (g.contains("levelfuse"))
+        for (const auto& [key, value] : g["levelfuse"].items())
+          std::cout << "    " << key << " = " << value.get<std::string>() << "\n";
+    }
+    return;
+  }
+  std::cout << path << ": " << j["scans"].size() << " scans, " << withCommas(j["readings"].get<std::size_t>())
+            << " readings, bounds " << j["bounds"][0].dump() << " to " << j["bounds"][1].dump() << "\n";
+  if (j.contains("truth")) std::cout << "  synthetic: the truth is a " << j["truth"].get<std::string>() << "\n";
+  for (const auto& m : j["scans"])
+    std::cout << "  " << m["name"].get<std::string>() << ": " << m["projection"].get<std::string>() << " "
+              << m["width"].get<int>() << " x " << m["height"].get<int>() << ", "
+              << withCommas(m["readings"].get<std::size_t>()) << " readings, ray spacing "
+              << fixed(m["ray_spacing"].get<double>()) << ", sigma " << fixed(m["sigma"].get<double>()) << "\n";
+}
+
+int runInfo(const InfoSettings& s) {
+  nlohmann::json all = nlohmann::json::array();
+  for (const std::string& path : s.paths) {
+    const bool vdb = std::filesystem::path(path).extension() == ".vdb";
+    all.push_back(vdb ? describeVdb(path) : describeScans(path, s));
+    if (!s.json) print(all.back());
+  }
+  if (s.json) std::cout << (all.size() == 1 ? all[0] : all).dump(2) << "\n";
+  return kExitSuccess;
+}
+
+}  // namespace
+
+Command addInfoCommand(CLI::App& app) {
+  auto s = std::make_shared<InfoSettings>();
+  CLI::App* cmd = app.add_subcommand("info", "Describe a .vdb result or a set of scans");
+  cmd->add_option("paths", s->paths, "A .vdb file, a Stanford .conf, a JSON manifest or a folder of depth frames")
+      ->required()
+      ->check(CLI::ExistingPath);
+  cmd->add_option("--toward-scanner", s->towardScanner, "Stanford scans: direction toward the scanner, x,y,z");
+  cmd->add_flag("--json", s->json, "Print as JSON");
+  cmd->footer(
+      "Examples:\n"
+      "  levelfuse info bunny.vdb\n"
+      "  levelfuse info bunny/bun.conf --json");
+  return {cmd, [s] { return runInfo(*s); }};
+}
+
+}  // namespace levelfuse::cli

@@ -1,0 +1,74 @@
+#include "ProgressBar.h"
+
+#include "Support.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+namespace levelfuse::cli {
+
+ProgressBar::ProgressBar(bool enabled) : mActive(enabled && ::isatty(STDERR_FILENO) == 1) {}
+
+ProgressBar::~ProgressBar() { finish(); }
+
+double ProgressBar::estimateRemaining(const ReconstructionProgress& p) const {
+  if (mSecondsPerIteration <= 0.0) return -1.0;
+  // Iterations still to come on this grid (as many as the last grid needed,
+  // or half the limit on the first), then each finer grid: about four times
+  // the surface voxels, so four times the cost per iteration.
+  const int expected = mIterationsOfLastLevel > 0 ? mIterationsOfLastLevel : p.maxIterations / 2;
+  double remaining = std::max(0, expected - p.iteration) * mSecondsPerIteration;
+  double perIteration = mSecondsPerIteration;
+  for (int level = p.level + 1; level < p.levels; ++level) {
+    perIteration *= 4.0;
+    remaining += perIteration * expected;
+  }
+  return remaining;
+}
+
+void ProgressBar::update(const ReconstructionProgress& p) {
+  if (!mActive) return;
+  using Stage = ReconstructionProgress::Stage;
+  if (p.level != mLevel) {
+    if (mLevel >= 0) mIterationsOfLastLevel = mLastIteration;
+    mLevel = p.level;
+    mLevelStart = p.seconds;
+  }
+  if (p.stage == Stage::kEvolving && p.iteration > 0) {
+    mLastIteration = p.iteration;
+    mSecondsPerIteration = (p.seconds - mLevelStart) / p.iteration;
+  }
+  if (p.seconds - mLastDraw < 0.1 && p.stage == Stage::kEvolving) return;  // at most ten lines a second
+  mLastDraw = p.seconds;
+  std::ostringstream line;
+  line << "grid " << p.level + 1 << "/" << p.levels << " (voxel " << fixed(p.voxelSize, 3) << ") ";
+  switch (p.stage) {
+    case Stage::kInitialModel: line << "initial model"; break;
+    case Stage::kResampling: line << "resampling"; break;
+    case Stage::kDone: line << "done"; break;
+    case Stage::kEvolving:
+      line << "iteration " << p.iteration << " | " << withCommas(p.activeVoxels) << " active | speed "
+           << fixed(p.speed, 2);
+      break;
+  }
+  line << " | " << fixed(p.seconds, 3) << " s";
+  const double eta = estimateRemaining(p);
+  if (eta >= 0.0 && p.stage != Stage::kDone) line << ", about " << fixed(std::ceil(eta), 3) << " s left";
+  std::string text = line.str();
+  const std::size_t width = text.size();
+  if (text.size() < mLastWidth) text += std::string(mLastWidth - text.size(), ' ');
+  mLastWidth = width;
+  std::cerr << '\r' << text << std::flush;
+}
+
+void ProgressBar::finish() {
+  if (!mActive || mLastWidth == 0) return;
+  std::cerr << '\r' << std::string(mLastWidth, ' ') << '\r' << std::flush;
+  mLastWidth = 0;
+}
+
+}  // namespace levelfuse::cli

@@ -1,0 +1,262 @@
+// levelfuse reconstruct: range scans in, a level set, a mesh and a picture out.
+
+#include "Cancellation.h"
+#include "Commands.h"
+#include "ProgressBar.h"
+#include "Support.h"
+
+#include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/MeshFile.h>
+#include <levelfuse/io/Preview.h>
+#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/levelset/ZeroCrossings.h>
+#include <levelfuse/recon/DataFit.h>
+#include <levelfuse/recon/Reconstructor.h>
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+namespace levelfuse::cli {
+namespace {
+
+struct ReconstructSettings {
+  std::vector<std::string> inputs;
+  std::string output, mesh, preview;
+  ReconstructionOptions options;
+  bool linear = false;
+  std::string towardScanner;
+  double sigma = 0.0;
+  double depthScale = 0.001;
+  int frameStride = 1;
+  std::string view;
+  int threads = 0;
+  bool json = false, quiet = false;
+};
+
+std::string joined(const std::vector<std::string>& items) {
+  std::string s;
+  for (const std::string& item : items) s += (s.empty() ? "" : ", ") + item;
+  return s;
+}
+
+int runReconstruct(ReconstructSettings s) {
+  const auto started = std::chrono::steady_clock::now();
+  const ThreadLimit threads(s.threads);
+  if (s.output.empty() && s.mesh.empty() && s.preview.empty())
+    throw std::invalid_argument("nothing to write: give -o result.vdb, --mesh result.ply or --preview result.png");
+  for (const std::string* path : {&s.output, &s.mesh, &s.preview})
+    if (!path->empty()) requireWritable(*path);
+  if (!s.mesh.empty()) {
+    const std::string ext = std::filesystem::path(s.mesh).extension().string();
+    if (ext != ".ply" && ext != ".obj" && ext != ".PLY" && ext != ".OBJ")
+      throw std::invalid_argument("--mesh '" + s.mesh + "': the name must end in .ply or .obj");
+  }
+
+  // The scans.
+  io::ScanLoadOptions load;
+  if (!s.towardScanner.empty()) {
+    const auto v = parseTriple(s.towardScanner);
+    load.stanford.towardScanner = openvdb::Vec3d(v[0], v[1], v[2]);
+  }
+  if (s.sigma > 0.0) {
+    load.stanford.sigma = s.sigma;
+    load.depthNoise = io::DepthNoise{s.sigma, 0.0};
+  }
+  load.depthScale = s.depthScale;
+  load.frameStride = s.frameStride;
+  std::vector<RangeMap> maps;
+  std::optional<io::TruthShape> truth;
+  for (const std::string& input : s.inputs) {
+    for (RangeMap& m : io::loadScans(input, load)) maps.push_back(std::move(m));
+    if (std::filesystem::path(input).extension() == ".json" && !truth) truth = io::loadManifestTruth(input);
+  }
+  std::size_t readings = 0;
+  for (const RangeMap& m : maps) readings += m.validCount();
+
+  // The surface.
+  const Reconstructor reconstructor(maps, s.options);
+  const ReconstructionOptions& o = reconstructor.options();
+  ReconstructionResult result;
+  if (s.linear) {
+    const int finest = o.levels - 1;
+    const ForceField field(maps, reconstructor.forceOptions(finest));
+    result.levelSet = field.linearSolution(o.voxelSize, 3.0, o.name);
+  } else {
+    ProgressBar bar(!s.quiet && !s.json);
+    try {
+      result = reconstructor.run([&](const ReconstructionProgress& p) {
+        bar.update(p);
+        return !cancellationRequested();
+      });
+    } catch (const ReconstructionCancelled&) {
+      bar.finish();
+      std::cerr << "levelfuse reconstruct: interrupted; nothing written\n";
+      return kExitCancelled;
+    }
+  }
+  openvdb::FloatGrid& surface = *result.levelSet;
+  surface.insertMeta("levelfuse_inputs", openvdb::StringMetadata(joined(s.inputs)));
+  surface.insertMeta("levelfuse_method",
+                     openvdb::StringMetadata(s.linear ? "linear solution (zero set of g)" : "MAP level-set evolution"));
+  const DataFit fit = measureDataFit(surface, maps);
+  double truthRms = -1.0;
+  if (truth) truthRms = rmsOver(zeroCrossings(surface), *truth);
+
+  // The outputs, each written whole or not at all.
+  if (cancellationRequested()) {
+    std::cerr << "levelfuse reconstruct: interrupted; nothing written\n";
+    return kExitCancelled;
+  }
+  if (!s.output.empty()) io::writeVdb(s.output, {result.levelSet});
+  std::size_t triangles = 0;
+  if (!s.mesh.empty()) {
+    const TriangleMesh mesh = meshFromLevelSet(surface);
+    triangles = mesh.triangleCount();
+    io::writeMesh(s.mesh, mesh);
+  }
+  if (!s.preview.empty()) {
+    io::PreviewOptions preview;
+    if (!s.view.empty()) {
+      const auto v = parseTriple(s.view);
+      preview.toward = openvdb::Vec3d(v[0], v[1], v[2]);
+    }
+    io::writePreviewPng(surface, s.preview, preview);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  const std::size_t active = surface.activeVoxelCount();
+  if (s.json) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const LevelReport& l : result.levels)
+      levels.push_back({{"voxel_size", l.voxelSize},
+                        {"iterations", l.iterations},
+                        {"converged", l.converged},
+                        {"settled", l.settled},
+                        {"simulated_time", l.simulatedTime},
+                        {"seconds", l.seconds},
+                        {"active_voxels", l.activeVoxels},
+                        {"band_voxels", l.bandVoxels},
+                        {"engine_bytes", l.engineBytes}});
+    nlohmann::json j{{"inputs", s.inputs},
+                     {"scans", maps.size()},
+                     {"readings", readings},
+                     {"method", s.linear ? "linear" : "evolution"},
+                     {"voxel_size", o.voxelSize},
+                     {"levels", o.levels},
+                     {"beta", o.beta},
+                     {"epsilon", o.epsilon},
+                     {"grids", levels},
+                     {"narrow_band_voxels", active},
+                     {"peak_engine_bytes", result.peakEngineBytes},
+                     {"peak_memory_bytes", peakResidentBytes()},
+                     {"fit",
+                      {{"readings", fit.readings},
+                       {"mean", fit.mean},
+                       {"rms", fit.rms},
+                       {"median", fit.median},
+                       {"p90", fit.p90},
+                       {"p99", fit.p99},
+                       {"within_voxel", fit.withinVoxel},
+                       {"beyond_band", fit.beyondBand}}},
+                     {"seconds", seconds},
+                     {"outputs", {{"vdb", s.output}, {"mesh", s.mesh}, {"preview", s.preview}}},
+                     {"triangles", triangles}};
+    if (truth) j["truth"] = {{"shape", truth->name()}, {"rms_error", truthRms}, {"rms_error_voxels", truthRms / o.voxelSize}};
+    std::cout << j.dump(2) << "\n";
+    return kExitSuccess;
+  }
+  if (s.quiet) return kExitSuccess;
+  std::cout << "levelfuse reconstruct: " << maps.size() << " scans, " << withCommas(readings) << " readings ("
+            << joined(s.inputs) << ")\n"
+            << "  voxel " << fixed(o.voxelSize) << ", " << o.levels << (o.levels == 1 ? " grid" : " grids")
+            << ", beta " << fixed(o.beta) << ", window " << fixed(o.epsilon) << "\n";
+  if (s.linear) std::cout << "  the linear solution (zero set of g), no evolution\n";
+  for (const LevelReport& l : result.levels)
+    std::cout << "  grid " << fixed(l.voxelSize) << ": " << l.iterations << " iterations ("
+              << (l.converged ? "converged" : l.settled ? "settled" : "iteration limit") << "), "
+              << withCommas(l.activeVoxels) << " active voxels, " << fixed(l.seconds, 3) << " s\n";
+  std::cout << "  surface: " << withCommas(active) << " narrow-band voxels; memory: engine "
+            << mebibytes(result.peakEngineBytes) << ", process peak " << mebibytes(peakResidentBytes()) << "\n"
+            << "  fit to the readings: mean " << fixed(fit.mean) << ", median " << fixed(fit.median) << ", 90% "
+            << fixed(fit.p90) << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, "
+            << fixed(100.0 * fit.beyondBand, 3) << "% beyond the band\n";
+  if (truth)
+    std::cout << "  error against the true " << truth->name() << ": rms " << fixed(truthRms) << " ("
+              << fixed(truthRms / o.voxelSize, 3) << " voxel)\n";
+  std::cout << "  " << fixed(seconds, 3) << " s\n";
+  for (const std::string* path : {&s.output, &s.mesh, &s.preview})
+    if (!path->empty())
+      std::cout << "  wrote " << *path << (path == &s.mesh ? " (" + withCommas(triangles) + " triangles)" : "")
+                << "\n";
+  return kExitSuccess;
+}
+
+}  // namespace
+
+Command addReconstructCommand(CLI::App& app) {
+  auto s = std::make_shared<ReconstructSettings>();
+  CLI::App* cmd = app.add_subcommand(
+      "reconstruct", "Reconstruct a surface from registered range scans (the MAP level-set method of Whitaker 1998)");
+  cmd->add_option("inputs", s->inputs,
+                  "Scans: a Stanford .conf file, a JSON manifest, or a folder of depth frames (7-Scenes layout)")
+      ->required()
+      ->check(CLI::ExistingPath);
+  cmd->add_option("-o,--output", s->output, "Write the surface as an OpenVDB level set (.vdb)");
+  cmd->add_option("--mesh", s->mesh, "Write the surface as a triangle mesh (.ply or .obj)");
+  cmd->add_option("--preview", s->preview, "Write a shaded picture of the surface (.png)");
+  ReconstructionOptions& o = s->options;
+  cmd->add_option("--voxel-size", o.voxelSize, "Finest voxel size, world units (default: the scans' ray spacing)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--levels", o.levels, "Coarse-to-fine grids, each halving the voxel (default: coarsest ~64 across)")
+      ->check(CLI::Range(0, 12));
+  cmd->add_option("--beta", o.beta,
+                  "Surface-area prior, in finest voxels: larger is smoother (default: max(0.5, sigma / voxel))")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--epsilon", o.epsilon, "Window width of a reading, world units (default: 3 sigma)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option_function<std::string>(
+         "--window", [s](const std::string& w) { s->options.window = w == "binary" ? WindowKind::kBinary : WindowKind::kGaussian; },
+         "Window of a reading: gaussian (default) or binary")
+      ->check(CLI::IsMember({"gaussian", "binary"}));
+  cmd->add_option("--tolerance", o.tolerance, "A grid has converged below this rms speed (voxels per unit time)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--max-iterations", o.maxIterations, "Iterations per grid at most")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  cmd->add_option("--name", o.name, "Name of the output grid")->capture_default_str();
+  cmd->add_flag("--linear", s->linear, "Only the linear solution (zero set of g, VRIP-style fusion), no evolution");
+  cmd->add_option("--toward-scanner", s->towardScanner,
+                  "Stanford scans: direction toward the scanner in the scan frame, x,y,z (default 0,0,1)");
+  cmd->add_option("--sigma", s->sigma, "Noise of a reading, world units (default: from the scans)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--depth-scale", s->depthScale, "Depth frames: metres per 16-bit PNG unit")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--frame-stride", s->frameStride, "Depth frames: use every n-th frame")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--view", s->view, "Preview: direction from the surface toward the camera, x,y,z");
+  cmd->add_option("--threads", s->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  cmd->add_flag("--json", s->json, "Print the summary as JSON (no progress line)");
+  cmd->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
+  cmd->footer(
+      "Examples:\n"
+      "  levelfuse reconstruct bunny/bun.conf -o bunny.vdb --mesh bunny.ply --preview bunny.png\n"
+      "  levelfuse reconstruct bunny/bun.conf --voxel-size 0.00025 --beta 1 -o fine.vdb\n"
+      "  levelfuse reconstruct dragon/dragonStandRight.conf --toward-scanner 0.46,0.04,0.89 -o dragon.vdb\n"
+      "  levelfuse synth --shape torus --noise 0.2 -o torus-scans && \\\n"
+      "    levelfuse reconstruct torus-scans/scans.json --preview torus.png --json\n"
+      "  levelfuse reconstruct 7scenes/ --frame-stride 2 --voxel-size 0.01 -o room.vdb\n"
+      "Outputs are written whole or not at all; Ctrl-C stops between iterations and writes nothing.");
+  return {cmd, [s] { return runReconstruct(*s); }};
+}
+
+}  // namespace levelfuse::cli
