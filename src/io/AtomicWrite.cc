@@ -13,6 +13,9 @@ namespace fs = std::filesystem;
 
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
   const fs::path target(path);
+  std::error_code status;
+  if (fs::exists(target, status) && !fs::is_regular_file(target, status))
+    throw std::runtime_error("cannot write '" + path + "': it exists and is not a regular file");
   const fs::path temporary =
       target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
   const auto discard = [&] {

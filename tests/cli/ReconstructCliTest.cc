@@ -114,6 +114,10 @@ TEST_F(ReconstructCli, BadInputFailsClearlyAndWritesNothing) {
   run = levelfuse("reconstruct " + scans + " --mesh " + path("out.stl"));
   EXPECT_EQ(run.exitCode, 1);
   EXPECT_NE(run.output.find(".ply or .obj"), std::string::npos) << run.output;
+  run = levelfuse("reconstruct " + scans + " -o /dev/null");  // never replaced by a file
+  EXPECT_EQ(run.exitCode, 1);
+  EXPECT_NE(run.output.find("not a regular file"), std::string::npos) << run.output;
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
   run = levelfuse("reconstruct " + scans + " --beta -1 -o " + path("out.vdb"));
   EXPECT_EQ(run.exitCode, 2) << run.output;
   EXPECT_FALSE(fs::exists(path("out.vdb")));

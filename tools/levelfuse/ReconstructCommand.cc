@@ -35,7 +35,7 @@ struct ReconstructSettings {
   double sigma = 0.0;
   double depthScale = 0.001;
   int frameStride = 1;
-  std::string view;
+  std::string view, up;
   int threads = 0;
   bool json = false, quiet = false;
 };
@@ -126,6 +126,10 @@ int runReconstruct(ReconstructSettings s) {
     if (!s.view.empty()) {
       const auto v = parseTriple(s.view);
       preview.toward = openvdb::Vec3d(v[0], v[1], v[2]);
+    }
+    if (!s.up.empty()) {
+      const auto v = parseTriple(s.up);
+      preview.up = openvdb::Vec3d(v[0], v[1], v[2]);
     }
     io::writePreviewPng(surface, s.preview, preview);
   }
@@ -244,6 +248,7 @@ Command addReconstructCommand(CLI::App& app) {
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   cmd->add_option("--view", s->view, "Preview: direction from the surface toward the camera, x,y,z");
+  cmd->add_option("--up", s->up, "Preview: the world direction that is up in the picture, x,y,z (default 0,1,0)");
   cmd->add_option("--threads", s->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_flag("--json", s->json, "Print the summary as JSON (no progress line)");
   cmd->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");

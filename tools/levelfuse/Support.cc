@@ -30,7 +30,8 @@ void requireWritable(const std::string& path) {
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
     throw std::runtime_error("cannot write '" + path + "': the folder '" + folder.string() + "' does not exist");
-  if (fs::is_directory(target, ec)) throw std::runtime_error("cannot write '" + path + "': it is a folder");
+  if (fs::exists(target, ec) && !fs::is_regular_file(target, ec))
+    throw std::runtime_error("cannot write '" + path + "': it exists and is not a regular file");
   if (::access(folder.c_str(), W_OK) != 0)
     throw std::runtime_error("cannot write '" + path + "': the folder '" + folder.string() + "' is not writable");
 }

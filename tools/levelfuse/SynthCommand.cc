@@ -101,8 +101,16 @@ int runSynth(const SynthSettings& s) {
   const double extent = 1.2 * bounds.extents()[bounds.maxExtent()] + 0.2 * size;
   const int count = s.views > 0 ? s.views : (s.shape == "mug" && s.mesh.empty() ? 10 : 6);
   std::vector<synth::View> views;
-  if (s.mesh.empty() && s.shape != "sphere") views = synth::ringViews(centre, extent, s.resolution, count, 40.0);
-  else views = synth::viewsAround(centre, extent, s.resolution, count);
+  if (s.mesh.empty() && s.shape == "torus") {
+    views = synth::ringViews(centre, extent, s.resolution, count, 40.0);
+  } else if (s.mesh.empty() && s.shape == "mug" && count >= 3) {
+    // Straight down into the cup and up at its base, the rest around it.
+    views = synth::ringViews(centre, extent, s.resolution, count - 2, 30.0);
+    views.push_back(synth::orthographicView(Vec3d(0, 0, -1), centre, extent, s.resolution, "top"));
+    views.push_back(synth::orthographicView(Vec3d(0, 0, 1), centre, extent, s.resolution, "bottom"));
+  } else {
+    views = synth::viewsAround(centre, extent, s.resolution, count);
+  }
   if (s.pinhole)
     for (synth::View& v : views) {
       const Vec3d forward = v.mapToWorld.transform3x3(Vec3d(0, 0, 1));
