@@ -196,25 +196,7 @@ std::vector<RangeMap> loadManifest(const std::string& path) {
   return maps;
 }
 
-double TruthShape::operator()(const openvdb::Vec3d& p) const {
-  switch (kind) {
-    case Kind::kSphere: return sphere(p);
-    case Kind::kTorus: return torus(p);
-    case Kind::kMug: return mug(p);
-  }
-  return 0.0;
-}
-
-const char* TruthShape::name() const {
-  switch (kind) {
-    case Kind::kSphere: return "sphere";
-    case Kind::kTorus: return "torus";
-    case Kind::kMug: return "mug";
-  }
-  return "";
-}
-
-std::optional<TruthShape> loadManifestTruth(const std::string& path) {
+std::optional<shapes::AnalyticShape> loadManifestTruth(const std::string& path) {
   const json root = parseManifest(path);
   if (!root.contains("truth")) return std::nullopt;
   const json& t = root["truth"];
@@ -233,16 +215,16 @@ std::optional<TruthShape> loadManifestTruth(const std::string& path) {
       centre[i] = t["centre"][i].get<double>();
     }
   }
-  TruthShape truth;
+  shapes::AnalyticShape truth;
   const std::string shape = t["shape"].get<std::string>();
   if (shape == "sphere") {
-    truth.kind = TruthShape::Kind::kSphere;
+    truth.kind = shapes::AnalyticShape::Kind::kSphere;
     truth.sphere = shapes::Sphere{centre, number("radius")};
   } else if (shape == "torus") {
-    truth.kind = TruthShape::Kind::kTorus;
+    truth.kind = shapes::AnalyticShape::Kind::kTorus;
     truth.torus = shapes::Torus{centre, number("major"), number("minor")};
   } else if (shape == "mug") {
-    truth.kind = TruthShape::Kind::kMug;
+    truth.kind = shapes::AnalyticShape::Kind::kMug;
     truth.mug = shapes::Mug{centre,          number("radius"),      number("height"),
                             number("wall"), number("handle_bend"), number("handle_radius")};
   } else {
@@ -252,7 +234,7 @@ std::optional<TruthShape> loadManifestTruth(const std::string& path) {
 }
 
 std::string writeScanSet(const std::string& directory, const std::vector<RangeMap>& maps,
-                         const std::optional<TruthShape>& truth) {
+                         const std::optional<shapes::AnalyticShape>& truth) {
   std::error_code ec;
   fs::create_directories(directory, ec);
   if (ec) throw std::runtime_error("cannot create the folder '" + directory + "': " + ec.message());
@@ -294,14 +276,14 @@ std::string writeScanSet(const std::string& directory, const std::vector<RangeMa
   if (truth) {
     const auto vec = [](const openvdb::Vec3d& v) { return json::array({v.x(), v.y(), v.z()}); };
     switch (truth->kind) {
-      case TruthShape::Kind::kSphere:
+      case shapes::AnalyticShape::Kind::kSphere:
         root["truth"] = {{"shape", "sphere"}, {"centre", vec(truth->sphere.centre)}, {"radius", truth->sphere.radius}};
         break;
-      case TruthShape::Kind::kTorus:
+      case shapes::AnalyticShape::Kind::kTorus:
         root["truth"] = {{"shape", "torus"}, {"centre", vec(truth->torus.centre)}, {"major", truth->torus.major},
                          {"minor", truth->torus.minor}};
         break;
-      case TruthShape::Kind::kMug:
+      case shapes::AnalyticShape::Kind::kMug:
         root["truth"] = {{"shape", "mug"},          {"centre", vec(truth->mug.centre)},
                          {"radius", truth->mug.radius}, {"height", truth->mug.height},
                          {"wall", truth->mug.wall},     {"handle_bend", truth->mug.handleBend},

@@ -6,6 +6,8 @@
 #include <levelfuse/recon/Reconstructor.h>
 
 
+#include <openvdb/tree/LeafManager.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,6 +18,27 @@ namespace levelfuse {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// The largest mean change, over the leaf nodes of `now` holding at least
+/// eight points of the active set (|psi| <= dx / 2), of those points' values
+/// since `before` (world units).
+double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid& before) {
+  const float half = static_cast<float>(0.5 * now.voxelSize()[0]);
+  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(now.tree());
+  std::vector<double> drift(leaves.leafCount(), 0.0);
+  leaves.foreach([&](const openvdb::FloatTree::LeafNodeType& leaf, std::size_t i) {
+    openvdb::FloatGrid::ConstAccessor old = before.getConstAccessor();
+    double sum = 0.0;
+    int points = 0;
+    for (auto it = leaf.cbeginValueOn(); it; ++it) {
+      if (std::fabs(*it) > half) continue;
+      sum += *it - old.getValue(it.getCoord());
+      ++points;
+    }
+    if (points >= 8) drift[i] = std::fabs(sum) / points;
+  });
+  return drift.empty() ? 0.0 : *std::max_element(drift.begin(), drift.end());
+}
 
 double median(std::vector<double> values) {
   std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
@@ -48,13 +71,14 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
                                 " voxels across; choose a voxel size of at least " + std::to_string(extent / 1e5));
   if (o.levels == 0) o.levels = 1 + std::max(0, static_cast<int>(std::lround(std::log2(extent / (64.0 * o.voxelSize)))));
   if (o.levels < 1 || o.levels > 12) throw std::invalid_argument("reconstruction: the number of grids must be 1 to 12");
-  if (o.epsilon == 0.0) o.epsilon = 3.0 * median(sigmas);
+  if (o.epsilon == 0.0) o.epsilon = median(sigmas);
   if (!(o.epsilon > 0.0) || !std::isfinite(o.epsilon))
     throw std::invalid_argument("reconstruction: the window width epsilon must be positive");
   if (o.beta < 0.0) o.beta = std::max(0.5, median(sigmas) / o.voxelSize);
   if (!(o.beta >= 0.0) || !std::isfinite(o.beta)) throw std::invalid_argument("reconstruction: beta must be finite");
   if (!(o.tolerance > 0.0)) throw std::invalid_argument("reconstruction: the tolerance must be positive");
   if (o.patience < 1) throw std::invalid_argument("reconstruction: the patience must be at least one iteration");
+  if (!(o.drift > 0.0)) throw std::invalid_argument("reconstruction: the drift tolerance must be positive");
   if (o.minIterations < 0 || o.maxIterations < std::max(1, o.minIterations))
     throw std::invalid_argument("reconstruction: iterations must satisfy 0 <= min <= max, max >= 1");
 }
@@ -101,6 +125,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const 
     state.level = level;
     state.voxelSize = h;
     state.iteration = 0;
+    state.drift = 0.0;
     if (level > 0) {
       // 3. Resample to half the voxel size.
       state.stage = ReconstructionProgress::Stage::kResampling;
@@ -118,7 +143,8 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const 
     LevelReport done;
     done.voxelSize = h;
     double slowest = std::numeric_limits<double>::infinity();
-    int lastProgress = 0;
+    int lastProgress = 0, snapshotIteration = 0;
+    openvdb::FloatGrid::Ptr snapshot = field->grid().deepCopy();
     for (int iteration = 1; iteration <= mOptions.maxIterations; ++iteration) {
       const StepResult step = field->step(speed);
       done.simulatedTime += step.dt;
@@ -132,15 +158,25 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const 
         done.converged = true;
         break;
       }
-      // Settled: the speed has stopped falling. Points whose zero crossing
-      // lies near the edge of their voxel keep trading places with their
-      // neighbours, so the speed of a settled surface does not reach zero.
+      // Settled: the speed has stopped falling, and no region drifts. Points
+      // whose zero crossing lies near the edge of their voxel keep trading
+      // places with their neighbours, and noisy data keep the surface
+      // trembling, so the speed of a settled surface does not reach zero; a
+      // region still on its way (a lump of the initial model dissolving)
+      // moves steadily one way, which the mean change over a leaf node shows.
       if (state.speed < 0.95 * slowest) {
         slowest = state.speed;
         lastProgress = iteration;
-      } else if (iteration - lastProgress >= mOptions.patience) {
-        done.settled = true;
-        break;
+      }
+      if (iteration - snapshotIteration >= mOptions.patience) {
+        state.drift =
+            largestLocalDrift(field->grid(), *snapshot) / h / static_cast<double>(iteration - snapshotIteration);
+        snapshot = field->grid().deepCopy();
+        snapshotIteration = iteration;
+        if (iteration - lastProgress >= mOptions.patience && state.drift < mOptions.drift) {
+          done.settled = true;
+          break;
+        }
       }
     }
     totalIterations += done.iterations;

@@ -26,7 +26,7 @@ ForceFieldOptions defaultForceFieldOptions(const std::vector<RangeMap>& maps, do
   std::nth_element(sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end());
   ForceFieldOptions options;
   options.window = WindowKind::kGaussian;
-  options.epsilon = std::max(3.0 * sigmas[sigmas.size() / 2], voxelSize);
+  options.epsilon = std::max(sigmas[sigmas.size() / 2], voxelSize);
   options.positionVariance = voxelSize * voxelSize / 120.0;  // Eq. 38 with subcell positioning
   return options;
 }
@@ -41,11 +41,12 @@ ForceField::ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const 
     throw std::invalid_argument("ForceField: the window width epsilon must be positive");
   if (!(mOptions.reach > 0.0)) throw std::invalid_argument("ForceField: the window reach must be positive");
   if (!(mOptions.positionVariance >= 0.0)) throw std::invalid_argument("ForceField: negative position variance");
-  // A typical reading's c gamma: the median over maps of gamma / sigma^2 at their readings.
+  // A typical reading's c gamma: the median over maps of gamma c at their
+  // readings, for a surface square to the line of sight (|grad D| = 1, Eq. 38).
   std::vector<double> weights;
   for (const RangeMap& m : *mMaps) {
     const double spacing = m.maxRaySpacing();
-    weights.push_back(1.0 / (spacing * spacing) / (m.sigma() * m.sigma()));
+    weights.push_back(1.0 / (spacing * spacing) / (m.sigma() * m.sigma() + mOptions.positionVariance));
   }
   std::nth_element(weights.begin(), weights.begin() + weights.size() / 2, weights.end());
   mTypicalWeight = weights[weights.size() / 2];

@@ -45,7 +45,7 @@ TEST(Reconstructor, ResolvesItsDefaultsFromTheData) {
   const Reconstructor r(noisySphere(0.01));
   const ReconstructionOptions& o = r.options();
   EXPECT_NEAR(o.voxelSize, 0.02, 1e-9);            // the views' ray spacing, 2.4 / 120
-  EXPECT_NEAR(o.epsilon, 0.03, 1e-9);              // three sigma
+  EXPECT_NEAR(o.epsilon, 0.01, 1e-9);              // sigma
   EXPECT_NEAR(o.beta, 0.5, 1e-9);                  // sigma is half a voxel: the floor
   EXPECT_EQ(o.levels, 2);                          // 100 voxels across: the coarsest grid about 64
   EXPECT_NEAR(r.voxelSize(0), 2.0 * o.voxelSize, 1e-12);

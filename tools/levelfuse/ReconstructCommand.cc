@@ -72,7 +72,7 @@ int runReconstruct(ReconstructSettings s) {
   load.depthScale = s.depthScale;
   load.frameStride = s.frameStride;
   std::vector<RangeMap> maps;
-  std::optional<io::TruthShape> truth;
+  std::optional<shapes::AnalyticShape> truth;
   for (const std::string& input : s.inputs) {
     for (RangeMap& m : io::loadScans(input, load)) maps.push_back(std::move(m));
     if (std::filesystem::path(input).extension() == ".json" && !truth) truth = io::loadManifestTruth(input);
@@ -223,7 +223,7 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("--beta", o.beta,
                   "Surface-area prior, in finest voxels: larger is smoother (default: max(0.5, sigma / voxel))")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--epsilon", o.epsilon, "Window width of a reading, world units (default: 3 sigma)")
+  cmd->add_option("--epsilon", o.epsilon, "Window width of a reading, world units (default: sigma, at least a voxel)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option_function<std::string>(
          "--window", [s](const std::string& w) { s->options.window = w == "binary" ? WindowKind::kBinary : WindowKind::kGaussian; },

@@ -6,7 +6,7 @@
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Ply.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/scan/Scenes.h>
 
 #include <nlohmann/json.hpp>
 
@@ -61,75 +61,28 @@ void readMeshPly(const std::string& path, std::vector<Vec3d>& points, std::vecto
 }
 
 int runSynth(const SynthSettings& s) {
-  // The shape, its size for the noise, and the views that see it all.
-  std::optional<io::TruthShape> truth;
-  std::function<double(const Vec3d&)> distance;
-  std::vector<Vec3d> points;
-  std::vector<openvdb::Vec3I> triangles;
-  openvdb::BBoxd bounds;
-  double size = 1.0;  // the noise is a fraction of this
-  std::string sizeName;
+  synth::SceneOptions options;
+  options.views = s.views;
+  options.resolution = s.resolution;
+  options.noise = s.noise;
+  options.outliers = s.outliers;
+  options.seed = s.seed;
+  options.pinhole = s.pinhole;
+  synth::Scene scene;
   if (!s.mesh.empty()) {
+    std::vector<Vec3d> points;
+    std::vector<openvdb::Vec3I> triangles;
     readMeshPly(s.mesh, points, triangles);
-    for (const Vec3d& p : points) bounds.expand(p);
-    size = bounds.extents()[bounds.maxExtent()];
-    sizeName = "the mesh's largest extent";
+    scene = synth::meshScene(points, triangles, options);
   } else {
-    truth = io::TruthShape();
-    if (s.shape == "sphere") {
-      truth->kind = io::TruthShape::Kind::kSphere;
-      truth->sphere = shapes::Sphere{Vec3d(0.0), 1.0};
-      bounds = openvdb::BBoxd(Vec3d(-1.0), Vec3d(1.0));
-      size = 2.0;
-      sizeName = "the diameter";
-    } else if (s.shape == "torus") {
-      truth->kind = io::TruthShape::Kind::kTorus;
-      truth->torus = shapes::Torus{Vec3d(0.0), 1.0, 0.4};
-      bounds = openvdb::BBoxd(Vec3d(-1.4, -1.4, -0.4), Vec3d(1.4, 1.4, 0.4));
-      size = 0.8;
-      sizeName = "the tube's diameter";
-    } else {
-      truth->kind = io::TruthShape::Kind::kMug;
-      truth->mug = shapes::Mug{Vec3d(0.0, 0.0, -1.0)};
-      bounds = openvdb::BBoxd(Vec3d(-1.0, -1.0, -1.0), Vec3d(1.0 + truth->mug.handleBend + truth->mug.handleRadius, 1.0, 1.0));
-      size = 2.0 * truth->mug.handleRadius;
-      sizeName = "the handle's width";
-    }
-    distance = [t = *truth](const Vec3d& p) { return t(p); };
+    using Kind = shapes::AnalyticShape::Kind;
+    const Kind kind = s.shape == "sphere" ? Kind::kSphere : s.shape == "torus" ? Kind::kTorus : Kind::kMug;
+    scene = synth::analyticScene(synth::standardShape(kind), options);
   }
-  const Vec3d centre = bounds.getCenter();
-  const double extent = 1.2 * bounds.extents()[bounds.maxExtent()] + 0.2 * size;
-  const int count = s.views > 0 ? s.views : (s.shape == "mug" && s.mesh.empty() ? 10 : 6);
-  std::vector<synth::View> views;
-  if (s.mesh.empty() && s.shape == "torus") {
-    views = synth::ringViews(centre, extent, s.resolution, count, 40.0);
-  } else if (s.mesh.empty() && s.shape == "mug" && count >= 3) {
-    // Straight down into the cup and up at its base, the rest around it.
-    views = synth::ringViews(centre, extent, s.resolution, count - 2, 30.0);
-    views.push_back(synth::orthographicView(Vec3d(0, 0, -1), centre, extent, s.resolution, "top"));
-    views.push_back(synth::orthographicView(Vec3d(0, 0, 1), centre, extent, s.resolution, "bottom"));
-  } else {
-    views = synth::viewsAround(centre, extent, s.resolution, count);
-  }
-  if (s.pinhole)
-    for (synth::View& v : views) {
-      const Vec3d forward = v.mapToWorld.transform3x3(Vec3d(0, 0, 1));
-      v = synth::pinholeView(centre - forward * 2.5 * extent, centre, 25.0, s.resolution, s.resolution, v.name);
-    }
-
-  synth::Noise noise;
-  noise.gaussianSigma = s.noise * size;
-  noise.replacementFraction = s.outliers;
-  const double sigma = std::max(noise.gaussianSigma, 1e-3 * size);  // the maps' stated noise
-  std::vector<RangeMap> maps;
+  const std::vector<RangeMap>& maps = scene.maps;
   std::size_t readings = 0;
-  for (std::size_t i = 0; i < views.size(); ++i) {
-    noise.seed = s.seed + i;
-    maps.push_back(s.mesh.empty() ? synth::renderDistanceFunction(distance, views[i], noise, sigma)
-                                  : synth::renderMesh(points, triangles, views[i], noise, sigma));
-    readings += maps.back().validCount();
-  }
-  const std::string manifest = io::writeScanSet(s.output, maps, truth);
+  for (const RangeMap& m : maps) readings += m.validCount();
+  const std::string manifest = io::writeScanSet(s.output, maps, scene.truth);
 
   if (s.json) {
     nlohmann::json j{{"shape", s.mesh.empty() ? s.shape : s.mesh},
@@ -137,7 +90,7 @@ int runSynth(const SynthSettings& s) {
                      {"resolution", s.resolution},
                      {"projection", s.pinhole ? "pinhole" : "orthographic"},
                      {"readings", readings},
-                     {"noise_sigma", noise.gaussianSigma},
+                     {"noise_sigma", scene.noiseSigma},
                      {"outlier_fraction", s.outliers},
                      {"manifest", manifest}};
     std::cout << j.dump(2) << "\n";
@@ -145,8 +98,8 @@ int runSynth(const SynthSettings& s) {
     std::cout << "levelfuse synth: " << maps.size() << " " << (s.pinhole ? "pinhole" : "orthographic") << " views of "
               << (s.mesh.empty() ? "a " + s.shape : s.mesh) << ", " << s.resolution << " x " << s.resolution
               << " pixels, " << withCommas(readings) << " readings\n"
-              << "  noise: Gaussian sigma " << fixed(noise.gaussianSigma) << " (" << fixed(100.0 * s.noise, 3)
-              << "% of " << sizeName << "), " << fixed(100.0 * s.outliers, 3) << "% outliers\n"
+              << "  noise: Gaussian sigma " << fixed(scene.noiseSigma) << " (" << fixed(100.0 * s.noise, 3)
+              << "% of " << scene.sizeName << "), " << fixed(100.0 * s.outliers, 3) << "% outliers\n"
               << "  wrote " << manifest << " and " << maps.size() << " range images beside it\n";
   }
   return kExitSuccess;

@@ -109,4 +109,30 @@ struct Mug {
   }
 };
 
+/// One of the analytic shapes the synthetic experiments use, chosen at run time.
+struct AnalyticShape {
+  enum class Kind { kSphere, kTorus, kMug };
+  Kind kind = Kind::kSphere;
+  Sphere sphere;
+  Torus torus;
+  Mug mug;
+
+  double operator()(const Vec3d& p) const {
+    switch (kind) {
+      case Kind::kSphere: return sphere(p);
+      case Kind::kTorus: return torus(p);
+      case Kind::kMug: return mug(p);
+    }
+    return 0.0;
+  }
+  const char* name() const {
+    switch (kind) {
+      case Kind::kSphere: return "sphere";
+      case Kind::kTorus: return "torus";
+      case Kind::kMug: return "mug";
+    }
+    return "";
+  }
+};
+
 }  // namespace levelfuse::shapes

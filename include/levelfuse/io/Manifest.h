@@ -44,26 +44,14 @@ namespace levelfuse::io {
 /// entry (e.g. "scans[2]: 'pose' needs 16 numbers") or the scan file at fault.
 std::vector<RangeMap> loadManifest(const std::string& path);
 
-/// An analytic shape recorded as the truth of synthetic scans.
-struct TruthShape {
-  enum class Kind { kSphere, kTorus, kMug };
-  Kind kind = Kind::kSphere;
-  shapes::Sphere sphere;
-  shapes::Torus torus;
-  shapes::Mug mug;
-  /// Signed distance (a bound inside the mug), negative inside.
-  double operator()(const openvdb::Vec3d& p) const;
-  const char* name() const;
-};
-
 /// The manifest's "truth", if it records one.
-std::optional<TruthShape> loadManifestTruth(const std::string& path);
+std::optional<shapes::AnalyticShape> loadManifestTruth(const std::string& path);
 
 /// Writes range maps as a manifest `directory`/scans.json with one PFM per
 /// map beside it (orthographic-pfm or depth-pfm; a pinhole map's sigma is its
 /// constant sigma), and the truth if given. Files are written atomically; the
 /// directory is created if need be. Returns the manifest's path.
 std::string writeScanSet(const std::string& directory, const std::vector<RangeMap>& maps,
-                         const std::optional<TruthShape>& truth = std::nullopt);
+                         const std::optional<shapes::AnalyticShape>& truth = std::nullopt);
 
 }  // namespace levelfuse::io

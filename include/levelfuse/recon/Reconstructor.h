@@ -39,20 +39,28 @@ struct ReconstructionOptions {
   /// max(0.5, sigma / voxel size) with sigma the scans' median noise, the
   /// best weight measured on noisy synthetic scans (docs/RESULTS.md).
   double beta = -1.0;
-  /// Width of the data term's window (Eqs. 8-9), world units. 0: three times
-  /// the scans' median noise sigma, but at least a voxel of each grid.
+  /// Width of the data term's window (Eqs. 8-9), world units. 0: the scans'
+  /// median noise sigma: a reading speaks for the space within its own
+  /// uncertainty, and scans of thin walls seen from both sides do not
+  /// interfere (measured on the noisy mug, docs/RESULTS.md). The window never
+  /// narrows below a voxel of the grid it works on.
   double epsilon = 0.0;
   WindowKind window = WindowKind::kGaussian;
   /// A grid has converged when the rms speed of its active values falls below
   /// this many voxels per unit time (the data term relaxes in about one).
   double tolerance = 0.02;
   /// A grid has also settled when its rms speed has not fallen (by 5%) for
-  /// this many iterations: points whose zero crossing lies near the edge of
-  /// their voxel keep trading places with their neighbours, so the speed of a
-  /// settled surface does not fall to zero.
+  /// `patience` iterations and no region drifts by `drift` voxels per
+  /// iteration or more (the mean change over a leaf node's active voxels,
+  /// measured over `patience` iterations): points whose zero crossing lies
+  /// near the edge of their voxel keep trading places with their neighbours,
+  /// and noisy data keep the surface trembling, so the speed of a settled
+  /// surface does not fall to zero, while a region still on its way moves
+  /// steadily one way.
   int patience = 8;
+  double drift = 0.025;
   int minIterations = 4;    ///< per grid
-  int maxIterations = 100;  ///< per grid
+  int maxIterations = 300;  ///< per grid
   std::string name = "surface";  ///< the output grid's name
   SparseFieldOptions engine;     ///< the sparse-field engine's settings
 };
@@ -68,6 +76,7 @@ struct ReconstructionProgress {
   int maxIterations = 0;
   std::size_t activeVoxels = 0;
   double speed = 0.0;      ///< rms speed of the active values in the last iteration (voxels per unit time)
+  double drift = 0.0;      ///< the largest local drift last measured (voxels per iteration)
   double seconds = 0.0;    ///< since the start
 };
 

@@ -36,10 +36,10 @@ struct ForceFieldOptions {
 };
 
 /// Options derived from the data for a grid of `voxelSize`: a Gaussian window
-/// of width eps = max(3 sigma, voxelSize), sigma the range maps' median noise,
-/// so that a reading reaches past its own noise and at least a voxel either
-/// side of the surface, and the positional variance of subcell positioning,
-/// voxelSize^2 / 120 (section 6).
+/// of width eps = max(sigma, voxelSize), sigma the range maps' median noise,
+/// so that a reading reaches as far as its own uncertainty and at least a
+/// voxel either side of the surface, and the positional variance of subcell
+/// positioning, voxelSize^2 / 120 (section 6). The Reconstructor's defaults.
 ForceFieldOptions defaultForceFieldOptions(const std::vector<RangeMap>& maps, double voxelSize);
 
 /// Where the data term reaches, accumulated on a grid: the terms of Eq. 17

@@ -1,0 +1,49 @@
+// levelfuse: the synthetic experiments' scenes: a shape, the views that see
+// it, and its range maps with noise, as `levelfuse synth` makes them.
+#pragma once
+
+#include <levelfuse/geometry/Shapes.h>
+#include <levelfuse/scan/RangeMap.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace levelfuse::synth {
+
+struct SceneOptions {
+  int views = 0;          ///< 0: six (ten for the mug)
+  int resolution = 200;   ///< pixels along each side of a view
+  double noise = 0.0;     ///< Gaussian range noise as a fraction of the scene's size (see Scene::size)
+  double outliers = 0.0;  ///< fraction of readings replaced by uniform outliers
+  std::uint64_t seed = 1;
+  bool pinhole = false;   ///< depth cameras instead of parallel rays
+};
+
+struct Scene {
+  std::optional<shapes::AnalyticShape> truth;  ///< none for a mesh
+  std::vector<RangeMap> maps;
+  /// The size the noise is a fraction of, as in the paper: the sphere's
+  /// diameter, the torus's tube diameter, the mug's handle width, a mesh's
+  /// largest extent.
+  double size = 1.0;
+  std::string sizeName;
+  double noiseSigma = 0.0;  ///< the Gaussian noise's standard deviation
+};
+
+/// The shapes of the experiments: a unit sphere; a torus of radii 1 and 0.4
+/// around the z axis; the mug of shapes::Mug standing on z = -1.
+shapes::AnalyticShape standardShape(shapes::AnalyticShape::Kind kind);
+
+/// Range maps of an analytic shape: the torus from views around it alternately
+/// above and below (so its inner wall is seen), the mug from views around it,
+/// straight down into the cup and up at its base, the sphere from views spread
+/// evenly; each view frames the shape with a margin.
+Scene analyticScene(const shapes::AnalyticShape& shape, const SceneOptions& options = {});
+
+/// Range maps of a triangle mesh from views spread evenly around it.
+Scene meshScene(const std::vector<openvdb::Vec3d>& points, const std::vector<openvdb::Vec3I>& triangles,
+                const SceneOptions& options = {});
+
+}  // namespace levelfuse::synth

@@ -1,0 +1,113 @@
+// levelfuse: the synthetic experiments' scenes.
+
+#include <levelfuse/scan/Scenes.h>
+#include <levelfuse/scan/Synth.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace levelfuse::synth {
+
+namespace {
+
+using openvdb::Vec3d;
+using Kind = shapes::AnalyticShape::Kind;
+
+/// Views of a shape within `bounds` that needs `count` of them.
+std::vector<View> viewsFor(const std::optional<shapes::AnalyticShape>& shape, const openvdb::BBoxd& bounds,
+                           double margin, const SceneOptions& options) {
+  const Vec3d centre = bounds.getCenter();
+  const double extent = 1.2 * bounds.extents()[bounds.maxExtent()] + margin;
+  const Kind kind = shape ? shape->kind : Kind::kSphere;
+  const int count = options.views > 0 ? options.views : (shape && kind == Kind::kMug ? 10 : 6);
+  std::vector<View> views;
+  if (shape && kind == Kind::kTorus) {
+    views = ringViews(centre, extent, options.resolution, count, 40.0);
+  } else if (shape && kind == Kind::kMug && count >= 3) {
+    views = ringViews(centre, extent, options.resolution, count - 2, 50.0);
+    views.push_back(orthographicView(Vec3d(0, 0, -1), centre, extent, options.resolution, "top"));
+    views.push_back(orthographicView(Vec3d(0, 0, 1), centre, extent, options.resolution, "bottom"));
+  } else {
+    views = viewsAround(centre, extent, options.resolution, count);
+  }
+  if (options.pinhole)
+    for (View& v : views) {
+      const Vec3d forward = v.mapToWorld.transform3x3(Vec3d(0, 0, 1));
+      v = pinholeView(centre - forward * 2.5 * extent, centre, 25.0, options.resolution, options.resolution, v.name);
+    }
+  return views;
+}
+
+template <typename Render>
+void renderAll(Scene& scene, const std::vector<View>& views, const SceneOptions& options, const Render& render) {
+  if (options.noise < 0.0 || options.outliers < 0.0 || options.outliers > 1.0)
+    throw std::invalid_argument("synthetic scene: the noise must be >= 0 and the outliers a fraction in [0, 1]");
+  Noise noise;
+  noise.gaussianSigma = options.noise * scene.size;
+  noise.replacementFraction = options.outliers;
+  scene.noiseSigma = noise.gaussianSigma;
+  const double sigma = std::max(noise.gaussianSigma, 1e-3 * scene.size);  // the maps' stated noise
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    noise.seed = options.seed + i;
+    scene.maps.push_back(render(views[i], noise, sigma));
+  }
+}
+
+}  // namespace
+
+shapes::AnalyticShape standardShape(Kind kind) {
+  shapes::AnalyticShape shape;
+  shape.kind = kind;
+  shape.sphere = shapes::Sphere{Vec3d(0.0), 1.0};
+  shape.torus = shapes::Torus{Vec3d(0.0), 1.0, 0.4};
+  shape.mug = shapes::Mug{Vec3d(0.0, 0.0, -1.0)};
+  return shape;
+}
+
+Scene analyticScene(const shapes::AnalyticShape& shape, const SceneOptions& options) {
+  Scene scene;
+  scene.truth = shape;
+  openvdb::BBoxd bounds;
+  switch (shape.kind) {
+    case Kind::kSphere:
+      bounds = openvdb::BBoxd(shape.sphere.centre - Vec3d(shape.sphere.radius), shape.sphere.centre + Vec3d(shape.sphere.radius));
+      scene.size = 2.0 * shape.sphere.radius;
+      scene.sizeName = "the diameter";
+      break;
+    case Kind::kTorus: {
+      const double r = shape.torus.major + shape.torus.minor;
+      bounds = openvdb::BBoxd(shape.torus.centre - Vec3d(r, r, shape.torus.minor),
+                              shape.torus.centre + Vec3d(r, r, shape.torus.minor));
+      scene.size = 2.0 * shape.torus.minor;
+      scene.sizeName = "the tube's diameter";
+      break;
+    }
+    case Kind::kMug: {
+      const shapes::Mug& m = shape.mug;
+      bounds = openvdb::BBoxd(m.centre - Vec3d(m.radius, m.radius, 0.0),
+                              m.centre + Vec3d(m.radius + m.handleBend + m.handleRadius, m.radius, m.height));
+      scene.size = 2.0 * m.handleRadius;
+      scene.sizeName = "the handle's width";
+      break;
+    }
+  }
+  const auto distance = [&shape](const Vec3d& p) { return shape(p); };
+  renderAll(scene, viewsFor(shape, bounds, 0.2 * scene.size, options), options,
+            [&](const View& v, const Noise& n, double sigma) { return renderDistanceFunction(distance, v, n, sigma); });
+  return scene;
+}
+
+Scene meshScene(const std::vector<Vec3d>& points, const std::vector<openvdb::Vec3I>& triangles,
+                const SceneOptions& options) {
+  if (points.empty() || triangles.empty()) throw std::invalid_argument("synthetic scene: the mesh is empty");
+  Scene scene;
+  openvdb::BBoxd bounds;
+  for (const Vec3d& p : points) bounds.expand(p);
+  scene.size = bounds.extents()[bounds.maxExtent()];
+  scene.sizeName = "the mesh's largest extent";
+  renderAll(scene, viewsFor(std::nullopt, bounds, 0.2 * scene.size, options), options,
+            [&](const View& v, const Noise& n, double sigma) { return renderMesh(points, triangles, v, n, sigma); });
+  return scene;
+}
+
+}  // namespace levelfuse::synth
