@@ -20,6 +20,12 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<Ran
     for (int v = 0; v < m.height(); v += stride)
       for (int u = 0; u < m.width(); u += stride)
         if (m.valid(u, v)) points.push_back(m.readingPoint(u, v));
+  return measureDataFit(levelSet, points);
+}
+
+DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points) {
+  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
+    throw std::invalid_argument("measureDataFit: the grid '" + levelSet.getName() + "' is not a level set");
   DataFit fit;
   fit.readings = points.size();
   if (points.empty()) return fit;
@@ -27,17 +33,33 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<Ran
   const double background = levelSet.background();
   std::vector<double> distance(points.size());
   std::vector<char> beyond(points.size());
+  const double voxel = levelSet.voxelSize()[0];
   parallelFor(points.size(), 4096, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
+    const auto psi = [&](const openvdb::Vec3d& ijk) { return openvdb::tools::BoxSampler::sample(acc, ijk); };
     for (std::size_t i = begin; i < end; ++i) {
-      const openvdb::Vec3d ijk = levelSet.worldToIndex(points[i]);
-      const double d = std::fabs(openvdb::tools::BoxSampler::sample(acc, ijk));
+      const openvdb::Vec3d start = levelSet.worldToIndex(points[i]);
+      double value = psi(start);
       // Beyond the band where the nearest voxel is not in it.
-      beyond[i] = !acc.isValueOn(openvdb::Coord::round(ijk)) && d >= 0.999 * background;
-      distance[i] = d;
+      beyond[i] = !acc.isValueOn(openvdb::Coord::round(start)) && std::fabs(value) >= 0.999 * background;
+      distance[i] = std::fabs(value);
+      if (beyond[i]) continue;
+      // The values of a narrow band are distances only near the zero set:
+      // project the reading onto it along the gradient (Newton's method on
+      // the trilinear interpolant) and measure the way it went.
+      openvdb::Vec3d x = start;
+      for (int step = 0; step < 8 && std::fabs(value) > 1e-4 * voxel; ++step) {
+        const openvdb::Vec3d gradient(psi(x + openvdb::Vec3d(0.5, 0, 0)) - psi(x - openvdb::Vec3d(0.5, 0, 0)),
+                                      psi(x + openvdb::Vec3d(0, 0.5, 0)) - psi(x - openvdb::Vec3d(0, 0.5, 0)),
+                                      psi(x + openvdb::Vec3d(0, 0, 0.5)) - psi(x - openvdb::Vec3d(0, 0, 0.5)));
+        const double lengthSq = gradient.lengthSqr();
+        if (!(lengthSq > 0.0)) break;
+        x -= gradient * (value / lengthSq);  // index space: the gradient is world units per voxel
+        value = psi(x);
+      }
+      if (std::fabs(value) <= 1e-3 * voxel) distance[i] = (x - start).length() * voxel;
     }
   });
-  const double voxel = levelSet.voxelSize()[0];
   double sum = 0.0, sumSq = 0.0;
   std::size_t near = 0, far = 0;
   for (std::size_t i = 0; i < distance.size(); ++i) {

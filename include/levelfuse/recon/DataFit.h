@@ -11,11 +11,13 @@
 namespace levelfuse {
 
 /// Distances from the scans' readings to the zero set of a level set (world
-/// units), |psi| interpolated trilinearly at each reading. Readings beyond the
+/// units): each reading is projected onto the zero set of the trilinear
+/// interpolant along its gradient (the band's values are distances only near
+/// the zero set) and the distance it went is measured. Readings beyond the
 /// narrow band are counted as far (their distance is at least the band's
 /// half-width): a hole in the surface where the scans saw it shows there.
 struct DataFit {
-  std::size_t readings = 0;   ///< readings measured
+  std::size_t readings = 0;   ///< readings (points) measured
   double mean = 0.0, rms = 0.0, median = 0.0, p90 = 0.0, p99 = 0.0;
   double withinVoxel = 0.0;   ///< fraction of readings within one voxel of the surface
   double beyondBand = 0.0;    ///< fraction of readings beyond the narrow band
@@ -24,5 +26,7 @@ struct DataFit {
 /// Measures the fit of `levelSet` to the readings of `maps`, using every
 /// `stride`-th reading in each direction of each map.
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride = 1);
+/// The same for any points (world units), e.g. a scan's original samples.
+DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points);
 
 }  // namespace levelfuse

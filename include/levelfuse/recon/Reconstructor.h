@@ -48,7 +48,7 @@ struct ReconstructionOptions {
   WindowKind window = WindowKind::kGaussian;
   /// A grid has converged when the rms speed of its active values falls below
   /// this many voxels per unit time (the data term relaxes in about one).
-  double tolerance = 0.02;
+  double tolerance = 0.05;
   /// A grid has also settled when its rms speed has not fallen (by 5%) for
   /// `patience` iterations and no region drifts by `drift` voxels per
   /// iteration or more (the mean change over a leaf node's active voxels,
