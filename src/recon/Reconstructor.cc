@@ -20,9 +20,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 /// The largest mean change, over the leaf nodes of `now` holding at least
-/// eight points of the active set (|psi| <= dx / 2), of those points' values
-/// since `before` (world units).
-double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid& before) {
+/// eight points of the active set (|psi| <= dx / 2) that the data support (at
+/// the first, the weight of at least one typical reading), of those points'
+/// values since `before` (world units). Surfaces no scan saw move under the
+/// prior alone toward a minimal surface, slowly and for long: they are not
+/// waited for.
+double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid& before, const ForceField& force) {
   const float half = static_cast<float>(0.5 * now.voxelSize()[0]);
   openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(now.tree());
   std::vector<double> drift(leaves.leafCount(), 0.0);
@@ -30,12 +33,14 @@ double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid
     openvdb::FloatGrid::ConstAccessor old = before.getConstAccessor();
     double sum = 0.0;
     int points = 0;
+    openvdb::Coord first;
     for (auto it = leaf.cbeginValueOn(); it; ++it) {
       if (std::fabs(*it) > half) continue;
+      if (points == 0) first = it.getCoord();
       sum += *it - old.getValue(it.getCoord());
       ++points;
     }
-    if (points >= 8) drift[i] = std::fabs(sum) / points;
+    if (points >= 8 && force.weight(now.indexToWorld(first)) >= force.typicalWeight()) drift[i] = std::fabs(sum) / points;
   });
   return drift.empty() ? 0.0 : *std::max_element(drift.begin(), drift.end());
 }
@@ -170,7 +175,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const 
       }
       if (iteration - snapshotIteration >= mOptions.patience) {
         state.drift =
-            largestLocalDrift(field->grid(), *snapshot) / h / static_cast<double>(iteration - snapshotIteration);
+            largestLocalDrift(field->grid(), *snapshot, force) / h / static_cast<double>(iteration - snapshotIteration);
         snapshot = field->grid().deepCopy();
         snapshotIteration = iteration;
         if (iteration - lastProgress >= mOptions.patience && state.drift < mOptions.drift) {

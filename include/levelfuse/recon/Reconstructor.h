@@ -50,9 +50,9 @@ struct ReconstructionOptions {
   /// this many voxels per unit time (the data term relaxes in about one).
   double tolerance = 0.05;
   /// A grid has also settled when its rms speed has not fallen (by 5%) for
-  /// `patience` iterations and no region drifts by `drift` voxels per
-  /// iteration or more (the mean change over a leaf node's active voxels,
-  /// measured over `patience` iterations): points whose zero crossing lies
+  /// `patience` iterations and no region the scans saw drifts by `drift`
+  /// voxels per iteration or more (the mean change over a leaf node's active
+  /// voxels, measured over `patience` iterations): points whose zero crossing lies
   /// near the edge of their voxel keep trading places with their neighbours,
   /// and noisy data keep the surface trembling, so the speed of a settled
   /// surface does not fall to zero, while a region still on its way moves
