@@ -13,6 +13,13 @@
 
 namespace levelfuse {
 
+namespace {
+
+/// 2 ijk: multiplied, not shifted, as a left shift of a negative coordinate is undefined.
+openvdb::Coord twice(const openvdb::Coord& ijk) { return openvdb::Coord(2 * ijk.x(), 2 * ijk.y(), 2 * ijk.z()); }
+
+}  // namespace
+
 openvdb::FloatGrid::Ptr refineLevelSet(const openvdb::FloatGrid& levelSet, double halfWidth) {
   using LeafT = openvdb::FloatTree::LeafNodeType;
   if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
@@ -34,7 +41,7 @@ openvdb::FloatGrid::Ptr refineLevelSet(const openvdb::FloatGrid& levelSet, doubl
     if (tile.isVoxelValue() || !(*tile < 0.0f)) continue;
     openvdb::CoordBBox box;
     tile.getBoundingBox(box);
-    fine->tree().fill(openvdb::CoordBBox(box.min() << 1, (box.max() << 1) + openvdb::Coord(1)), -width, false);
+    fine->tree().fill(openvdb::CoordBBox(twice(box.min()), twice(box.max()) + openvdb::Coord(1)), -width, false);
   }
 
   // Each coarse leaf becomes the eight fine leaves over the same space.
@@ -45,8 +52,9 @@ openvdb::FloatGrid::Ptr refineLevelSet(const openvdb::FloatGrid& levelSet, doubl
     openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
     for (std::size_t i = begin; i < end; ++i)
       for (int child = 0; child < 8; ++child) {
-        const openvdb::Coord origin = (coarse[i]->origin() << 1) +
-                                      (openvdb::Coord(child & 1, (child >> 1) & 1, child >> 2) << LeafT::LOG2DIM);
+        const int dim = static_cast<int>(LeafT::DIM);
+        const openvdb::Coord origin =
+            twice(coarse[i]->origin()) + openvdb::Coord((child & 1) * dim, ((child >> 1) & 1) * dim, (child >> 2) * dim);
         auto leaf = std::make_unique<LeafT>(origin, width);
         for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
           const float v = openvdb::tools::BoxSampler::sample(acc, leaf->offsetToGlobalCoord(o).asVec3d() * 0.5);
