@@ -50,6 +50,8 @@ const BadInput kCorpus[] = {
   {"ply/property-before-element.ply", Reader::kPly, "header line 3: a property before any element"},
   {"ply/huge-count-ascii.ply", Reader::kPly, "element 'vertex' declares 99999999999 entries, but only 6 bytes follow the header"},
   {"ply/huge-count-binary.ply", Reader::kPly, "element 'vertex' declares 4000000000 entries, but only 12 bytes follow the header"},
+  {"ply/huge-count-no-properties.ply", Reader::kPly, "element 'vertex' declares 18446744073709551615 entries but no properties"},
+  {"ply/huge-count-no-properties-ascii.ply", Reader::kPly, "element 'vertex' declares 18446744073709551615 entries but no properties"},
   {"ply/truncated-ascii.ply", Reader::kPly, "the file ends in 'vertex' entry 2 of 3 (truncated?)"},
   {"ply/truncated-binary.ply", Reader::kPly, "element 'vertex' declares 3 entries, but only 28 bytes follow the header"},
   {"ply/truncated-binary-list.ply", Reader::kPly, "the file ends in 'face' entry 1 (truncated?)"},
