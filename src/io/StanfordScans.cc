@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -239,10 +240,12 @@ RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, c
     if (!(pixel > 0.0)) pixel = spacing;
   }
   const double cols = std::ceil((xmax - xmin) / pixel) + 3, rows = std::ceil((ymax - ymin) / pixel) + 3;
-  if (cols * rows > 6.4e7)
-    throw InputError(scan.path, "the scan would need a range map of " + std::to_string(long(cols)) + " x " +
-                                    std::to_string(long(rows)) + " pixels of " + std::to_string(pixel) +
-                                    " m: choose a larger pixel size");
+  if (!(cols * rows <= 6.4e7)) {  // also when the extent overflowed to infinity or NaN
+    char size[96];
+    std::snprintf(size, sizeof(size), "%.12g x %.12g pixels of %g m", cols, rows, pixel);
+    throw InputError(scan.path, std::string("the scan would need a range map of ") + size +
+                                    ": choose a larger pixel size");
+  }
   const int width = static_cast<int>(cols), height = static_cast<int>(rows);
   OrthographicProjection projection{pixel, openvdb::math::Vec2d(xmin - pixel, ymin - pixel)};
 
