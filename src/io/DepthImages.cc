@@ -114,6 +114,14 @@ std::string readPng16(const char* path, double fileBytes, int& width, int& heigh
   // Skip, unread, every chunk a depth image does not need (text, colour
   // profiles, ...): libpng would allocate whatever length such a chunk declares.
   png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, nullptr, -1);
+#if defined(FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION)
+  // Fuzzer builds only: accept wrong checksums, so that mutated inputs reach
+  // the decoder instead of stopping at the first CRC.
+  png_set_crc_action(png, PNG_CRC_QUIET_USE, PNG_CRC_QUIET_USE);
+#if defined(PNG_IGNORE_ADLER32)
+  png_set_option(png, PNG_IGNORE_ADLER32, PNG_OPTION_ON);
+#endif
+#endif
   png_read_info(png, info);
   const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
   const int depth = png_get_bit_depth(png, info), colour = png_get_color_type(png, info);
