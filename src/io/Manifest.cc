@@ -39,7 +39,8 @@ class Entry {
   /// The file a key names, resolved beside the manifest; it must exist.
   std::string path(const char* key) const {
     const fs::path p(string(key));
-    const std::string resolved = (p.is_absolute() ? p : fs::path(mManifest).parent_path() / p).lexically_normal().string();
+    const fs::path beside = p.is_absolute() ? p : fs::path(mManifest).parent_path() / p;
+    const std::string resolved = beside.lexically_normal().string();
     std::error_code ec;
     if (!fs::is_regular_file(resolved, ec)) fail(std::string("'") + key + "': no such file " + resolved);
     return resolved;

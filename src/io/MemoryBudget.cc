@@ -24,9 +24,9 @@ std::uint64_t limitOf(int resource) {
 
 std::uint64_t automaticBudget() {
   const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
-  std::uint64_t bytes = pages > 0 && pageSize > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(pageSize)
-                                                  : UINT64_MAX;
-  return std::min({bytes, limitOf(RLIMIT_AS), limitOf(RLIMIT_DATA)});
+  const std::uint64_t physical =
+      pages > 0 && pageSize > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(pageSize) : UINT64_MAX;
+  return std::min({physical, limitOf(RLIMIT_AS), limitOf(RLIMIT_DATA)});
 }
 
 }  // namespace
