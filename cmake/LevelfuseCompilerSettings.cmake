@@ -8,8 +8,10 @@ endif()
 
 # levelfuse_warnings(<target>): -Wall -Wextra for our code. OpenVDB, TBB and ITK
 # headers are included as system headers, so their warnings stay out of the way.
+# (clang, used for the fuzzers, spells GCC's -Wshadow=local as -Wshadow.)
 function(levelfuse_warnings target)
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow=local)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic
+    $<IF:$<CXX_COMPILER_ID:GNU>,-Wshadow=local,-Wshadow>)
 endfunction()
 
 if(LEVELFUSE_SANITIZER STREQUAL "address")

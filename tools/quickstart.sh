@@ -22,18 +22,13 @@ packages=(cmake g++ make ccache pkg-config
           libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libpng-dev libopenexr-dev)
 [ "$mode" = bench ] && packages+=(libinsighttoolkit5-dev)
 
-sudo=""
-[ "$(id -u)" -eq 0 ] || sudo=sudo
-missing=()
-for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "== installing ${missing[*]}"
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+"$root/tools/install-packages.sh" "${packages[@]}"
 
+# Benchmarks say nothing under a sanitizer: sanitizer builds leave them out.
+options=(-DCMAKE_BUILD_TYPE=Release -DLEVELFUSE_SANITIZER="$sanitizer")
+[ -n "$sanitizer" ] && options+=(-DLEVELFUSE_BUILD_BENCHMARKS=OFF)
 echo "== configuring $build"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DLEVELFUSE_SANITIZER="$sanitizer" >/dev/null
+cmake -S "$root" -B "$build" "${options[@]}" >/dev/null
 
 mkdir -p "$root/out"
 case "$mode" in

@@ -3,6 +3,7 @@
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/MemoryBudget.h>
 
 #include <png.h>
 
@@ -31,6 +32,12 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr double kMaxPixels = 1 << 28;  // a quarter of a billion: a gigabyte of floats
+/// Bytes a reader holds per pixel at most: the samples as stored and the depths.
+constexpr double kBytesPerPixel = 8.0;
+/// Deflate compresses by at most 1032:1, so a PNG's pixels cannot take more
+/// than that many times the file's size.
+constexpr double kMaxDeflateRatio = 1032.0;
+const char* const kTooLargeAdvice = "crop or downsample the image, or use a machine with more memory";
 const float kNoReading = std::numeric_limits<float>::quiet_NaN();
 
 void requireFile(const std::string& path) {
@@ -38,11 +45,28 @@ void requireFile(const std::string& path) {
   if (!fs::is_regular_file(path, ec)) throw InputError(path, "no such file");
 }
 
+using Problem = char[200];
+
+/// The checks of an image's declared size that every reader makes: writes what
+/// is wrong into `problem`, or leaves it empty.
+void checkSize(double width, double height, Problem& problem) {
+  const double bytes = width * height * kBytesPerPixel, budget = static_cast<double>(memoryBudget());
+  if (!(width >= 2.0) || !(height >= 2.0))
+    std::snprintf(problem, sizeof(problem), "the image has %.12g x %.12g pixels; a depth image needs at least 2 x 2",
+                  width, height);
+  else if (!(width * height <= kMaxPixels))
+    std::snprintf(problem, sizeof(problem), "the header declares %.12g x %.12g pixels: too large for a depth image",
+                  width, height);
+  else if (bytes > budget)
+    std::snprintf(problem, sizeof(problem), "an image of %.12g x %.12g pixels needs about %s of memory, more than "
+                  "the %s levelfuse may use: %s", width, height, describeBytes(bytes).c_str(),
+                  describeBytes(budget).c_str(), kTooLargeAdvice);
+}
+
 void requireSize(const std::string& path, double width, double height) {
-  if (width < 1 || height < 1) throw InputError(path, "the image has no pixels");
-  if (width * height > kMaxPixels)
-    throw InputError(path, "the header declares " + std::to_string(long(width)) + " x " + std::to_string(long(height)) +
-                               " pixels: too large for a depth image");
+  Problem problem = "";
+  checkSize(width, height, problem);
+  if (problem[0] != 0) throw InputError(path, problem);
 }
 
 /// libpng reports errors through longjmp; the message is kept here.
@@ -58,10 +82,11 @@ extern "C" void onPngError(png_structp png, png_const_charp message) {
 }
 extern "C" void onPngWarning(png_structp, png_const_charp) {}
 
-/// Reads a 16-bit grayscale PNG into `samples` (host byte order). Returns an
-/// error message, empty on success. Plain C inside: no destructors are skipped
-/// by libpng's longjmp.
-std::string readPng16(const char* path, int& width, int& height, std::vector<std::uint16_t>& samples) {
+/// Reads a 16-bit grayscale PNG of `fileBytes` bytes into `samples` (host byte
+/// order). Returns an error message, empty on success. Plain C inside: no
+/// destructors are skipped by libpng's longjmp.
+std::string readPng16(const char* path, double fileBytes, int& width, int& height,
+                      std::vector<std::uint16_t>& samples) {
   FILE* file = std::fopen(path, "rb");
   if (!file) return "cannot be opened for reading";
   unsigned char signature[8];
@@ -82,21 +107,37 @@ std::string readPng16(const char* path, int& width, int& height, std::vector<std
     png_destroy_read_struct(&png, &info, nullptr);
     std::fclose(file);
     delete rows;
+    if (std::strcmp(errors.message, "Read Error") == 0) return "truncated PNG data (the file ends inside a chunk)";
     return std::string("corrupt PNG data (") + errors.message + ")";
   }
   png_init_io(png, file);
   png_set_sig_bytes(png, 8);
+  // Skip, unread, every chunk a depth image does not need (text, colour
+  // profiles, ...): libpng would allocate whatever length such a chunk declares.
+  png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, nullptr, -1);
+#if defined(FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION)
+  // Fuzzer builds only: accept wrong checksums, so that mutated inputs reach
+  // the decoder instead of stopping at the first CRC.
+  png_set_crc_action(png, PNG_CRC_QUIET_USE, PNG_CRC_QUIET_USE);
+#if defined(PNG_IGNORE_ADLER32)
+  png_set_option(png, PNG_IGNORE_ADLER32, PNG_OPTION_ON);
+#endif
+#endif
   png_read_info(png, info);
   const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
   const int depth = png_get_bit_depth(png, info), colour = png_get_color_type(png, info);
-  char problem[160] = "";  // no C++ object may live across libpng's longjmp
+  Problem problem = "";  // no C++ object may live across libpng's longjmp
   if (colour != PNG_COLOR_TYPE_GRAY)
     std::snprintf(problem, sizeof(problem),
                   "not a grayscale image (PNG colour type %d): a depth image has one channel", colour);
   else if (depth != 16)
     std::snprintf(problem, sizeof(problem), "has %d-bit samples; a depth image needs 16 bits", depth);
-  else if (double(w) * double(h) > kMaxPixels)
-    std::snprintf(problem, sizeof(problem), "the header declares %u x %u pixels: too large", unsigned(w), unsigned(h));
+  else
+    checkSize(w, h, problem);
+  if (problem[0] == 0 && double(h) * (1.0 + 2.0 * double(w)) > kMaxDeflateRatio * fileBytes)
+    std::snprintf(problem, sizeof(problem),
+                  "the header declares %u x %u pixels, more than the file's %.0f bytes can hold (truncated?)",
+                  unsigned(w), unsigned(h), fileBytes);
   if (problem[0] == 0) {
     const png_uint_16 probe = 1;
     if (*reinterpret_cast<const unsigned char*>(&probe) == 1) png_set_swap(png);  // PNG is big-endian
@@ -146,7 +187,11 @@ DepthImage readDepthPng(const std::string& path, double scale, const std::vector
   if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError(path, "the depth scale must be positive");
   DepthImage image;
   std::vector<std::uint16_t> samples;
-  const std::string problem = readPng16(path.c_str(), image.width, image.height, samples);
+  std::error_code ec;
+  const std::uintmax_t fileBytes = fs::file_size(path, ec);
+  if (ec) throw InputError(path, "cannot be read (" + ec.message() + ")");
+  const std::string problem =
+      readPng16(path.c_str(), static_cast<double>(fileBytes), image.width, image.height, samples);
   if (!problem.empty()) throw InputError(path, problem);
   image.depth.resize(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i) {
@@ -310,7 +355,9 @@ RangeMap depthFrame(const DepthImage& image, const PinholeProjection& intrinsics
   std::vector<float> sigmas(image.depth.size());
   for (std::size_t i = 0; i < image.depth.size(); ++i) {
     const double z = image.depth[i] == image.depth[i] ? image.depth[i] : 1.0;
-    sigmas[i] = static_cast<float>(std::max(noise.minimum, noise.perSquareMetre * z * z));
+    // Readings so far away that their sigma overflows a float carry no weight anyway.
+    const double sigma = std::max(noise.minimum, noise.perSquareMetre * z * z);
+    sigmas[i] = static_cast<float>(std::min(sigma, double(std::numeric_limits<float>::max())));
   }
   RangeMap map = RangeMap::pinhole(image.width, image.height, image.depth, intrinsics, cameraToWorld,
                                    std::max(noise.minimum, noise.perSquareMetre), name);

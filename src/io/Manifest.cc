@@ -19,6 +19,9 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+/// Manifests list scans; a larger file is not one.
+constexpr std::uintmax_t kMaxManifestBytes = 64 << 20;
+
 class Entry {
  public:
   Entry(const std::string& manifest, const json& j, std::size_t index)
@@ -34,16 +37,24 @@ class Entry {
     if (!mJson[key].is_string()) fail(std::string("'") + key + "' must be a string");
     return mJson[key].get<std::string>();
   }
+  /// The file a key names, resolved beside the manifest; it must exist.
   std::string path(const char* key) const {
     const fs::path p(string(key));
-    return p.is_absolute() ? p.string() : (fs::path(mManifest).parent_path() / p).string();
+    const fs::path beside = p.is_absolute() ? p : fs::path(mManifest).parent_path() / p;
+    const std::string resolved = beside.lexically_normal().string();
+    std::error_code ec;
+    if (!fs::is_regular_file(resolved, ec)) fail(std::string("'") + key + "': no such file " + resolved);
+    return resolved;
+  }
+  /// A JSON value that must be a finite number; `name` says which.
+  double numberIn(const json& j, const std::string& name) const {
+    if (!j.is_number()) fail(name + " must be a number");
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) fail(name + " is not finite");
+    return v;
   }
   double number(const char* key, double fallback) const {
-    if (!has(key)) return fallback;
-    if (!mJson[key].is_number()) fail(std::string("'") + key + "' must be a number");
-    const double v = mJson[key].get<double>();
-    if (!std::isfinite(v)) fail(std::string("'") + key + "' is not finite");
-    return v;
+    return has(key) ? numberIn(mJson[key], std::string("'") + key + "'") : fallback;
   }
   double positive(const char* key, double fallback) const {
     const double v = number(key, fallback);
@@ -92,8 +103,8 @@ PinholeProjection intrinsicsOf(const Entry& e) {
   const json& k = e["intrinsics"];
   PinholeProjection p;
   for (const auto& [key, target] : {std::pair<const char*, double*>{"fx", &p.fx}, {"fy", &p.fy}, {"cx", &p.cx}, {"cy", &p.cy}}) {
-    if (!k.contains(key) || !k[key].is_number()) e.fail(std::string("'intrinsics' needs a number '") + key + "'");
-    *target = k[key].get<double>();
+    if (!k.contains(key)) e.fail(std::string("'intrinsics' needs a number '") + key + "'");
+    *target = e.numberIn(k[key], std::string("'intrinsics.") + key + "'");
   }
   if (!(p.fx > 0.0) || !(p.fy > 0.0)) e.fail("the focal lengths must be positive");
   return p;
@@ -106,11 +117,18 @@ openvdb::math::Mat4d poseOf(const Entry& e, const std::string& manifest) {
 }
 
 json parseManifest(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(path, fs::exists(path, ec) ? "not a regular file" : "no such file");
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (!ec && bytes > kMaxManifestBytes)
+    throw InputError(path, "a manifest of " + std::to_string(bytes >> 20) +
+                               " MiB: manifests list scans and take a few KiB; is this the right file?");
   std::ifstream in(path);
-  if (!in) throw InputError(path, fs::exists(path) ? "cannot be opened for reading" : "no such file");
+  if (!in) throw InputError(path, "cannot be opened for reading");
   try {
     return json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse errors, and numbers too large for a double
     throw InputError(path, std::string("not valid JSON (") + e.what() + ")");
   }
 }
@@ -151,11 +169,12 @@ std::vector<RangeMap> loadManifest(const std::string& path) {
       if (e.has("sigma")) {
         const json& s = e["sigma"];
         if (s.is_number()) {
-          noise.minimum = s.get<double>();
+          noise.minimum = e.numberIn(s, "'sigma'");
           noise.perSquareMetre = 0.0;
         } else if (s.is_object()) {
-          noise.minimum = s.value("minimum", noise.minimum);
-          noise.perSquareMetre = s.value("per_square_metre", noise.perSquareMetre);
+          if (s.contains("minimum")) noise.minimum = e.numberIn(s["minimum"], "'sigma.minimum'");
+          if (s.contains("per_square_metre"))
+            noise.perSquareMetre = e.numberIn(s["per_square_metre"], "'sigma.per_square_metre'");
         } else {
           e.fail("'sigma' must be a number or {\"minimum\", \"per_square_metre\"}");
         }

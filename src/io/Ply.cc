@@ -2,6 +2,7 @@
 
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/io/Ply.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@ namespace levelfuse::io {
 namespace {
 
 constexpr std::size_t kMaxHeaderBytes = 1 << 20;
+const char* const kTooLargeAdvice = "split the scan into smaller files, or use a machine with more memory";
 
 std::size_t sizeOf(PlyType t) {
   switch (t) {
@@ -75,6 +77,8 @@ std::vector<std::string> split(const std::string& line) {
 std::string readWholeFile(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "no such file");
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (!ec) requireMemory(path, static_cast<double>(size), "reading the file", kTooLargeAdvice);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot be opened for reading");
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -167,11 +171,14 @@ class Parser {
     mLine = lineNo + 1;
   }
 
-  /// Rejects counts the rest of the file cannot hold, before allocating anything.
+  /// Rejects counts the rest of the file cannot hold, and values that would
+  /// not fit in memory, before allocating anything.
   void checkSizes() {
     const double remaining = static_cast<double>(mBytes.size() - mPos);
-    double needed = 0.0;
+    double needed = 0.0, valueBytes = 0.0;
     for (const PlyElement& e : mData.elements) {
+      if (e.count > 0 && e.properties.empty())
+        fail("element '" + e.name + "' declares " + std::to_string(e.count) + " entries but no properties");
       double perEntry = 0.0;
       for (const PlyProperty& p : e.properties) {
         if (mData.format == PlyFormat::kAscii) perEntry += 2.0;  // a digit and a separator at least
@@ -181,7 +188,15 @@ class Parser {
       if (needed > remaining)
         fail("element '" + e.name + "' declares " + std::to_string(e.count) + " entries, but only " +
              std::to_string(mBytes.size() - mPos) + " bytes follow the header (truncated file or a wrong count?)");
+      // A double per scalar; per list, offsets and at most as many items as the bytes left can hold.
+      for (const PlyProperty& p : e.properties) {
+        const double itemBytes = mData.format == PlyFormat::kAscii ? 2.0 : static_cast<double>(sizeOf(p.type));
+        valueBytes += p.isList ? sizeof(std::size_t) * (static_cast<double>(e.count) + 1.0) +
+                                     sizeof(double) * remaining / itemBytes
+                               : sizeof(double) * static_cast<double>(e.count);
+      }
     }
+    requireMemory(mPath, static_cast<double>(mBytes.size()) + valueBytes, "reading its values", kTooLargeAdvice);
     for (PlyElement& e : mData.elements) {
       e.values.resize(e.properties.size());
       e.listOffsets.resize(e.properties.size());

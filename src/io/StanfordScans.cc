@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -19,6 +20,10 @@ using openvdb::Vec3d;
 using Mat4d = openvdb::math::Mat4d;
 
 namespace {
+
+constexpr double kMaxRangeMapPixels = 6.4e7;
+constexpr double kMaxPixelsPerSample = 64.0;
+constexpr double kMinPixelLimit = 4096.0;
 
 /// The median of `values` (destroys their order); 0 for none.
 double median(std::vector<double>& values) {
@@ -239,10 +244,19 @@ RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, c
     if (!(pixel > 0.0)) pixel = spacing;
   }
   const double cols = std::ceil((xmax - xmin) / pixel) + 3, rows = std::ceil((ymax - ymin) / pixel) + 3;
-  if (cols * rows > 6.4e7)
-    throw InputError(scan.path, "the scan would need a range map of " + std::to_string(long(cols)) + " x " +
-                                    std::to_string(long(rows)) + " pixels of " + std::to_string(pixel) +
-                                    " m: choose a larger pixel size");
+  // A map with far more pixels than the grid has samples is nearly empty (a
+  // stray point far away, a pixel far finer than the samples): refused before
+  // it is allocated, as is one too large for memory.
+  const double gridSamples = static_cast<double>(scan.rows) * static_cast<double>(scan.cols);
+  const double maxPixels = std::min(kMaxRangeMapPixels, std::max(kMinPixelLimit, kMaxPixelsPerSample * gridSamples));
+  if (!(cols * rows <= maxPixels)) {  // also when the extent overflowed to infinity or NaN
+    char problem[200];
+    std::snprintf(problem, sizeof(problem),
+                  "the scan would need a range map of %.12g x %.12g pixels of %g m, more than the %.12g its %d x %d "
+                  "grid allows: choose a larger pixel size",
+                  cols, rows, pixel, maxPixels, scan.rows, scan.cols);
+    throw InputError(scan.path, problem);
+  }
   const int width = static_cast<int>(cols), height = static_cast<int>(rows);
   OrthographicProjection projection{pixel, openvdb::math::Vec2d(xmin - pixel, ymin - pixel)};
 

@@ -168,7 +168,10 @@ AccumulatedField ForceField::accumulate(double voxelSize) const {
         }
       std::vector<Coord>& leaves = touched[j];
       leaves.reserve(coarse.activeVoxelCount());
-      for (auto it = coarse.cbeginValueOn(); it; ++it) leaves.push_back(it.getCoord() << 3);
+      for (auto it = coarse.cbeginValueOn(); it; ++it) {
+        const Coord& block = it.getCoord();  // scaled, not shifted: the coordinates may be negative
+        leaves.emplace_back(block.x() * leafDim, block.y() * leafDim, block.z() * leafDim);
+      }
     }
   });
 

@@ -37,6 +37,13 @@ bool carvedInside(const std::vector<RangeMap>& maps, const Vec3d& x, double marg
   return 2 * behind > maps.size();
 }
 
+/// The origin (in voxels) of the leaf-sized block `b`: scaled, not shifted, as
+/// a left shift of a negative coordinate is undefined.
+Coord blockOrigin(const Coord& b) {
+  const int dim = static_cast<int>(LeafT::DIM);
+  return Coord(b.x() * dim, b.y() * dim, b.z() * dim);
+}
+
 /// The blocks (leaf-node-sized cells) around the data, each outside, inside
 /// or reached by the data.
 class BlockClasses {
@@ -107,8 +114,7 @@ openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double half
   parallelFor(classes.size(), 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       if (classes[i] != BlockClasses::kData)
-        classes[i] = inside((classes.block(i) << LeafT::LOG2DIM) + centre) ? BlockClasses::kInside
-                                                                           : BlockClasses::kOutside;
+        classes[i] = inside(blockOrigin(classes.block(i)) + centre) ? BlockClasses::kInside : BlockClasses::kOutside;
   });
 
   // 3. Blocks beside a block of the other class hold the carved surface: carve
@@ -126,8 +132,8 @@ openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double half
         const std::uint8_t nc = classes.at(n);
         if (nc != BlockClasses::kData && nc != c) differs = true;
       }
-    if (differs) boundary.push_back(b << LeafT::LOG2DIM);
-    else if (c == BlockClasses::kInside) insideTiles.push_back(b << LeafT::LOG2DIM);
+    if (differs) boundary.push_back(blockOrigin(b));
+    else if (c == BlockClasses::kInside) insideTiles.push_back(blockOrigin(b));
   }
   std::vector<std::unique_ptr<LeafT>> carved(boundary.size());
   parallelFor(boundary.size(), 1, [&](std::size_t begin, std::size_t end) {

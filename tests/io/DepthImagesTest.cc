@@ -2,6 +2,7 @@
 
 #include "support/Files.h"
 #include "support/InputErrors.h"
+#include "support/MemoryBudgetScope.h"
 #include "support/TestSupport.h"
 
 #include <levelfuse/io/DepthImages.h>
@@ -45,7 +46,7 @@ TEST(DepthPng, RefusesOtherImages) {
   test::writePng(dir.path("cut.png"), 64, 64, 16, 1, std::vector<std::uint16_t>(64 * 64, 1234));
   const auto size = std::filesystem::file_size(dir.path("cut.png"));
   std::filesystem::resize_file(dir.path("cut.png"), size / 2);
-  expectInputError([&] { readDepthPng(dir.path("cut.png")); }, dir.path("cut.png"), "corrupt PNG data");
+  expectInputError([&] { readDepthPng(dir.path("cut.png")); }, dir.path("cut.png"), "truncated PNG data");
   writeText(dir.path("text.png"), "not an image at all");
   expectInputError([&] { readDepthPng(dir.path("text.png")); }, dir.path("text.png"), "not a PNG file");
   expectInputError([&] { readDepthPng(dir.path("none.png")); }, dir.path("none.png"), "no such file");
@@ -72,6 +73,27 @@ TEST(DepthPfm, ReadsFloatMetresTopDown) {
   expectInputError([&] { readDepthPfm(dir.path("huge.pfm")); }, dir.path("huge.pfm"), "too large");
   writeText(dir.path("colour.pfm"), "PF\n1 1\n-1.0\n123456789012");
   expectInputError([&] { readDepthPfm(dir.path("colour.pfm")); }, dir.path("colour.pfm"), "colour PFM");
+}
+
+TEST(DepthImages, RefuseImagesBeyondTheMemoryBudget) {
+  TempDir dir;
+  test::writePng(dir.path("d.png"), 64, 32, 16, 1, std::vector<std::uint16_t>(64 * 32, 1500));
+  writeText(dir.path("d.pfm"), pfm(64, 32, std::vector<float>(64 * 32, 1.5f)));
+  test::MemoryBudgetScope budget(10000);
+  const std::string fragment =
+      "an image of 64 x 32 pixels needs about 16 KiB of memory, more than the 9.77 KiB levelfuse may use: crop";
+  expectInputError([&] { readDepthPng(dir.path("d.png")); }, dir.path("d.png"), fragment);
+  expectInputError([&] { readDepthPfm(dir.path("d.pfm")); }, dir.path("d.pfm"), fragment);
+}
+
+TEST(DepthFrame, KeepsReadingsWhoseSigmaOverflowsAFloat) {
+  // Found by FuzzDepthPfm: 1e38 m has a sigma of 1.5e73 m, infinite as a float,
+  // which the range map refused with std::invalid_argument.
+  const DepthImage image{2, 2, {1.0f, 1e38f, 2.0f, 3.0f}};
+  const RangeMap map = depthFrame(image, PinholeProjection{10.0, 10.0, 0.5, 0.5}, openvdb::math::Mat4d::identity(),
+                                  DepthNoise(), "far");
+  EXPECT_EQ(map.validCount(), 4u);
+  EXPECT_FLOAT_EQ(map.reading(1, 0), 1e38f);
 }
 
 TEST(CameraFiles, IntrinsicsAndPoses) {

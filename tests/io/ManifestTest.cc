@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 namespace levelfuse::io {
 namespace {
 
@@ -76,6 +78,13 @@ TEST(Manifest, NamesTheEntryAtFault) {
   expectManifestError(manifest(R"({ "scans": [ { "format": "depth-png", "file": "d.png", "depth_scale": -1,
                                    "intrinsics_file": "k.txt", "pose_file": "k.txt" } ] })"),
                       "'depth_scale' must be positive");
+}
+
+TEST(Manifest, RefusesAFileTooLargeToBeOne) {
+  TempDir dir;
+  writeText(dir.path("m.json"), "{ \"scans\": [");
+  std::filesystem::resize_file(dir.path("m.json"), std::uintmax_t(65) << 20);  // sparse: no disk used
+  expectManifestError(dir.path("m.json"), "a manifest of 65 MiB: manifests list scans and take a few KiB");
 }
 
 TEST(Manifest, ListsTheBunny) {

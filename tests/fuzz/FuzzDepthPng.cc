@@ -1,0 +1,17 @@
+// Fuzzes the 16-bit depth PNG reader (libpng underneath) and the depth frame
+// an image becomes.
+
+#include "FuzzInput.h"
+
+#include <levelfuse/io/DepthImages.h>
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace levelfuse;
+  const std::string path = fuzz::writeScratchFile("input.png", data, size);
+  fuzz::expectOnlyInputErrors([&] {
+    const io::DepthImage image = io::readDepthPng(path);
+    io::depthFrame(image, PinholeProjection{10.0, 10.0, 2.0, 2.0}, openvdb::math::Mat4d::identity(),
+                   io::DepthNoise(), "input.png");
+  });
+  return 0;
+}

@@ -1,0 +1,40 @@
+// libFuzzer targets: valid files for fuzzed inputs to refer to.
+
+#include "ScanFixtures.h"
+
+#include "FuzzInput.h"
+#include "support/Files.h"
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <vector>
+
+namespace levelfuse::fuzz {
+
+std::string rangeGridPly() {
+  std::string ply =
+      "ply\nformat ascii 1.0\nobj_info num_cols 3\nobj_info num_rows 3\nelement vertex 9\n"
+      "property float x\nproperty float y\nproperty float z\nelement range_grid 9\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) ply += std::to_string(0.001 * c) + " " + std::to_string(0.001 * r) + " 0\n";
+  for (int i = 0; i < 9; ++i) ply += "1 " + std::to_string(i) + "\n";
+  return ply;
+}
+
+void writeScanFixtures() {
+  const std::filesystem::path folder(scratchFolder());
+  writeScratchFile("scan.ply", rangeGridPly());
+  writeScratchFile("scan.conf", "camera 0 0 0 0 0 0 1\nbmesh scan.ply 0 0 0.01 0 0 0 1\n");
+  test::writePng((folder / "depth.png").string(), 4, 4, 16, 1, std::vector<std::uint16_t>(16, 1500));
+  test::writePng((folder / "tiny.png").string(), 1, 1, 16, 1, {1500});
+  std::string pfm = "Pf\n4 4\n-1.0\n";
+  const float metres = 1.5f;
+  for (int i = 0; i < 16; ++i) pfm.append(reinterpret_cast<const char*>(&metres), sizeof metres);
+  writeScratchFile("depth.pfm", pfm);
+  writeScratchFile("k.txt", "10 0 2\n0 10 2\n0 0 1\n");
+  writeScratchFile("pose.txt", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+}
+
+}  // namespace levelfuse::fuzz

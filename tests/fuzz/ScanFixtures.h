@@ -1,0 +1,17 @@
+// libFuzzer targets: valid files for fuzzed inputs to refer to (a scan for a
+// .conf, depth images and camera files for a manifest).
+#pragma once
+
+#include <string>
+
+namespace levelfuse::fuzz {
+
+/// A 3 x 3 range-grid scan as ASCII PLY, 1 mm between samples.
+std::string rangeGridPly();
+
+/// Writes into the scratch folder: scan.ply (rangeGridPly()), scan.conf (one
+/// bmesh line placing it), depth.png (4 x 4, 16-bit), tiny.png (1 x 1),
+/// depth.pfm (4 x 4), k.txt (intrinsics) and pose.txt (identity).
+void writeScanFixtures();
+
+}  // namespace levelfuse::fuzz

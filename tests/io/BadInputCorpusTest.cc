@@ -1,0 +1,224 @@
+// The bad-input corpus (tests/data/bad): every file makes its reader throw an
+// InputError that names the file and says what is wrong with it, without
+// crashing, hanging or allocating more than a small file can justify.
+
+#include "LargestAllocation.h"
+#include "support/InputErrors.h"
+
+#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/Ply.h>
+#include <levelfuse/io/StanfordScans.h>
+
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <filesystem>
+#include <iterator>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace levelfuse::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+enum class Reader { kPly, kRangeGrid, kStanfordConf, kManifest, kDepthPng, kDepthPfm, kDepthExr, kIntrinsics, kPose };
+
+struct BadInput {
+  const char* file;      ///< below tests/data/bad
+  Reader reader;
+  const char* fragment;  ///< what the message must say
+  const char* culprit = nullptr;  ///< the file the message names, if another one (a scan the file refers to)
+};
+
+void PrintTo(const BadInput& input, std::ostream* out) { *out << input.file; }
+
+// clang-format off
+const BadInput kCorpus[] = {
+  // PLY, ASCII and binary (readPly)
+  {"ply/empty.ply", Reader::kPly, "the header has no end_header line (empty or truncated file?)"},
+  {"ply/not-ply.ply", Reader::kPly, "not a PLY file (the first line is not 'ply')"},
+  {"ply/binary-garbage.ply", Reader::kPly, "not a PLY file"},
+  {"ply/truncated-header.ply", Reader::kPly, "the header has no end_header line"},
+  {"ply/no-format.ply", Reader::kPly, "the header has no format line"},
+  {"ply/unknown-format.ply", Reader::kPly, "header line 2: unknown format 'binary_middle_endian'"},
+  {"ply/unknown-type.ply", Reader::kPly, "header line 4: unknown type 'float128'"},
+  {"ply/float-list-count.ply", Reader::kPly, "header line 4: invalid list count type 'float'"},
+  {"ply/negative-element-count.ply", Reader::kPly, "header line 3: element 'vertex' has an invalid count '-3'"},
+  {"ply/property-before-element.ply", Reader::kPly, "header line 3: a property before any element"},
+  {"ply/huge-count-ascii.ply", Reader::kPly, "element 'vertex' declares 99999999999 entries, but only 6 bytes follow the header"},
+  {"ply/huge-count-binary.ply", Reader::kPly, "element 'vertex' declares 4000000000 entries, but only 12 bytes follow the header"},
+  {"ply/huge-count-no-properties.ply", Reader::kPly, "element 'vertex' declares 18446744073709551615 entries but no properties"},
+  {"ply/huge-count-no-properties-ascii.ply", Reader::kPly, "element 'vertex' declares 18446744073709551615 entries but no properties"},
+  {"ply/truncated-ascii.ply", Reader::kPly, "the file ends in 'vertex' entry 2 of 3 (truncated?)"},
+  {"ply/truncated-binary.ply", Reader::kPly, "element 'vertex' declares 3 entries, but only 28 bytes follow the header"},
+  {"ply/truncated-binary-list.ply", Reader::kPly, "the file ends in 'face' entry 1 (truncated?)"},
+  {"ply/too-few-values.ply", Reader::kPly, "line 9: 'vertex' entry 1 has fewer values than its 3 properties"},
+  {"ply/too-many-values.ply", Reader::kPly, "line 9: 'vertex' entry 1 has more values than its 3 properties"},
+  {"ply/not-a-number.ply", Reader::kPly, "line 9: 'one' is not a number"},
+  {"ply/integer-out-of-range.ply", Reader::kPly, "line 8: 300.000000 does not fit the integer type of 'vertex'"},
+  {"ply/fractional-list-length.ply", Reader::kPly, "line 6: 2.500000 does not fit the integer type of 'face'"},
+  {"ply/data-after-last-element.ply", Reader::kPly, "line 11: data after the last declared element"},
+  {"ply/negative-list-length.ply", Reader::kPly, "'face' entry 0 has a negative list length"},
+  // Range-grid scans (readRangeGridPly, then rangeMapFromScan)
+  {"scan/nan-coordinate.ply", Reader::kRangeGrid, "vertex 4 has a coordinate that is not finite"},
+  {"scan/inf-coordinate-binary.ply", Reader::kRangeGrid, "vertex 2 has a coordinate that is not finite"},
+  {"scan/index-out-of-range.ply", Reader::kRangeGrid, "range_grid entry 8 (row 2, column 2) points at vertex 17, but there are 9"},
+  {"scan/negative-index.ply", Reader::kRangeGrid, "range_grid entry 2 (row 0, column 2) points at vertex -1, but there are 9"},
+  {"scan/two-vertices-in-a-cell.ply", Reader::kRangeGrid, "range_grid entry 4 (row 1, column 1) lists 2 vertices; at most 1 is allowed"},
+  {"scan/grid-count-mismatch.ply", Reader::kRangeGrid, "range_grid has 8 entries, but num_rows x num_cols = 3 x 3 = 9"},
+  {"scan/missing-num-rows.ply", Reader::kRangeGrid, "the header's 'obj_info num_rows' is missing or not a positive size"},
+  {"scan/huge-grid-dimensions.ply", Reader::kRangeGrid, "the header's 'obj_info num_rows' is missing or not a positive size"},
+  {"scan/no-range-grid.ply", Reader::kRangeGrid, "no 'range_grid' element: not a range scan"},
+  {"scan/list-coordinates.ply", Reader::kRangeGrid, "the vertices have no scalar x, y and z"},
+  {"scan/no-neighbouring-samples.ply", Reader::kRangeGrid, "the range grid has no neighbouring samples: nothing to triangulate"},
+  {"scan/huge-extent.ply", Reader::kRangeGrid, "the scan would need a range map of 1e+33 x 5 pixels of 0.001 m, more than the 4096 its 3 x 3 grid allows: choose a larger pixel size"},
+  {"scan/infinite-extent.ply", Reader::kRangeGrid, "the scan would need a range map of inf x 5 pixels"},
+  {"scan/sparse-map-from-nine-points.ply", Reader::kRangeGrid, "the scan would need a range map of 4365565 x 4 pixels"},
+  // Stanford .conf files (loadStanfordScans)
+  {"conf/empty.conf", Reader::kStanfordConf, "no 'bmesh' lines: the file places no scans"},
+  {"conf/only-a-camera.conf", Reader::kStanfordConf, "no 'bmesh' lines: the file places no scans"},
+  {"conf/binary-garbage.conf", Reader::kStanfordConf, "line 1: unknown entry"},
+  {"conf/quaternion-not-unit.conf", Reader::kStanfordConf, "line 1: the quaternion has norm 2.000000, not 1: not a rotation"},
+  {"conf/quaternion-zero.conf", Reader::kStanfordConf, "line 2: the quaternion is zero: it describes no rotation"},
+  {"conf/too-few-numbers.conf", Reader::kStanfordConf, "line 1: expected 'bmesh FILE tx ty tz qi qj qk qr'"},
+  {"conf/not-a-number.conf", Reader::kStanfordConf, "line 1: 'zero' is not a number"},
+  {"conf/nan-translation.conf", Reader::kStanfordConf, "line 1: 'nan' is not a finite number"},
+  {"conf/trailing-words.conf", Reader::kStanfordConf, "line 1: unexpected 'extra' after the quaternion"},
+  {"conf/unknown-entry.conf", Reader::kStanfordConf, "line 2: unknown entry 'scan' (expected bmesh, mesh or camera)"},
+  {"conf/missing-scan-file.conf", Reader::kStanfordConf, "line 1: scan file 'nowhere.ply' does not exist"},
+  // JSON manifests (loadManifest); support/ holds the valid files they refer to
+  {"manifest/empty.json", Reader::kManifest, "not valid JSON"},
+  {"manifest/truncated.json", Reader::kManifest, "not valid JSON"},
+  {"manifest/binary-garbage.json", Reader::kManifest, "not valid JSON"},
+  {"manifest/deeply-nested.json", Reader::kManifest, "scans[0]: expected an object"},
+  {"manifest/scans-not-an-array.json", Reader::kManifest, "expected an object with an array 'scans'"},
+  {"manifest/scans-empty.json", Reader::kManifest, "'scans' is empty"},
+  {"manifest/entry-not-an-object.json", Reader::kManifest, "scans[0]: expected an object"},
+  {"manifest/missing-format.json", Reader::kManifest, "scans[0]: missing 'format'"},
+  {"manifest/format-not-a-string.json", Reader::kManifest, "scans[0]: 'format' must be a string"},
+  {"manifest/unknown-format.json", Reader::kManifest, "scans[0]: unknown format 'lidar'"},
+  {"manifest/missing-scan-file.json", Reader::kManifest, "scans[0]: 'file': no such file"},
+  {"manifest/pose-too-short.json", Reader::kManifest, "scans[0]: 'pose' needs 16 numbers"},
+  {"manifest/pose-with-a-string.json", Reader::kManifest, "scans[0]: 'pose' holds something that is not a number"},
+  {"manifest/depth-scale-not-a-number.json", Reader::kManifest, "scans[0]: 'depth_scale' must be a number"},
+  {"manifest/depth-scale-overflows.json", Reader::kManifest, "not valid JSON ([json.exception.out_of_range.406] number overflow"},
+  {"manifest/sigma-minimum-not-a-number.json", Reader::kManifest, "scans[0]: 'sigma.minimum' must be a number"},
+  {"manifest/sigma-wrong-type.json", Reader::kManifest, "scans[0]: 'sigma' must be a number or"},
+  {"manifest/intrinsics-not-an-object.json", Reader::kManifest, "scans[0]: 'intrinsics' needs a number 'fx'"},
+  {"manifest/quaternion-not-unit.json", Reader::kManifest, "scans[0]: 'quaternion' has norm 3.000000: a rotation needs a unit quaternion"},
+  {"manifest/translation-too-short.json", Reader::kManifest, "scans[0]: 'translation' needs 3 numbers"},
+  {"manifest/one-pixel-image.json", Reader::kManifest, "the image has 1 x 1 pixels; a depth image needs at least 2 x 2", "png/one-pixel.png"},
+  // Depth PNG (readDepthPng)
+  {"png/empty.png", Reader::kDepthPng, "not a PNG file"},
+  {"png/not-a-png.png", Reader::kDepthPng, "not a PNG file"},
+  {"png/8-bit.png", Reader::kDepthPng, "has 8-bit samples; a depth image needs 16 bits"},
+  {"png/rgb.png", Reader::kDepthPng, "not a grayscale image (PNG colour type 2)"},
+  {"png/gray-alpha.png", Reader::kDepthPng, "not a grayscale image (PNG colour type 4)"},
+  {"png/palette.png", Reader::kDepthPng, "not a grayscale image (PNG colour type 3)"},
+  {"png/truncated.png", Reader::kDepthPng, "truncated PNG data (the file ends inside a chunk)"},
+  {"png/bad-crc.png", Reader::kDepthPng, "corrupt PNG data (IHDR: CRC error)"},
+  {"png/zero-width.png", Reader::kDepthPng, "corrupt PNG data (Invalid IHDR data)"},
+  {"png/one-pixel.png", Reader::kDepthPng, "the image has 1 x 1 pixels; a depth image needs at least 2 x 2"},
+  {"png/huge-dimensions.png", Reader::kDepthPng, "the header declares 100000 x 100000 pixels: too large for a depth image"},
+  {"png/chunk-longer-than-the-file.png", Reader::kDepthPng, "truncated PNG data (the file ends inside a chunk)"},
+  {"png/text-chunk-of-512-mib.png", Reader::kDepthPng, "truncated PNG data (the file ends inside a chunk)"},
+  {"png/declares-more-than-it-holds.png", Reader::kDepthPng, "the header declares 16000 x 16000 pixels, more than the file's 74 bytes can hold"},
+  // PFM (readDepthPfm)
+  {"pfm/empty.pfm", Reader::kDepthPfm, "empty file"},
+  {"pfm/bad-magic.pfm", Reader::kDepthPfm, "not a PFM file (expected the magic 'Pf')"},
+  {"pfm/colour.pfm", Reader::kDepthPfm, "a colour PFM (PF): a depth image has one channel (Pf)"},
+  {"pfm/malformed-header.pfm", Reader::kDepthPfm, "a malformed PFM header"},
+  {"pfm/zero-scale.pfm", Reader::kDepthPfm, "a malformed PFM header"},
+  {"pfm/negative-width.pfm", Reader::kDepthPfm, "the image has -2 x 2 pixels; a depth image needs at least 2 x 2"},
+  {"pfm/one-pixel.pfm", Reader::kDepthPfm, "the image has 1 x 1 pixels; a depth image needs at least 2 x 2"},
+  {"pfm/truncated.pfm", Reader::kDepthPfm, "the file holds 19 bytes of pixels, 24 are declared (truncated?)"},
+  {"pfm/huge-dimensions.pfm", Reader::kDepthPfm, "the header declares 100000 x 100000 pixels: too large for a depth image"},
+  {"pfm/absurd-dimensions.pfm", Reader::kDepthPfm, "the header declares 1e+300 x 1e+300 pixels: too large for a depth image"},
+  // EXR (readDepthExr; also without OpenEXR, which the message then says)
+  {"exr/not-an-exr.exr", Reader::kDepthExr, "EXR"},
+  {"exr/truncated.exr", Reader::kDepthExr, "EXR"},
+  // Camera files (readIntrinsics, readPose)
+  {"camera/intrinsics-skewed.txt", Reader::kIntrinsics, "not a pinhole intrinsics matrix (expected fx 0 cx / 0 fy cy / 0 0 1)"},
+  {"camera/intrinsics-nan.txt", Reader::kIntrinsics, "a value is not finite"},
+  {"camera/intrinsics-word.txt", Reader::kIntrinsics, "'fy' is not a number"},
+  {"camera/intrinsics-negative-focal-length.txt", Reader::kIntrinsics, "the focal lengths must be positive"},
+  {"camera/pose-too-few-numbers.txt", Reader::kPose, "expected 16 numbers, found 12"},
+  {"camera/pose-too-many-numbers.txt", Reader::kPose, "expected 16 numbers, found more"},
+  {"camera/pose-mirrored.txt", Reader::kPose, "the pose mirrors space (determinant -1)"},
+  {"camera/pose-scaled.txt", Reader::kPose, "the pose's rotation is not orthonormal: not a rigid motion"},
+  {"camera/pose-projective.txt", Reader::kPose, "the pose's last row must be 0 0 0 1"},
+  {"camera/pose-binary-garbage.txt", Reader::kPose, "is not a number"},
+};
+// clang-format on
+
+/// Valid files that the corpus's manifests refer to.
+const char* const kSupportFiles[] = {"support/depth.png", "support/intrinsics.txt"};
+
+/// No corpus file may make a reader allocate more than this at once.
+constexpr std::size_t kMaxAllocation = 16 << 20;
+constexpr std::uintmax_t kMaxCorpusFileBytes = 64 << 10;
+
+std::string corpusPath(const std::string& relative) {
+  return (fs::path(LEVELFUSE_TEST_DATA_DIR) / "bad" / relative).string();
+}
+
+void read(Reader reader, const std::string& path) {
+  switch (reader) {
+    case Reader::kPly: readPly(path); break;
+    case Reader::kRangeGrid:
+      rangeMapFromScan(readRangeGridPly(path), openvdb::math::Mat4d::identity(), StanfordScanOptions(), path);
+      break;
+    case Reader::kStanfordConf: loadStanfordScans(path); break;
+    case Reader::kManifest: loadManifest(path); break;
+    case Reader::kDepthPng: readDepthPng(path); break;
+    case Reader::kDepthPfm: readDepthPfm(path); break;
+    case Reader::kDepthExr: readDepthExr(path); break;
+    case Reader::kIntrinsics: readIntrinsics(path); break;
+    case Reader::kPose: readPose(path); break;
+  }
+}
+
+class BadInputCorpus : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(BadInputCorpus, ThrowsAnInputErrorNamingTheFileAndTheProblem) {
+  const BadInput& input = GetParam();
+  const std::string path = corpusPath(input.file);
+  std::error_code ec;
+  ASSERT_LE(fs::file_size(path, ec), kMaxCorpusFileBytes) << path << (ec ? ": missing" : ": not a small file");
+  test::LargestAllocation largest;
+  const std::string culprit = input.culprit ? corpusPath(input.culprit) : path;
+  test::expectInputError([&] { read(input.reader, path); }, culprit, input.fragment);
+  EXPECT_LE(largest.bytes(), kMaxAllocation) << "reading " << path << " allocated " << largest.bytes() << " bytes at once";
+}
+
+std::string testName(const ::testing::TestParamInfo<BadInput>& info) {
+  std::string name = info.param.file;
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Files, BadInputCorpus, ::testing::ValuesIn(kCorpus), testName);
+
+TEST(BadInputCorpusProbe, SeesTheLargestAllocation) {
+  test::LargestAllocation largest;
+  std::vector<char> block(3 << 20);
+  EXPECT_GE(largest.bytes(), block.size());
+}
+
+TEST(BadInputCorpusListing, EveryFileInTheFolderIsListed) {
+  std::set<std::string> listed(std::begin(kSupportFiles), std::end(kSupportFiles));
+  for (const BadInput& input : kCorpus) EXPECT_TRUE(listed.insert(input.file).second) << input.file << " is listed twice";
+  std::set<std::string> present;
+  for (const auto& entry : fs::recursive_directory_iterator(corpusPath("")))
+    if (entry.is_regular_file()) present.insert(fs::relative(entry.path(), corpusPath("")).generic_string());
+  for (const std::string& file : present) EXPECT_TRUE(listed.count(file)) << file << " is in the corpus but not listed";
+  for (const std::string& file : listed) EXPECT_TRUE(present.count(file)) << file << " is listed but missing";
+  EXPECT_GE(present.size(), 30u);
+}
+
+}  // namespace
+}  // namespace levelfuse::io

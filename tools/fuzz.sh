@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Builds levelfuse's libFuzzer targets (clang, ASan + UBSan) and runs each for
+# a while; fails if any of them finds a crash, a leak, a hang or an input that
+# needs too much memory.
+#
+#   tools/fuzz.sh [seconds]      seconds per target (default 60)
+#
+# Build directory: $LEVELFUSE_FUZZ_BUILD_DIR (default build-fuzz/). Targets to
+# run: $LEVELFUSE_FUZZERS (default: all). The inputs each run adds to its corpus
+# are kept in <build>/corpus/<target>/ and found again by the next run; what a
+# fuzzer finds lands in <build>/findings/<target>/. See docs/RELIABILITY.md.
+set -euo pipefail
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+seconds=${1:-60}
+build=${LEVELFUSE_FUZZ_BUILD_DIR:-$root/build-fuzz}
+jobs=${LEVELFUSE_JOBS:-2}
+fuzzers=${LEVELFUSE_FUZZERS:-FuzzPly FuzzStanfordConf FuzzManifest FuzzDepthPng FuzzDepthPfm FuzzCameraText}
+
+packages=(cmake clang libclang-rt-14-dev make ccache pkg-config
+          libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev nlohmann-json3-dev libpng-dev)
+"$root/tools/install-packages.sh" "${packages[@]}"
+
+echo "== configuring $build"
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLEVELFUSE_BUILD_FUZZERS=ON \
+  -DLEVELFUSE_BUILD_TESTS=OFF -DLEVELFUSE_BUILD_BENCHMARKS=OFF -DLEVELFUSE_BUILD_TOOLS=OFF >/dev/null
+cmake --build "$build" -j "$jobs" --target fuzzers
+
+# The targets write each input to a file; a crashed run leaves its folder here.
+export TMPDIR="$build/tmp"
+mkdir -p "$TMPDIR"
+failed=()
+for fuzzer in $fuzzers; do
+  corpus="$build/corpus/$fuzzer"
+  findings="$build/findings/$fuzzer"
+  mkdir -p "$corpus" "$findings"
+  dict=()
+  [ -f "$root/tests/fuzz/$fuzzer.dict" ] && dict=(-dict="$root/tests/fuzz/$fuzzer.dict")
+  echo "== $fuzzer for ${seconds}s"
+  # New inputs go to the first folder; the committed seeds are only read.
+  if "$build/tests/fuzz/$fuzzer" "$corpus" "$root/tests/fuzz/corpus/$fuzzer" "${dict[@]}" \
+       -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=4096 \
+       -artifact_prefix="$findings/" -print_final_stats=1 >"$build/$fuzzer.log" 2>&1; then
+    grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb)' "$build/$fuzzer.log" | tr '\n' ' '
+    echo
+  else
+    echo "!! $fuzzer failed; its log ends:"
+    tail -n 40 "$build/$fuzzer.log"
+    echo "!! reproduce with: $build/tests/fuzz/$fuzzer $(ls -t "$findings"/* 2>/dev/null | head -n 1)"
+    failed+=("$fuzzer")
+  fi
+done
+
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "== fuzzing found problems in: ${failed[*]}"
+  exit 1
+fi
+echo "== fuzzing found nothing in ${seconds}s per target"

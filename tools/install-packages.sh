@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Installs those of the named Debian packages that are missing (as root, or
+# through sudo), so that the scripts beside it run on a fresh machine.
+#
+#   tools/install-packages.sh PACKAGE...
+set -euo pipefail
+
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo=sudo
+missing=()
+for p in "$@"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "== installing ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
