@@ -4,10 +4,62 @@
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/VdbFile.h>
 
+#include <array>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <stdexcept>
 #include <system_error>
+#include <vector>
 
 namespace levelfuse::io {
+namespace {
+
+// The header of a .vdb file (OpenVDB file format 222 and later): magic number
+// (8 bytes), file version, library major and minor version (4 bytes each), a
+// flag for grid offsets (1 byte), then a 36-character UUID.
+constexpr std::size_t kUuidOffset = 21;
+constexpr std::size_t kUuidLength = 36;
+
+/// Replaces the random UUID that OpenVDB writes into the header of the .vdb file
+/// at `path` with one made from the file's content, so that the same grids make
+/// the same bytes. OpenVDB uses the UUID only to tell whether two files are the
+/// same, which a content-derived one tells better. Files whose header is not the
+/// expected one are left as written.
+void stampContentUuid(const std::string& path) {
+  std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+  if (!file) throw std::runtime_error(path + ": cannot be reopened to finish the header");
+  std::array<unsigned char, kUuidOffset + kUuidLength> header{};
+  file.read(reinterpret_cast<char*>(header.data()), static_cast<std::streamsize>(header.size()));
+  if (file.gcount() != static_cast<std::streamsize>(header.size())) return;
+  const std::uint32_t magic = header[0] | header[1] << 8 | header[2] << 16 | static_cast<std::uint32_t>(header[3]) << 24;
+  const std::uint32_t version = header[8] | header[9] << 8 | header[10] << 16 | static_cast<std::uint32_t>(header[11]) << 24;
+  if (magic != 0x56444220u || version < 222u || header[kUuidOffset + 8] != '-') return;
+
+  // Two 64-bit FNV-1a hashes with different offsets over everything after the UUID.
+  std::uint64_t a = 0xcbf29ce484222325ull, b = 0x84222325cbf29ce4ull;
+  std::vector<char> chunk(1 << 20);
+  while (file.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || file.gcount() > 0) {
+    for (std::streamsize i = 0; i < file.gcount(); ++i) {
+      const auto byte = static_cast<unsigned char>(chunk[static_cast<std::size_t>(i)]);
+      a = (a ^ byte) * 0x100000001b3ull;
+      b = (b ^ byte) * 0x100000001b3ull;
+    }
+  }
+  file.clear();
+  // Version 8 (custom) UUID, RFC 9562 variant.
+  char uuid[kUuidLength + 1];
+  std::snprintf(uuid, sizeof uuid, "%08x-%04x-8%03x-%04x-%012llx", static_cast<unsigned>(a >> 32),
+                static_cast<unsigned>((a >> 16) & 0xffffu), static_cast<unsigned>(a & 0xfffu),
+                static_cast<unsigned>(0x8000u | ((b >> 48) & 0x3fffu)),
+                static_cast<unsigned long long>(b & 0xffffffffffffull));
+  file.seekp(static_cast<std::streamoff>(kUuidOffset));
+  file.write(uuid, static_cast<std::streamsize>(kUuidLength));
+  if (!file.flush()) throw std::runtime_error(path + ": cannot finish the header");
+}
+
+}  // namespace
 
 void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& fileMetadata) {
   openvdb::initialize();
@@ -15,6 +67,7 @@ void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids, const 
     openvdb::io::File file(temporary);
     file.write(grids, fileMetadata);
     file.close();
+    stampContentUuid(temporary);
   });
 }
 

@@ -1,17 +1,18 @@
 // levelfuse: the reconstruction pipeline (section 6).
 
 #include <levelfuse/Version.h>
+#include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/levelset/Refine.h>
 #include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/recon/Reconstructor.h>
 
 
 #include <openvdb/tree/LeafManager.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace levelfuse {
 
@@ -43,6 +44,21 @@ double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid
     if (points >= 8 && force.weight(now.indexToWorld(first)) >= force.typicalWeight()) drift[i] = std::fabs(sum) / points;
   });
   return drift.empty() ? 0.0 : *std::max_element(drift.begin(), drift.end());
+}
+
+/// Throws InsufficientMemory if `bytes` exceed `limit`: "<what> needs about
+/// X of memory, more than the Y levelfuse may use: <advice>".
+void requireMemory(double bytes, double limit, const std::string& what, const std::string& advice) {
+  if (bytes <= limit) return;
+  throw InsufficientMemory("reconstruction: " + what + " needs about " + io::describeBytes(bytes) +
+                           " of memory, more than the " + io::describeBytes(limit) + " levelfuse may use: " + advice);
+}
+
+std::string shortNumber(double value) {
+  std::ostringstream text;
+  text.precision(3);
+  text << value;
+  return text.str();
 }
 
 double median(std::vector<double> values) {
@@ -116,11 +132,32 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const 
   ReconstructionResult result;
   state.voxelSize = voxelSize(0);
   report();
+  const double memoryLimit =
+      static_cast<double>(mOptions.memoryLimit > 0 ? mOptions.memoryLimit : io::memoryBudget());
+  {
+    // The linear solution classifies every leaf-sized block of the data's box.
+    double blocks = 1.0;
+    for (int axis = 0; axis < 3; ++axis) blocks *= mBounds.extents()[axis] / (8.0 * voxelSize(0)) + 3.0;
+    requireMemory(16.0 * blocks, memoryLimit,
+                  "the initial model on a grid of voxel size " + shortNumber(voxelSize(0)),
+                  "use more grids (levels) or a larger voxel size");
+  }
   // 1. The initial model: the linear solution on the coarsest grid.
   std::unique_ptr<SparseField> field;
   {
     const ForceField force(mMaps, forceOptions(0));
     field = std::make_unique<SparseField>(SparseField::fromLevelSet(*force.linearSolution(voxelSize(0)), mOptions.engine));
+  }
+  {
+    // The surface's area, and so the active set, grows four times with each grid.
+    const double finestActive =
+        static_cast<double>(field->stats().activeVoxels) * std::pow(4.0, mOptions.levels - 1);
+    const double bytes = kPeakBytesPerActiveVoxel * finestActive;
+    requireMemory(bytes, memoryLimit,
+                  "a voxel size of " + shortNumber(mOptions.voxelSize) + " (about " + shortNumber(finestActive / 1e6) +
+                      " million voxels on the surface)",
+                  "choose a voxel size of at least " +
+                      shortNumber(mOptions.voxelSize * std::sqrt(1.1 * bytes / memoryLimit)) + " or allow more memory");
   }
   const double finest = mOptions.voxelSize;
   int totalIterations = 0;

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 
 namespace levelfuse {
 namespace {
@@ -23,6 +24,11 @@ nlohmann::json jsonOf(const CliRun& run) {
     ADD_FAILURE() << "not JSON:\n" << run.output;
     return nlohmann::json::object();
   }
+}
+
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 openvdb::FloatGrid::Ptr readSurface(const std::string& path) {
@@ -69,12 +75,23 @@ TEST_F(ReconstructCli, SynthThenReconstructFindsTheSphere) {
   EXPECT_NE(vdbInfo.output.find("levelfuse_beta"), std::string::npos) << vdbInfo.output;
 }
 
-TEST_F(ReconstructCli, ThreadCountDoesNotChangeTheResult) {
+TEST_F(ReconstructCli, OutputsAreBitIdenticalAcrossRunsAndThreadCounts) {
   const std::string scans = sphereScans("--noise 0.05");
-  ASSERT_EQ(levelfuse("reconstruct -q --threads 1 " + scans + " -o " + path("one.vdb")).exitCode, 0);
-  ASSERT_EQ(levelfuse("reconstruct -q --threads 2 " + scans + " -o " + path("two.vdb")).exitCode, 0);
+  for (const std::string run : {"one", "two", "again"}) {
+    const std::string threads = run == "one" ? "1" : "2";
+    ASSERT_EQ(levelfuse("reconstruct -q --threads " + threads + " " + scans + " -o " + path(run + ".vdb") +
+                        " --mesh " + path(run + ".ply"))
+                  .exitCode,
+              0);
+  }
   std::string why;
   EXPECT_TRUE(test::identical(*readSurface(path("one.vdb")), *readSurface(path("two.vdb")), &why)) << why;
+  for (const std::string ext : {".vdb", ".ply"}) {
+    const std::string one = fileBytes(path("one" + ext));
+    ASSERT_FALSE(one.empty());
+    EXPECT_TRUE(one == fileBytes(path("two" + ext))) << ext << ": 1 and 2 threads differ";
+    EXPECT_TRUE(one == fileBytes(path("again" + ext))) << ext << ": two runs differ";
+  }
 }
 
 TEST_F(ReconstructCli, LinearSolutionAndMeshCommand) {
@@ -120,6 +137,12 @@ TEST_F(ReconstructCli, BadInputFailsClearlyAndWritesNothing) {
   EXPECT_TRUE(fs::is_character_file("/dev/null"));
   run = levelfuse("reconstruct " + scans + " --beta -1 -o " + path("out.vdb"));
   EXPECT_EQ(run.exitCode, 2) << run.output;
+  // A voxel size that needs more memory than allowed stops before it allocates.
+  run = levelfuse("reconstruct " + scans + " --voxel-size 0.002 --max-memory 0.05 -o " + path("out.vdb"));
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("more than the 51.2 MiB levelfuse may use: choose a voxel size of at least"),
+            std::string::npos)
+      << run.output;
   EXPECT_FALSE(fs::exists(path("out.vdb")));
   EXPECT_FALSE(fs::exists(path("out.stl")));
 }

@@ -88,6 +88,42 @@ TEST(Reconstructor, BeatsTheLinearSolutionOnNoisyData) {
   EXPECT_LT(rms, 0.25 * sigma);
 }
 
+TEST(Reconstructor, RefusesAVoxelSizeThatWouldNotFitInMemory) {
+  ReconstructionOptions options;
+  options.voxelSize = 0.005;  // 400 voxels across: about 0.5 million on the surface, some 200 MiB
+  options.memoryLimit = 64u << 20;
+  const Reconstructor tooFine(noisySphere(0.01), options);
+  try {
+    tooFine.run();
+    FAIL() << "the reconstruction ran";
+  } catch (const InsufficientMemory& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("a voxel size of 0.005 (about 0."), std::string::npos) << message;
+    const std::size_t at = message.find("voxel size of at least ");
+    ASSERT_NE(at, std::string::npos) << message;
+    // The advice fits: memory follows the surface's area.
+    const double advised = std::stod(message.substr(at + 23));
+    EXPECT_GT(advised, 0.005 * std::sqrt(2.0)) << message;
+    EXPECT_LT(advised, 0.005 * 4.0) << message;
+    options.voxelSize = advised;
+    options.levels = 0;
+    options.minIterations = 1;
+    options.maxIterations = 1;
+    EXPECT_NO_THROW(Reconstructor(noisySphere(0.01), options).run());
+  }
+  // Too many voxels for the initial model: more grids are the fix.
+  options = ReconstructionOptions();
+  options.voxelSize = 0.002;
+  options.levels = 1;
+  options.memoryLimit = 1u << 20;
+  try {
+    Reconstructor(noisySphere(0.01), options).run();
+    FAIL() << "the reconstruction ran";
+  } catch (const InsufficientMemory& e) {
+    EXPECT_NE(std::string(e.what()).find("use more grids"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Reconstructor, ReportsProgressAndCanBeCancelled) {
   const Reconstructor r(noisySphere(0.01), smallOptions());
   std::vector<ReconstructionProgress> seen;

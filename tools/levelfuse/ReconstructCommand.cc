@@ -6,6 +6,7 @@
 #include "Support.h"
 
 #include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/io/MeshFile.h>
 #include <levelfuse/io/Preview.h>
 #include <levelfuse/io/Scans.h>
@@ -18,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -37,6 +39,7 @@ struct ReconstructSettings {
   int frameStride = 1;
   std::string view, up;
   int threads = 0;
+  double maxMemoryGiB = 0.0;
   bool json = false, quiet = false;
 };
 
@@ -49,6 +52,11 @@ std::string joined(const std::vector<std::string>& items) {
 int runReconstruct(ReconstructSettings s) {
   const auto started = std::chrono::steady_clock::now();
   const ThreadLimit threads(s.threads);
+  if (s.maxMemoryGiB > 0.0) {
+    const auto bytes = static_cast<std::uint64_t>(s.maxMemoryGiB * 1073741824.0);
+    io::setMemoryBudget(bytes);  // for the readers too
+    s.options.memoryLimit = bytes;
+  }
   if (s.output.empty() && s.mesh.empty() && s.preview.empty())
     throw std::invalid_argument("nothing to write: give -o result.vdb, --mesh result.ply or --preview result.png");
   for (const std::string* path : {&s.output, &s.mesh, &s.preview})
@@ -250,6 +258,10 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("--view", s->view, "Preview: direction from the surface toward the camera, x,y,z");
   cmd->add_option("--up", s->up, "Preview: the world direction that is up in the picture, x,y,z (default 0,1,0)");
   cmd->add_option("--threads", s->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--max-memory", s->maxMemoryGiB,
+                  "Memory to use at most, GiB (default: the machine's); a run that would need more stops at once "
+                  "and says which voxel size fits")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--json", s->json, "Print the summary as JSON (no progress line)");
   cmd->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
   cmd->footer(

@@ -9,7 +9,8 @@ namespace levelfuse::io {
 
 /// Writes `grids` to `path` atomically: into a temporary file beside it, then
 /// renamed over it. On any error the temporary is removed, an existing file at
-/// `path` is left untouched, and std::runtime_error names the file.
+/// `path` is left untouched, and std::runtime_error names the file. The file's
+/// UUID is derived from its content: the same grids give the same bytes.
 void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids,
               const openvdb::MetaMap& fileMetadata = openvdb::MetaMap());
 

@@ -14,8 +14,9 @@ namespace levelfuse {
 /// units): each reading is projected onto the zero set of the trilinear
 /// interpolant along its gradient (the band's values are distances only near
 /// the zero set) and the distance it went is measured. Readings beyond the
-/// narrow band are counted as far (their distance is at least the band's
-/// half-width): a hole in the surface where the scans saw it shows there.
+/// narrow band are measured to the nearest vertex of the zero set's mesh and
+/// counted in `beyondBand`: a hole in the surface where the scans saw it shows
+/// there.
 struct DataFit {
   std::size_t readings = 0;   ///< readings (points) measured
   double mean = 0.0, rms = 0.0, median = 0.0, p90 = 0.0, p99 = 0.0;

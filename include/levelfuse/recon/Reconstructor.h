@@ -16,6 +16,7 @@
 #include <openvdb/openvdb.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -61,6 +62,11 @@ struct ReconstructionOptions {
   double drift = 0.025;
   int minIterations = 4;    ///< per grid
   int maxIterations = 300;  ///< per grid
+  /// Memory the reconstruction may use, bytes. 0: io::memoryBudget(), the
+  /// machine's physical memory or the process's limit. run() estimates what the
+  /// finest grid will need from the initial model and refuses, with the voxel
+  /// size that would fit, before it allocates.
+  std::uint64_t memoryLimit = 0;
   std::string name = "surface";  ///< the output grid's name
   SparseFieldOptions engine;     ///< the sparse-field engine's settings
 };
@@ -88,6 +94,20 @@ class ReconstructionCancelled : public std::runtime_error {
  public:
   ReconstructionCancelled() : std::runtime_error("the reconstruction was cancelled") {}
 };
+
+/// Thrown by Reconstructor::run when the finest grid would need more memory
+/// than the options allow; the message says which voxel size would fit.
+class InsufficientMemory : public std::runtime_error {
+ public:
+  explicit InsufficientMemory(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// Memory a reconstruction needs at its peak per voxel of the finest grid's
+/// active set (|psi| <= dx / 2): the sparse field and its layers (about 110
+/// bytes), the data term accumulated around the readings, the level set it is
+/// refined from and the snapshot that measures drift. Measured on the bunny
+/// from 0.5 mm to 0.0625 mm voxels (docs/BENCHMARKS.md): 416 to 500 bytes.
+inline constexpr double kPeakBytesPerActiveVoxel = 450.0;
 
 /// What one grid of the reconstruction did.
 struct LevelReport {
@@ -117,7 +137,8 @@ class Reconstructor {
   /// for no range maps or unusable options, with a hint.
   Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options = {});
 
-  /// Runs the pipeline. Throws ReconstructionCancelled if `progress` returns false.
+  /// Runs the pipeline. Throws ReconstructionCancelled if `progress` returns
+  /// false, InsufficientMemory if the finest grid would not fit.
   ReconstructionResult run(const ProgressCallback& progress = {}) const;
 
   /// The options with every default resolved.

@@ -1,0 +1,78 @@
+// The fit of a surface to points at known distances from it.
+
+#include <levelfuse/recon/DataFit.h>
+
+#include <openvdb/tools/LevelSetSphere.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace levelfuse {
+namespace {
+
+using openvdb::Vec3d;
+
+/// Points on random directions around `centre`, `offset` outside a sphere of radius `radius`.
+std::vector<Vec3d> pointsAround(const Vec3d& centre, double radius, double offset, int count, unsigned seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<double> normal;
+  std::vector<Vec3d> points;
+  for (int i = 0; i < count; ++i) {
+    Vec3d direction(normal(random), normal(random), normal(random));
+    direction.normalize();
+    points.push_back(centre + direction * (radius + offset));
+  }
+  return points;
+}
+
+class DataFitTest : public ::testing::Test {
+ protected:
+  const Vec3d centre{0.013, -0.021, 0.007};
+  const double radius = 1.0, voxel = 0.02;  // 50 voxels in radius, a band of 3 voxels
+  openvdb::FloatGrid::Ptr sphere =
+      openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(1.0f, openvdb::Vec3f(centre), 0.02f, 3.0f);
+};
+
+TEST_F(DataFitTest, MeasuresDistancesInsideAndOutsideTheBand) {
+  for (const double offset : {0.0, 0.013, -0.027, 0.045}) {  // up to 2.25 voxels
+    const DataFit fit = measureDataFit(*sphere, pointsAround(centre, radius, offset, 500, 7));
+    EXPECT_EQ(fit.readings, 500u);
+    EXPECT_NEAR(fit.mean, std::fabs(offset), 0.01 * voxel) << offset;
+    EXPECT_NEAR(fit.median, std::fabs(offset), 0.01 * voxel) << offset;
+    EXPECT_EQ(fit.beyondBand, 0.0);
+    EXPECT_EQ(fit.withinVoxel, std::fabs(offset) <= voxel ? 1.0 : 0.0);
+  }
+  // Beyond the band (3 voxels): measured to the surface all the same, and counted.
+  for (const double offset : {0.1, -0.2, 0.5}) {
+    const DataFit fit = measureDataFit(*sphere, pointsAround(centre, radius, offset, 300, 11));
+    EXPECT_EQ(fit.beyondBand, 1.0) << offset;
+    EXPECT_NEAR(fit.mean, std::fabs(offset), 0.1 * voxel) << offset;
+    EXPECT_GE(fit.median, 3.0 * voxel) << offset;
+  }
+}
+
+TEST_F(DataFitTest, SummarisesAMixture) {
+  // 80% of the points on the surface, 20% half a radius out: mean 0.1, median 0, p90 0.5.
+  std::vector<Vec3d> points = pointsAround(centre, radius, 0.0, 800, 3);
+  const std::vector<Vec3d> far = pointsAround(centre, radius, 0.5, 200, 5);
+  points.insert(points.end(), far.begin(), far.end());
+  const DataFit fit = measureDataFit(*sphere, points);
+  EXPECT_NEAR(fit.mean, 0.1, 0.02 * voxel);
+  EXPECT_NEAR(fit.rms, std::sqrt(0.2 * 0.25), 0.02 * voxel);
+  EXPECT_LT(fit.median, 0.01 * voxel);
+  EXPECT_NEAR(fit.p90, 0.5, 0.1 * voxel);
+  EXPECT_NEAR(fit.beyondBand, 0.2, 1e-12);
+  EXPECT_NEAR(fit.withinVoxel, 0.8, 1e-12);
+}
+
+TEST_F(DataFitTest, RefusesWhatIsNotALevelSet) {
+  openvdb::FloatGrid fog;
+  fog.setGridClass(openvdb::GRID_FOG_VOLUME);
+  EXPECT_THROW(measureDataFit(fog, std::vector<Vec3d>{Vec3d(0.0)}), std::invalid_argument);
+  EXPECT_EQ(measureDataFit(*sphere, std::vector<Vec3d>{}).readings, 0u);
+}
+
+}  // namespace
+}  // namespace levelfuse
