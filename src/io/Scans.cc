@@ -21,17 +21,19 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOptions& options) {
   if (options.frameStride < 1) throw InputError(folder.string(), "the frame stride must be at least 1");
   std::vector<fs::path> frames;
-  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
-    const std::string name = entry.path().filename().string();
-    if (entry.is_regular_file() && (endsWith(name, ".depth.png") || endsWith(name, ".depth.pfm") ||
+  std::error_code ec;  // the non-throwing overloads throughout: a folder may be unreadable
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (it->is_regular_file(ec) && (endsWith(name, ".depth.png") || endsWith(name, ".depth.pfm") ||
                                     endsWith(name, ".depth.exr")))
-      frames.push_back(entry.path());
+      frames.push_back(it->path());
   }
+  if (ec) throw InputError(folder.string(), "cannot be read (" + ec.message() + ")");
   if (frames.empty())
     throw InputError(folder.string(), "no depth frames (*.depth.png, *.depth.pfm or *.depth.exr) in this folder");
   std::sort(frames.begin(), frames.end());
   const fs::path intrinsicsFile = folder / "camera-intrinsics.txt";
-  if (!fs::exists(intrinsicsFile))
+  if (!fs::exists(intrinsicsFile, ec))
     throw InputError(folder.string(), "no camera-intrinsics.txt (the 3x3 pinhole intrinsics) in this folder");
   const PinholeProjection intrinsics = readIntrinsics(intrinsicsFile.string());
   std::vector<RangeMap> maps;
@@ -39,7 +41,7 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
     const std::string image = frames[i].string();
     const std::string stem = image.substr(0, image.size() - std::string(".depth.png").size());
     const std::string pose = stem + ".pose.txt";
-    if (!fs::exists(pose)) throw InputError(image, "no pose beside it (expected " + pose + ")");
+    if (!fs::exists(pose, ec)) throw InputError(image, "no pose beside it (expected " + pose + ")");
     maps.push_back(depthFrame(readDepthImage(image, options.depthScale), intrinsics, readPose(pose),
                               options.depthNoise, frames[i].filename().string()));
   }

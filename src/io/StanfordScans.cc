@@ -47,7 +47,8 @@ Mat4d StanfordPlacement::scanToWorld() const {
 
 std::vector<StanfordPlacement> readStanfordConf(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw InputError(path, fs::exists(path) ? "cannot be opened for reading" : "no such file");
+  std::error_code ec;  // the non-throwing overloads: names may be too long or unreadable
+  if (!in) throw InputError(path, fs::exists(path, ec) ? "cannot be opened for reading" : "no such file");
   const fs::path folder = fs::path(path).parent_path();
   std::vector<StanfordPlacement> scans;
   std::string line;
@@ -81,7 +82,7 @@ std::vector<StanfordPlacement> readStanfordConf(const std::string& path) {
       throw InputError(path, at + "the quaternion has norm " + std::to_string(norm) + ", not 1: not a rotation");
     s.rotation = openvdb::math::Quatd(v[3] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
     s.path = (folder / s.file).string();
-    if (!fs::is_regular_file(s.path))
+    if (!fs::is_regular_file(s.path, ec))
       throw InputError(path, at + "scan file '" + s.file + "' does not exist (looked for " + s.path + ")");
     scans.push_back(s);
   }

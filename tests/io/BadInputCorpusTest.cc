@@ -89,6 +89,8 @@ const BadInput kCorpus[] = {
   {"conf/trailing-words.conf", Reader::kStanfordConf, "line 1: unexpected 'extra' after the quaternion"},
   {"conf/unknown-entry.conf", Reader::kStanfordConf, "line 2: unknown entry 'scan' (expected bmesh, mesh or camera)"},
   {"conf/missing-scan-file.conf", Reader::kStanfordConf, "line 1: scan file 'nowhere.ply' does not exist"},
+  // Found by FuzzStanfordConf: std::filesystem threw on a name longer than the system allows.
+  {"conf/file-name-too-long.conf", Reader::kStanfordConf, "line 1: scan file 'aaaaaaaa"},
   // JSON manifests (loadManifest); support/ holds the valid files they refer to
   {"manifest/empty.json", Reader::kManifest, "not valid JSON"},
   {"manifest/truncated.json", Reader::kManifest, "not valid JSON"},
