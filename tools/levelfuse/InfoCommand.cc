@@ -93,6 +93,12 @@ nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
   return j;
 }
 
+/// "(x, y, z)" with six significant digits, for people.
+std::string point(const nlohmann::json& xyz) {
+  return "(" + fixed(xyz[0].get<double>(), 6) + ", " + fixed(xyz[1].get<double>(), 6) + ", " +
+         fixed(xyz[2].get<double>(), 6) + ")";
+}
+
 void print(const nlohmann::json& j) {
   const std::string path = j["path"];
   if (j["kind"] == "vdb") {
@@ -103,7 +109,7 @@ void print(const nlohmann::json& j) {
                 << withCommas(g["active_voxels"].get<std::size_t>()) << " active voxels, "
                 << mebibytes(g["memory_bytes"].get<std::size_t>()) << "\n";
       if (g.contains("bounds"))
-        std::cout << "    bounds " << g["bounds"][0].dump() << " to " << g["bounds"][1].dump() << "\n";
+        std::cout << "    bounds " << point(g["bounds"][0]) << " to " << point(g["bounds"][1]) << "\n";
       if (g.contains("inside_components"))
         std::cout << "    level set: background " << fixed(g["background"].get<double>()) << ", "
                   << g["inside_components"].get<int>() << " inside component(s)\n";
@@ -114,7 +120,7 @@ void print(const nlohmann::json& j) {
     return;
   }
   std::cout << path << ": " << j["scans"].size() << " scans, " << withCommas(j["readings"].get<std::size_t>())
-            << " readings, bounds " << j["bounds"][0].dump() << " to " << j["bounds"][1].dump() << "\n";
+            << " readings, bounds " << point(j["bounds"][0]) << " to " << point(j["bounds"][1]) << "\n";
   if (j.contains("truth")) std::cout << "  synthetic: the truth is a " << j["truth"].get<std::string>() << "\n";
   for (const auto& m : j["scans"])
     std::cout << "  " << m["name"].get<std::string>() << ": " << m["projection"].get<std::string>() << " "
