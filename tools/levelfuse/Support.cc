@@ -52,6 +52,23 @@ std::string fixed(double value, int digits) {
   return s.str();
 }
 
+std::string printable(const std::string& text) {
+  static const char kHex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte != 0x7f) {
+      out += c;
+    } else {
+      out += "\\x";
+      out += kHex[byte >> 4];
+      out += kHex[byte & 15];
+    }
+  }
+  return out;
+}
+
 std::string mebibytes(std::size_t bytes) { return fixed(static_cast<double>(bytes) / 1048576.0, 3) + " MiB"; }
 
 std::vector<double> parseTriple(const std::string& text) {

@@ -30,6 +30,9 @@ void requireWritable(const std::string& path);
 std::string withCommas(std::size_t n);
 /// A number with `digits` significant digits.
 std::string fixed(double value, int digits = 4);
+/// `text` with control characters (a file's bytes quoted in a message) as \xNN:
+/// one line, safe for a terminal.
+std::string printable(const std::string& text);
 /// "12.3 MiB"
 std::string mebibytes(std::size_t bytes);
 /// Parses "x,y,z" into three numbers; throws std::invalid_argument otherwise.

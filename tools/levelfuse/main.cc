@@ -2,6 +2,7 @@
 
 #include "Cancellation.h"
 #include "Commands.h"
+#include "Support.h"
 
 #include <levelfuse/Version.h>
 
@@ -46,7 +47,7 @@ int main(int argc, char** argv) {
     try {
       return command.run();
     } catch (const std::exception& e) {
-      std::cerr << "levelfuse " << command.app->get_name() << ": error: " << e.what() << "\n";
+      std::cerr << "levelfuse " << command.app->get_name() << ": error: " << printable(e.what()) << "\n";
       return kExitFailure;
     }
   }

@@ -1,0 +1,59 @@
+// Every bad scan set of the corpus (tests/data/bad) given to the converter as a
+// user gives it: one line that names a file and the problem, exit code 1, and
+// no output file.
+
+#include "CliSupport.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+namespace levelfuse {
+namespace {
+
+std::vector<std::string> badScanSets() {
+  std::vector<std::string> files;
+  for (const char* kind : {"conf", "manifest"})
+    for (const auto& entry : fs::directory_iterator(fs::path(LEVELFUSE_TEST_DATA_DIR) / "bad" / kind))
+      files.push_back(entry.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+class BadInputCli : public Cli, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(BadInputCli, FailsWithOneLineAndWritesNothing) {
+  const std::string& input = GetParam();
+  for (const std::string command : {"reconstruct", "info"}) {
+    SCOPED_TRACE(command);
+    const std::string outputs =
+        command == "info" ? "" : " -o " + path("out.vdb") + " --mesh " + path("out.ply") + " --preview " + path("out.png");
+    const CliRun run = levelfuse(command + " '" + input + "'" + outputs);
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    const std::string prefix = "levelfuse " + command + ": error: ";
+    EXPECT_EQ(run.output.rfind(prefix, 0), 0u) << run.output;
+    EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+    // It names the file, or the file of the corpus that it refers to.
+    EXPECT_NE(run.output.find(fs::path(LEVELFUSE_TEST_DATA_DIR).string() + "/bad/"), std::string::npos) << run.output;
+    // Printable: what a file held is never echoed raw to the terminal.
+    EXPECT_TRUE(std::none_of(run.output.begin(), run.output.end() - 1, [](char c) {
+      const auto byte = static_cast<unsigned char>(c);
+      return byte < 0x20 || byte == 0x7f;
+    })) << run.output;
+    EXPECT_TRUE(fs::is_empty(mDir)) << "an output was written";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, BadInputCli, ::testing::ValuesIn(badScanSets()),
+                         [](const ::testing::TestParamInfo<std::string>& param) {
+                           const fs::path file(param.param);
+                           std::string name = file.parent_path().filename().string() + "_" + file.stem().string();
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace levelfuse
