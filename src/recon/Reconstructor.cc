@@ -6,8 +6,8 @@
 #include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/recon/Reconstructor.h>
 
-
 #include <openvdb/tree/LeafManager.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -104,6 +104,42 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
     throw std::invalid_argument("reconstruction: iterations must satisfy 0 <= min <= max, max >= 1");
 }
 
+double Reconstructor::memoryLimit() const {
+  return static_cast<double>(mOptions.memoryLimit > 0 ? mOptions.memoryLimit : io::memoryBudget());
+}
+
+void Reconstructor::requireCoarsestGridMemory() const {
+  // The linear solution classifies every leaf-sized block of the data's box.
+  double blocks = 1.0;
+  for (int axis = 0; axis < 3; ++axis) blocks *= mBounds.extents()[axis] / (8.0 * voxelSize(0)) + 3.0;
+  requireMemory(16.0 * blocks, memoryLimit(), "the initial model on a grid of voxel size " + shortNumber(voxelSize(0)),
+                "use more grids (levels) or a larger voxel size");
+}
+
+SparseField Reconstructor::initialModel() const {
+  requireCoarsestGridMemory();
+  const ForceField force(mMaps, forceOptions(0));
+  return SparseField::fromLevelSet(*force.linearSolution(voxelSize(0)), mOptions.engine);
+}
+
+void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) const {
+  // The surface's area, and so the active set, grows four times with each grid.
+  const double finestActive = static_cast<double>(coarsestActiveVoxels) * std::pow(4.0, mOptions.levels - 1);
+  const double bytes = kPeakBytesPerActiveVoxel * finestActive;
+  requireMemory(bytes, memoryLimit(),
+                "a voxel size of " + shortNumber(mOptions.voxelSize) + " (about " + shortNumber(finestActive / 1e6) +
+                    " million voxels on the surface)",
+                "choose a voxel size of at least " +
+                    shortNumber(mOptions.voxelSize * std::sqrt(1.1 * bytes / memoryLimit())) + " or allow more memory");
+}
+
+openvdb::FloatGrid::Ptr Reconstructor::linearSolution() const {
+  if (mOptions.levels > 1) requireFinestGridMemory(initialModel().stats().activeVoxels);
+  else requireCoarsestGridMemory();
+  const ForceField force(mMaps, forceOptions(mOptions.levels - 1));
+  return force.linearSolution(mOptions.voxelSize, 3.0, mOptions.name);
+}
+
 double Reconstructor::voxelSize(int level) const {
   return std::ldexp(mOptions.voxelSize, mOptions.levels - 1 - level);
 }
@@ -132,33 +168,9 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const 
   ReconstructionResult result;
   state.voxelSize = voxelSize(0);
   report();
-  const double memoryLimit =
-      static_cast<double>(mOptions.memoryLimit > 0 ? mOptions.memoryLimit : io::memoryBudget());
-  {
-    // The linear solution classifies every leaf-sized block of the data's box.
-    double blocks = 1.0;
-    for (int axis = 0; axis < 3; ++axis) blocks *= mBounds.extents()[axis] / (8.0 * voxelSize(0)) + 3.0;
-    requireMemory(16.0 * blocks, memoryLimit,
-                  "the initial model on a grid of voxel size " + shortNumber(voxelSize(0)),
-                  "use more grids (levels) or a larger voxel size");
-  }
   // 1. The initial model: the linear solution on the coarsest grid.
-  std::unique_ptr<SparseField> field;
-  {
-    const ForceField force(mMaps, forceOptions(0));
-    field = std::make_unique<SparseField>(SparseField::fromLevelSet(*force.linearSolution(voxelSize(0)), mOptions.engine));
-  }
-  {
-    // The surface's area, and so the active set, grows four times with each grid.
-    const double finestActive =
-        static_cast<double>(field->stats().activeVoxels) * std::pow(4.0, mOptions.levels - 1);
-    const double bytes = kPeakBytesPerActiveVoxel * finestActive;
-    requireMemory(bytes, memoryLimit,
-                  "a voxel size of " + shortNumber(mOptions.voxelSize) + " (about " + shortNumber(finestActive / 1e6) +
-                      " million voxels on the surface)",
-                  "choose a voxel size of at least " +
-                      shortNumber(mOptions.voxelSize * std::sqrt(1.1 * bytes / memoryLimit)) + " or allow more memory");
-  }
+  std::unique_ptr<SparseField> field = std::make_unique<SparseField>(initialModel());
+  requireFinestGridMemory(field->stats().activeVoxels);
   const double finest = mOptions.voxelSize;
   int totalIterations = 0;
   for (int level = 0; level < mOptions.levels; ++level) {

@@ -99,6 +99,7 @@ TEST(Reconstructor, RefusesAVoxelSizeThatWouldNotFitInMemory) {
   } catch (const InsufficientMemory& e) {
     const std::string message = e.what();
     EXPECT_NE(message.find("a voxel size of 0.005 (about 0."), std::string::npos) << message;
+    EXPECT_THROW(tooFine.linearSolution(), InsufficientMemory);  // the linear solution alone, too
     const std::size_t at = message.find("voxel size of at least ");
     ASSERT_NE(at, std::string::npos) << message;
     // The advice fits: memory follows the surface's area.
@@ -116,11 +117,15 @@ TEST(Reconstructor, RefusesAVoxelSizeThatWouldNotFitInMemory) {
   options.voxelSize = 0.002;
   options.levels = 1;
   options.memoryLimit = 1u << 20;
-  try {
-    Reconstructor(noisySphere(0.01), options).run();
-    FAIL() << "the reconstruction ran";
-  } catch (const InsufficientMemory& e) {
-    EXPECT_NE(std::string(e.what()).find("use more grids"), std::string::npos) << e.what();
+  const Reconstructor oneFineGrid(noisySphere(0.01), options);
+  for (const bool linear : {false, true}) {
+    try {
+      if (linear) oneFineGrid.linearSolution();
+      else oneFineGrid.run();
+      FAIL() << "the reconstruction ran";
+    } catch (const InsufficientMemory& e) {
+      EXPECT_NE(std::string(e.what()).find("use more grids"), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -93,9 +93,7 @@ int runReconstruct(ReconstructSettings s) {
   const ReconstructionOptions& o = reconstructor.options();
   ReconstructionResult result;
   if (s.linear) {
-    const int finest = o.levels - 1;
-    const ForceField field(maps, reconstructor.forceOptions(finest));
-    result.levelSet = field.linearSolution(o.voxelSize, 3.0, o.name);
+    result.levelSet = reconstructor.linearSolution();
   } else {
     ProgressBar bar(!s.quiet && !s.json);
     try {

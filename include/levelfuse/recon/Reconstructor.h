@@ -141,6 +141,11 @@ class Reconstructor {
   /// false, InsufficientMemory if the finest grid would not fit.
   ReconstructionResult run(const ProgressCallback& progress = {}) const;
 
+  /// The linear solution (the zero set of g, Eq. 17) on the finest grid
+  /// alone, no evolution: VRIP-style fusion. Throws InsufficientMemory, as
+  /// run() does, if the finest grid would not fit.
+  openvdb::FloatGrid::Ptr linearSolution() const;
+
   /// The options with every default resolved.
   const ReconstructionOptions& options() const { return mOptions; }
   /// Voxel size of grid `level` (0 is the coarsest).
@@ -152,6 +157,15 @@ class Reconstructor {
   const openvdb::BBoxd& bounds() const { return mBounds; }
 
  private:
+  double memoryLimit() const;
+  /// Throws InsufficientMemory if the coarsest grid's box would not fit.
+  void requireCoarsestGridMemory() const;
+  /// The linear solution on the coarsest grid, as a sparse field.
+  SparseField initialModel() const;
+  /// Throws InsufficientMemory if the finest grid of a surface with this many
+  /// active voxels on the coarsest grid would not fit.
+  void requireFinestGridMemory(std::size_t coarsestActiveVoxels) const;
+
   std::shared_ptr<const std::vector<RangeMap>> mMaps;
   ReconstructionOptions mOptions;
   openvdb::BBoxd mBounds;
