@@ -50,11 +50,16 @@ std::string describeBytes(double bytes) {
   return text;
 }
 
-void requireMemory(const std::string& file, double bytes, const std::string& what, const std::string& advice) {
+std::string memoryShortfall(double bytes, const std::string& what, const std::string& advice) {
   const double budget = static_cast<double>(memoryBudget());
-  if (!(bytes <= budget))
-    throw InputError(file, what + " needs about " + describeBytes(bytes) + " of memory, more than the " +
-                               describeBytes(budget) + " levelfuse may use: " + advice);
+  if (bytes <= budget) return {};
+  return what + " needs about " + describeBytes(bytes) + " of memory, more than the " + describeBytes(budget) +
+         " levelfuse may use: " + advice;
+}
+
+void requireMemory(const std::string& file, double bytes, const std::string& what, const std::string& advice) {
+  const std::string shortfall = memoryShortfall(bytes, what, advice);
+  if (!shortfall.empty()) throw InputError(file, shortfall);
 }
 
 }  // namespace levelfuse::io

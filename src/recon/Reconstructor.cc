@@ -46,12 +46,10 @@ double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid
   return drift.empty() ? 0.0 : *std::max_element(drift.begin(), drift.end());
 }
 
-/// Throws InsufficientMemory if `bytes` exceed `limit`: "<what> needs about
-/// X of memory, more than the Y levelfuse may use: <advice>".
-void requireMemory(double bytes, double limit, const std::string& what, const std::string& advice) {
-  if (bytes <= limit) return;
-  throw InsufficientMemory("reconstruction: " + what + " needs about " + io::describeBytes(bytes) +
-                           " of memory, more than the " + io::describeBytes(limit) + " levelfuse may use: " + advice);
+/// Throws InsufficientMemory if `bytes` exceed the memory budget (io::memoryShortfall).
+void requireMemory(double bytes, const std::string& what, const std::string& advice) {
+  const std::string shortfall = io::memoryShortfall(bytes, what, advice);
+  if (!shortfall.empty()) throw InsufficientMemory("reconstruction: " + shortfall);
 }
 
 std::string shortNumber(double value) {
@@ -104,15 +102,11 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
     throw std::invalid_argument("reconstruction: iterations must satisfy 0 <= min <= max, max >= 1");
 }
 
-double Reconstructor::memoryLimit() const {
-  return static_cast<double>(mOptions.memoryLimit > 0 ? mOptions.memoryLimit : io::memoryBudget());
-}
-
 void Reconstructor::requireCoarsestGridMemory() const {
   // The linear solution classifies every leaf-sized block of the data's box.
   double blocks = 1.0;
   for (int axis = 0; axis < 3; ++axis) blocks *= mBounds.extents()[axis] / (8.0 * voxelSize(0)) + 3.0;
-  requireMemory(16.0 * blocks, memoryLimit(), "the initial model on a grid of voxel size " + shortNumber(voxelSize(0)),
+  requireMemory(16.0 * blocks, "the initial model on a grid of voxel size " + shortNumber(voxelSize(0)),
                 "use more grids (levels) or a larger voxel size");
 }
 
@@ -126,11 +120,12 @@ void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) co
   // The surface's area, and so the active set, grows four times with each grid.
   const double finestActive = static_cast<double>(coarsestActiveVoxels) * std::pow(4.0, mOptions.levels - 1);
   const double bytes = kPeakBytesPerActiveVoxel * finestActive;
-  requireMemory(bytes, memoryLimit(),
+  const double budget = static_cast<double>(io::memoryBudget());
+  requireMemory(bytes,
                 "a voxel size of " + shortNumber(mOptions.voxelSize) + " (about " + shortNumber(finestActive / 1e6) +
                     " million voxels on the surface)",
                 "choose a voxel size of at least " +
-                    shortNumber(mOptions.voxelSize * std::sqrt(1.1 * bytes / memoryLimit())) + " or allow more memory");
+                    shortNumber(mOptions.voxelSize * std::sqrt(1.1 * bytes / budget)) + " or allow more memory");
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution() const {

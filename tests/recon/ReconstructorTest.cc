@@ -1,5 +1,6 @@
 // The reconstruction pipeline on synthetic scans with known answers.
 
+#include "support/MemoryBudgetScope.h"
 #include "support/TestSupport.h"
 
 #include <levelfuse/geometry/Shapes.h>
@@ -91,32 +92,34 @@ TEST(Reconstructor, BeatsTheLinearSolutionOnNoisyData) {
 TEST(Reconstructor, RefusesAVoxelSizeThatWouldNotFitInMemory) {
   ReconstructionOptions options;
   options.voxelSize = 0.005;  // 400 voxels across: about 0.5 million on the surface, some 200 MiB
-  options.memoryLimit = 64u << 20;
-  const Reconstructor tooFine(noisySphere(0.01), options);
-  try {
-    tooFine.run();
-    FAIL() << "the reconstruction ran";
-  } catch (const InsufficientMemory& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("a voxel size of 0.005 (about 0."), std::string::npos) << message;
-    EXPECT_THROW(tooFine.linearSolution(), InsufficientMemory);  // the linear solution alone, too
-    const std::size_t at = message.find("voxel size of at least ");
-    ASSERT_NE(at, std::string::npos) << message;
-    // The advice fits: memory follows the surface's area.
-    const double advised = std::stod(message.substr(at + 23));
-    EXPECT_GT(advised, 0.005 * std::sqrt(2.0)) << message;
-    EXPECT_LT(advised, 0.005 * 4.0) << message;
-    options.voxelSize = advised;
-    options.levels = 0;
-    options.minIterations = 1;
-    options.maxIterations = 1;
-    EXPECT_NO_THROW(Reconstructor(noisySphere(0.01), options).run());
+  {
+    test::MemoryBudgetScope budget(64u << 20);
+    const Reconstructor tooFine(noisySphere(0.01), options);
+    try {
+      tooFine.run();
+      FAIL() << "the reconstruction ran";
+    } catch (const InsufficientMemory& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("a voxel size of 0.005 (about 0."), std::string::npos) << message;
+      EXPECT_THROW(tooFine.linearSolution(), InsufficientMemory);  // the linear solution alone, too
+      const std::size_t at = message.find("voxel size of at least ");
+      ASSERT_NE(at, std::string::npos) << message;
+      // The advice fits: memory follows the surface's area.
+      const double advised = std::stod(message.substr(at + 23));
+      EXPECT_GT(advised, 0.005 * std::sqrt(2.0)) << message;
+      EXPECT_LT(advised, 0.005 * 4.0) << message;
+      options.voxelSize = advised;
+      options.levels = 0;
+      options.minIterations = 1;
+      options.maxIterations = 1;
+      EXPECT_NO_THROW(Reconstructor(noisySphere(0.01), options).run());
+    }
   }
   // Too many voxels for the initial model: more grids are the fix.
   options = ReconstructionOptions();
   options.voxelSize = 0.002;
   options.levels = 1;
-  options.memoryLimit = 1u << 20;
+  test::MemoryBudgetScope budget(1u << 20);
   const Reconstructor oneFineGrid(noisySphere(0.01), options);
   for (const bool linear : {false, true}) {
     try {

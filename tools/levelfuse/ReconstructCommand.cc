@@ -52,11 +52,8 @@ std::string joined(const std::vector<std::string>& items) {
 int runReconstruct(ReconstructSettings s) {
   const auto started = std::chrono::steady_clock::now();
   const ThreadLimit threads(s.threads);
-  if (s.maxMemoryGiB > 0.0) {
-    const auto bytes = static_cast<std::uint64_t>(s.maxMemoryGiB * 1073741824.0);
-    io::setMemoryBudget(bytes);  // for the readers too
-    s.options.memoryLimit = bytes;
-  }
+  // The budget of the readers and of the reconstruction.
+  if (s.maxMemoryGiB > 0.0) io::setMemoryBudget(static_cast<std::uint64_t>(s.maxMemoryGiB * 1073741824.0));
   if (s.output.empty() && s.mesh.empty() && s.preview.empty())
     throw std::invalid_argument("nothing to write: give -o result.vdb, --mesh result.ply or --preview result.png");
   for (const std::string* path : {&s.output, &s.mesh, &s.preview})

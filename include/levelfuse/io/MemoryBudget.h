@@ -22,8 +22,12 @@ void setMemoryBudget(std::uint64_t bytes);
 /// "512 MiB", "1.5 GiB": a size in bytes for people.
 std::string describeBytes(double bytes);
 
-/// Throws InputError(file, "<what> needs about X of memory, more than the Y
-/// levelfuse may use: <advice>") if `bytes` exceeds memoryBudget().
+/// "<what> needs about X of memory, more than the Y levelfuse may use:
+/// <advice>" if `bytes` exceeds memoryBudget(); empty if they fit.
+std::string memoryShortfall(double bytes, const std::string& what, const std::string& advice);
+
+/// Throws InputError(file, memoryShortfall(bytes, what, advice)) if `bytes`
+/// exceeds memoryBudget().
 void requireMemory(const std::string& file, double bytes, const std::string& what, const std::string& advice);
 
 }  // namespace levelfuse::io

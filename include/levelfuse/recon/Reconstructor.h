@@ -16,7 +16,6 @@
 #include <openvdb/openvdb.h>
 
 #include <cstddef>
-#include <cstdint>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -62,11 +61,6 @@ struct ReconstructionOptions {
   double drift = 0.025;
   int minIterations = 4;    ///< per grid
   int maxIterations = 300;  ///< per grid
-  /// Memory the reconstruction may use, bytes. 0: io::memoryBudget(), the
-  /// machine's physical memory or the process's limit. run() estimates what the
-  /// finest grid will need from the initial model and refuses, with the voxel
-  /// size that would fit, before it allocates.
-  std::uint64_t memoryLimit = 0;
   std::string name = "surface";  ///< the output grid's name
   SparseFieldOptions engine;     ///< the sparse-field engine's settings
 };
@@ -96,7 +90,10 @@ class ReconstructionCancelled : public std::runtime_error {
 };
 
 /// Thrown by Reconstructor::run when the finest grid would need more memory
-/// than the options allow; the message says which voxel size would fit.
+/// than io::memoryBudget() (the machine's physical memory or the process's
+/// limit, or what io::setMemoryBudget() set); run() estimates it from the
+/// initial model before it allocates, and the message says which voxel size
+/// would fit.
 class InsufficientMemory : public std::runtime_error {
  public:
   explicit InsufficientMemory(const std::string& what) : std::runtime_error(what) {}
@@ -157,7 +154,6 @@ class Reconstructor {
   const openvdb::BBoxd& bounds() const { return mBounds; }
 
  private:
-  double memoryLimit() const;
   /// Throws InsufficientMemory if the coarsest grid's box would not fit.
   void requireCoarsestGridMemory() const;
   /// The linear solution on the coarsest grid, as a sparse field.
