@@ -55,10 +55,7 @@ nlohmann::json describeVdb(const std::string& path) {
 
 nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
   io::ScanLoadOptions load;
-  if (!s.towardScanner.empty()) {
-    const auto v = parseTriple(s.towardScanner);
-    load.stanford.towardScanner = openvdb::Vec3d(v[0], v[1], v[2]);
-  }
+  if (!s.towardScanner.empty()) load.stanford.towardScanner = parseVec3(s.towardScanner);
   const std::vector<RangeMap> maps = io::loadScans(path, load);
   nlohmann::json list = nlohmann::json::array();
   openvdb::BBoxd all;

@@ -66,10 +66,7 @@ int runReconstruct(ReconstructSettings s) {
 
   // The scans.
   io::ScanLoadOptions load;
-  if (!s.towardScanner.empty()) {
-    const auto v = parseTriple(s.towardScanner);
-    load.stanford.towardScanner = openvdb::Vec3d(v[0], v[1], v[2]);
-  }
+  if (!s.towardScanner.empty()) load.stanford.towardScanner = parseVec3(s.towardScanner);
   if (s.sigma > 0.0) {
     load.stanford.sigma = s.sigma;
     load.depthNoise = io::DepthNoise{s.sigma, 0.0};
@@ -126,14 +123,8 @@ int runReconstruct(ReconstructSettings s) {
   }
   if (!s.preview.empty()) {
     io::PreviewOptions preview;
-    if (!s.view.empty()) {
-      const auto v = parseTriple(s.view);
-      preview.toward = openvdb::Vec3d(v[0], v[1], v[2]);
-    }
-    if (!s.up.empty()) {
-      const auto v = parseTriple(s.up);
-      preview.up = openvdb::Vec3d(v[0], v[1], v[2]);
-    }
+    if (!s.view.empty()) preview.toward = parseVec3(s.view);
+    if (!s.up.empty()) preview.up = parseVec3(s.up);
     io::writePreviewPng(surface, s.preview, preview);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

@@ -71,7 +71,7 @@ std::string printable(const std::string& text) {
 
 std::string mebibytes(std::size_t bytes) { return fixed(static_cast<double>(bytes) / 1048576.0, 3) + " MiB"; }
 
-std::vector<double> parseTriple(const std::string& text) {
+openvdb::math::Vec3d parseVec3(const std::string& text) {
   std::vector<double> v;
   std::stringstream s(text);
   std::string item;
@@ -88,7 +88,7 @@ std::vector<double> parseTriple(const std::string& text) {
     v.push_back(x);
   }
   if (v.size() != 3) throw std::invalid_argument("'" + text + "' is not three numbers x,y,z");
-  return v;
+  return openvdb::math::Vec3d(v[0], v[1], v[2]);
 }
 
 }  // namespace levelfuse::cli

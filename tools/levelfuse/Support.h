@@ -1,12 +1,12 @@
 // levelfuse CLI: small things the subcommands share.
 #pragma once
 
+#include <openvdb/math/Vec3.h>
 #include <tbb/global_control.h>
 
 #include <cstddef>
 #include <memory>
 #include <string>
-#include <vector>
 
 namespace levelfuse::cli {
 
@@ -35,7 +35,7 @@ std::string fixed(double value, int digits = 4);
 std::string printable(const std::string& text);
 /// "12.3 MiB"
 std::string mebibytes(std::size_t bytes);
-/// Parses "x,y,z" into three numbers; throws std::invalid_argument otherwise.
-std::vector<double> parseTriple(const std::string& text);
+/// Parses "x,y,z" into a vector; throws std::invalid_argument otherwise.
+openvdb::math::Vec3d parseVec3(const std::string& text);
 
 }  // namespace levelfuse::cli
