@@ -2,6 +2,8 @@
 
 #include <levelfuse/levelset/ZeroCrossings.h>
 
+#include <sys/resource.h>
+
 namespace levelfuse::bench {
 
 double meanRadius(const openvdb::FloatGrid& grid, const openvdb::Vec3d& centre) {
@@ -9,6 +11,12 @@ double meanRadius(const openvdb::FloatGrid& grid, const openvdb::Vec3d& centre) 
   double sum = 0.0;
   for (const auto& p : points) sum += (p - centre).length();
   return points.empty() ? 0.0 : sum / static_cast<double>(points.size());
+}
+
+double peakResidentMegabytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // kilobytes on Linux
 }
 
 std::size_t iterationsFor(int radius) {

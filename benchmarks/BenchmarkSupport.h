@@ -20,6 +20,10 @@ inline double simulatedTimePerIteration(double r0, double r1, std::size_t iterat
   return (r0 * r0 - r1 * r1) / (4.0 * static_cast<double>(iterations));
 }
 
+/// The process's peak resident memory so far, in MB (one benchmark per
+/// process reports its own peak).
+double peakResidentMegabytes();
+
 /// Iterations timed per repetition for a sphere of radius R: enough to measure,
 /// few enough that the sphere changes little.
 std::size_t iterationsFor(int radius);

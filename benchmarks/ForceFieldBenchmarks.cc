@@ -14,14 +14,14 @@
 //                      benchmark per process for its own peak; see docs)
 // Run with --benchmark_format=json; see docs/BENCHMARKS.md.
 
+#include "BenchmarkSupport.h"
+
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/scan/ForceField.h>
 
 #include <tbb/global_control.h>
 
 #include <benchmark/benchmark.h>
-
-#include <sys/resource.h>
 
 #include <filesystem>
 #include <memory>
@@ -39,12 +39,6 @@ const std::vector<RangeMap>* bunny() {
     return std::make_unique<std::vector<RangeMap>>(io::loadStanfordScans(conf));
   }();
   return maps.get();
-}
-
-double peakResidentMegabytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // kilobytes on Linux
 }
 
 void accumulate(benchmark::State& state, double voxelSize, int threads) {

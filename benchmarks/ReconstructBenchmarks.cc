@@ -12,6 +12,8 @@
 //   beyond_band      fraction of the points farther than the narrow band (holes)
 // Run with --benchmark_format=json; see docs/BENCHMARKS.md.
 
+#include "BenchmarkSupport.h"
+
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/Reconstructor.h>
@@ -19,8 +21,6 @@
 #include <tbb/global_control.h>
 
 #include <benchmark/benchmark.h>
-
-#include <sys/resource.h>
 
 #include <filesystem>
 #include <string>
@@ -54,9 +54,7 @@ void reconstruct(benchmark::State& state, double voxelSize, int threads) {
     result = Reconstructor(io::loadStanfordScans(kBunny), options).run();
   }
   const DataFit fit = measureDataFit(*result.levelSet, bunnyPoints());
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  state.counters["peak_rss_mb"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  state.counters["peak_rss_mb"] = peakResidentMegabytes();
   state.counters["engine_mb"] = static_cast<double>(result.peakEngineBytes) / 1048576.0;
   state.counters["active"] = static_cast<double>(result.levels.back().activeVoxels);
   state.counters["fit_mean_mm"] = 1000.0 * fit.mean;
