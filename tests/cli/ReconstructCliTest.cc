@@ -135,6 +135,11 @@ TEST_F(ReconstructCli, BadInputFailsClearlyAndWritesNothing) {
   EXPECT_EQ(run.exitCode, 1);
   EXPECT_NE(run.output.find("not a regular file"), std::string::npos) << run.output;
   EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  // A malformed preview direction stops the run before it writes the level set.
+  run = levelfuse("reconstruct " + scans + " --view 1,2 -o " + path("out.vdb") + " --preview " + path("out.png"));
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("'1,2' is not three numbers x,y,z"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(path("out.vdb")));
   run = levelfuse("reconstruct " + scans + " --beta -1 -o " + path("out.vdb"));
   EXPECT_EQ(run.exitCode, 2) << run.output;
   // A voxel size that needs more memory than allowed stops before it allocates.

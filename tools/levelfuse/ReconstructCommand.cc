@@ -63,6 +63,10 @@ int runReconstruct(ReconstructSettings s) {
     if (ext != ".ply" && ext != ".obj" && ext != ".PLY" && ext != ".OBJ")
       throw std::invalid_argument("--mesh '" + s.mesh + "': the name must end in .ply or .obj");
   }
+  // Every option is checked before the work starts and before anything is written.
+  io::PreviewOptions preview;
+  if (!s.view.empty()) preview.toward = parseVec3(s.view);
+  if (!s.up.empty()) preview.up = parseVec3(s.up);
 
   // The scans.
   io::ScanLoadOptions load;
@@ -121,12 +125,7 @@ int runReconstruct(ReconstructSettings s) {
     triangles = mesh.triangleCount();
     io::writeMesh(s.mesh, mesh);
   }
-  if (!s.preview.empty()) {
-    io::PreviewOptions preview;
-    if (!s.view.empty()) preview.toward = parseVec3(s.view);
-    if (!s.up.empty()) preview.up = parseVec3(s.up);
-    io::writePreviewPng(surface, s.preview, preview);
-  }
+  if (!s.preview.empty()) io::writePreviewPng(surface, s.preview, preview);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   const std::size_t active = surface.activeVoxelCount();
