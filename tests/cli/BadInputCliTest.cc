@@ -32,6 +32,7 @@ TEST_P(BadInputCli, FailsWithOneLineAndWritesNothing) {
         command == "info" ? "" : " -o " + path("out.vdb") + " --mesh " + path("out.ply") + " --preview " + path("out.png");
     const CliRun run = levelfuse(command + " '" + input + "'" + outputs);
     EXPECT_EQ(run.exitCode, 1) << run.output;
+    ASSERT_FALSE(run.output.empty());
     const std::string prefix = "levelfuse " + command + ": error: ";
     EXPECT_EQ(run.output.rfind(prefix, 0), 0u) << run.output;
     EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
