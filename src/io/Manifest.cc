@@ -91,7 +91,8 @@ StanfordScanOptions stanfordOptions(const Entry& e) {
     o.towardScanner = openvdb::Vec3d(v[0], v[1], v[2]);
     if (o.towardScanner.length() == 0.0) e.fail("'toward_scanner' is the zero vector");
   }
-  o.sigma = e.positive("sigma", o.sigma);
+  // Without a sigma, each scan's noise is estimated from the scan itself.
+  if (e.has("sigma")) o.sigma = e.positive("sigma", 0.0);
   o.pixelSize = e.number("pixel_size", 0.0);
   if (o.pixelSize < 0.0) e.fail("'pixel_size' must not be negative");
   return o;

@@ -3,6 +3,7 @@
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/scan/DepthRaster.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -30,6 +31,28 @@ double median(std::vector<double>& values) {
   if (values.empty()) return 0.0;
   std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
   return values[values.size() / 2];
+}
+
+/// The finer of the range grid's two median sample spacings as seen along
+/// the line of sight (`local`: the points in the map frame, z along the line
+/// of sight); 0 if the grid has no neighbouring samples.
+double finerSampleSpacing(const RangeGridScan& scan, const std::vector<Vec3d>& local) {
+  std::vector<double> along[2];
+  for (int r = 0; r < scan.rows; ++r)
+    for (int c = 0; c < scan.cols; ++c) {
+      const int a = scan.grid[static_cast<std::size_t>(r) * scan.cols + c];
+      if (a < 0) continue;
+      for (int dir = 0; dir < 2; ++dir) {
+        const int rr = r + dir, cc = c + 1 - dir;
+        if (rr >= scan.rows || cc >= scan.cols) continue;
+        const int b = scan.grid[static_cast<std::size_t>(rr) * scan.cols + cc];
+        if (b < 0) continue;
+        const Vec3d d = local[a] - local[b];
+        along[dir].push_back(std::sqrt(d.x() * d.x() + d.y() * d.y()));
+      }
+    }
+  const double m0 = median(along[0]), m1 = median(along[1]);
+  return std::min(m0 > 0.0 ? m0 : m1, m1 > 0.0 ? m1 : m0);
 }
 
 }  // namespace
@@ -207,6 +230,8 @@ RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, c
   // The map frame: +z along the line of sight, away from the scanner.
   const double tl = options.towardScanner.length();
   if (!(tl > 0.0) || !std::isfinite(tl)) throw InputError(scan.path, "the direction toward the scanner is zero");
+  if (!(options.edgeExtension >= 0.0) || !(options.edgeExtension <= 8.0))
+    throw InputError(scan.path, "the edge extension must be 0 to 8 pixels");
   const Vec3d zAxis = -options.towardScanner / tl;
   const Vec3d helper = std::fabs(zAxis.x()) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
   const Vec3d yAxis = zAxis.cross(helper).unit();
@@ -222,29 +247,16 @@ RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, c
     ymin = std::min(ymin, local[i].y());
     ymax = std::max(ymax, local[i].y());
   }
-  // One pixel per sample along the finer of the grid's two directions, as seen
-  // along the line of sight: no reading is lost to the raster.
-  double pixel = options.pixelSize;
-  if (!(pixel > 0.0)) {
-    std::vector<double> along[2];
-    for (int r = 0; r < scan.rows; ++r)
-      for (int c = 0; c < scan.cols; ++c) {
-        const int a = scan.grid[static_cast<std::size_t>(r) * scan.cols + c];
-        if (a < 0) continue;
-        for (int dir = 0; dir < 2; ++dir) {
-          const int rr = r + dir, cc = c + 1 - dir;
-          if (rr >= scan.rows || cc >= scan.cols) continue;
-          const int b = scan.grid[static_cast<std::size_t>(rr) * scan.cols + cc];
-          if (b < 0) continue;
-          const Vec3d d = local[a] - local[b];
-          along[dir].push_back(std::sqrt(d.x() * d.x() + d.y() * d.y()));
-        }
-      }
-    const double m0 = median(along[0]), m1 = median(along[1]);
-    pixel = std::min(m0 > 0.0 ? m0 : m1, m1 > 0.0 ? m1 : m0);
-    if (!(pixel > 0.0)) pixel = spacing;
-  }
-  const double cols = std::ceil((xmax - xmin) / pixel) + 3, rows = std::ceil((ymax - ymin) / pixel) + 3;
+  // Two pixels per sample along the finer of the grid's two directions, as
+  // seen along the line of sight: no reading is lost to the raster, and the
+  // bilinear interpolation of the map follows the triangles between samples.
+  const double finer = finerSampleSpacing(scan, local);
+  const double raySpacing = finer > 0.0 ? finer : spacing;
+  const double pixel = options.pixelSize > 0.0 ? options.pixelSize : 0.5 * raySpacing;
+  // A border around the samples, wide enough for the edge extension.
+  const int border = 1 + static_cast<int>(std::ceil(options.edgeExtension));
+  const double cols = std::ceil((xmax - xmin) / pixel) + 1 + 2 * border;
+  const double rows = std::ceil((ymax - ymin) / pixel) + 1 + 2 * border;
   // A map with far more pixels than the grid has samples is nearly empty (a
   // stray point far away, a pixel far finer than the samples): refused before
   // it is allocated, as is one too large for memory.
@@ -259,38 +271,28 @@ RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, c
     throw InputError(scan.path, problem);
   }
   const int width = static_cast<int>(cols), height = static_cast<int>(rows);
-  OrthographicProjection projection{pixel, openvdb::math::Vec2d(xmin - pixel, ymin - pixel)};
+  OrthographicProjection projection{pixel, openvdb::math::Vec2d(xmin - border * pixel, ymin - border * pixel)};
 
-  // Rasterise the triangles; the nearest surface to the scanner (smallest z) wins.
-  std::vector<float> depth(static_cast<std::size_t>(width) * height, std::numeric_limits<float>::quiet_NaN());
-  for (const openvdb::Vec3I& t : triangles) {
-    const Vec3d* q[3] = {&local[t.x()], &local[t.y()], &local[t.z()]};
-    double u[3], v[3];
-    for (int k = 0; k < 3; ++k) {
-      u[k] = (q[k]->x() - projection.origin.x()) / pixel;
-      v[k] = (q[k]->y() - projection.origin.y()) / pixel;
-    }
-    const double area = (u[1] - u[0]) * (v[2] - v[0]) - (u[2] - u[0]) * (v[1] - v[0]);
-    if (std::fabs(area) < 1e-12) continue;
-    const int u0 = std::max(0, static_cast<int>(std::ceil(std::min({u[0], u[1], u[2]}))));
-    const int u1 = std::min(width - 1, static_cast<int>(std::floor(std::max({u[0], u[1], u[2]}))));
-    const int v0 = std::max(0, static_cast<int>(std::ceil(std::min({v[0], v[1], v[2]}))));
-    const int v1 = std::min(height - 1, static_cast<int>(std::floor(std::max({v[0], v[1], v[2]}))));
-    for (int y = v0; y <= v1; ++y)
-      for (int x = u0; x <= u1; ++x) {
-        const double w0 = ((u[1] - x) * (v[2] - y) - (u[2] - x) * (v[1] - y)) / area;
-        const double w1 = ((u[2] - x) * (v[0] - y) - (u[0] - x) * (v[2] - y)) / area;
-        const double w2 = 1.0 - w0 - w1;
-        if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) continue;
-        const double z = w0 * q[0]->z() + w1 * q[1]->z() + w2 * q[2]->z();
-        float& d = depth[static_cast<std::size_t>(y) * width + x];
-        if (!(d == d) || z < d) d = static_cast<float>(z);
-      }
-  }
+  // Rasterise the triangles along the line of sight, and just beyond the
+  // scan's boundary so that its boundary samples are not lost.
+  std::vector<Vec3d> pixels(local.size());
+  for (std::size_t i = 0; i < local.size(); ++i)
+    pixels[i] = Vec3d((local[i].x() - projection.origin.x()) / pixel, (local[i].y() - projection.origin.y()) / pixel,
+                      local[i].z());
+  std::vector<float> depth = rasteriseDepth(pixels, triangles, width, height, options.edgeExtension);
   const Mat4d mapToScan(xAxis.x(), xAxis.y(), xAxis.z(), 0.0, yAxis.x(), yAxis.y(), yAxis.z(), 0.0, zAxis.x(),
                         zAxis.y(), zAxis.z(), 0.0, 0.0, 0.0, 0.0, 1.0);
-  return RangeMap::orthographic(width, height, std::move(depth), projection, mapToScan * scanToWorld, options.sigma,
-                                name);
+  double sigma = options.sigma;
+  if (!(sigma > 0.0)) {
+    sigma = estimateRangeNoise(scan, options.towardScanner);
+    sigma = sigma > 0.0 ? std::max(sigma, 0.01 * raySpacing) : 0.25 * raySpacing;
+  }
+  RangeMap map = RangeMap::orthographic(width, height, std::move(depth), projection, mapToScan * scanToWorld, sigma,
+                                       name);
+  std::vector<Vec3d> samples(scan.points.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) samples[i] = scanToWorld.transform(scan.points[i]);
+  map.setSamples(std::move(samples), raySpacing);
+  return map;
 }
 
 std::vector<RangeMap> loadStanfordScans(const std::string& confPath, const StanfordScanOptions& options) {

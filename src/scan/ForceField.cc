@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -139,27 +140,35 @@ AccumulatedField ForceField::accumulate(double voxelSize) const {
   const double reach = windowReach();
   const int leafDim = static_cast<int>(LeafT::DIM);
 
-  // 1. Which leaf nodes each range map's windows reach: per 2x2 cell of
-  //    readings, the slab swept by the window along the lines of sight.
-  // Marked in a coarse mask whose voxels are leaves: duplicates cost nothing.
+  // 1. Which leaf nodes each range map's windows reach: per tile of pixels,
+  //    the lines of sight through it between its nearest reading less the
+  //    reach and its farthest plus the reach (a box for parallel rays, a
+  //    frustum for a camera; a depth difference is at most the distance along
+  //    the ray). Marked in a coarse mask whose voxels are leaves: duplicates
+  //    cost nothing.
+  constexpr int kTile = 4;  // pixels per side; tiles share their last row and column
   std::vector<std::vector<Coord>> touched(mMaps->size());
   parallelFor(mMaps->size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) {
       const RangeMap& m = (*mMaps)[j];
-      const Vec3d scanner = m.scannerPosition();
       openvdb::MaskTree coarse;
       openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(coarse);
-      for (int v = 0; v + 1 < m.height(); ++v)
-        for (int u = 0; u + 1 < m.width(); ++u) {
-          if (!m.valid(u, v) || !m.valid(u + 1, v) || !m.valid(u, v + 1) || !m.valid(u + 1, v + 1)) continue;
+      for (int v0 = 0; v0 + 1 < m.height(); v0 += kTile)
+        for (int u0 = 0; u0 + 1 < m.width(); u0 += kTile) {
+          const int u1 = std::min(u0 + kTile, m.width() - 1), v1 = std::min(v0 + kTile, m.height() - 1);
+          float nearest = std::numeric_limits<float>::max(), farthest = -nearest;
+          for (int v = v0; v <= v1; ++v)
+            for (int u = u0; u <= u1; ++u)
+              if (m.valid(u, v)) {
+                nearest = std::min(nearest, m.reading(u, v));
+                farthest = std::max(farthest, m.reading(u, v));
+              }
+          if (nearest > farthest) continue;
+          double front = nearest - reach;
+          if (m.kind() == RangeMap::Kind::kPinhole) front = std::max(front, 1e-6 * farthest);
           openvdb::BBoxd box;
-          for (int c = 0; c < 4; ++c) {
-            const Vec3d p = m.readingPoint(u + (c & 1), v + (c >> 1));
-            Vec3d dir = p - scanner;
-            dir.normalize();
-            box.expand(p - dir * reach);
-            box.expand(p + dir * reach);
-          }
+          for (int c = 0; c < 8; ++c)
+            box.expand(m.pointAt(c & 1 ? u1 : u0, c & 2 ? v1 : v0, c & 4 ? farthest + reach : front));
           const Coord lo = Coord::floor(box.min() / (voxelSize * leafDim));
           const Coord hi = Coord::floor(box.max() / (voxelSize * leafDim));
           for (int x = lo.x(); x <= hi.x(); ++x)

@@ -108,6 +108,7 @@ RangeMap RangeMap::orthographic(int width, int height, std::vector<float> readin
     throw std::invalid_argument("range map '" + m.mName + "': the pixel size must be positive and finite");
   m.mOrtho = p;
   m.mInversePixel = 1.0 / p.pixelSize;
+  m.mRayDensity = m.mInversePixel * m.mInversePixel;
   m.finish(std::move(readings), mapToWorld, sigma);
   return m;
 }
@@ -147,6 +148,18 @@ void RangeMap::setSigmas(std::vector<float> sigmas) {
       throw std::invalid_argument("range map '" + mName + "': sigmas must be positive and finite");
   mSigmas = std::move(sigmas);
   findUsableCells();
+}
+
+void RangeMap::setSamples(std::vector<openvdb::Vec3d> worldPoints, double raySpacing) {
+  if (mKind != Kind::kOrthographic)
+    throw std::invalid_argument("range map '" + mName + "': only an orthographic map is resampled from samples");
+  if (!(raySpacing > 0.0) || !std::isfinite(raySpacing))
+    throw std::invalid_argument("range map '" + mName + "': the samples' ray spacing must be positive");
+  for (const Vec3d& p : worldPoints)
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
+      throw std::invalid_argument("range map '" + mName + "': a sample point is not finite");
+  mSamples = std::move(worldPoints);
+  mRayDensity = 1.0 / (raySpacing * raySpacing);
 }
 
 void RangeMap::setMissesAreEmpty(bool empty, int dropoutReach) {
@@ -232,7 +245,7 @@ bool RangeMap::sample(const openvdb::Vec3d& x, RangeSample& out) const {
     out.D = p.z() - r;
     grad = Vec3d(-ru / mOrtho.pixelSize, -rv / mOrtho.pixelSize, 1.0);
     los = Vec3d(0.0, 0.0, 1.0);
-    out.gamma = 1.0 / (mOrtho.pixelSize * mOrtho.pixelSize);
+    out.gamma = mRayDensity;
   } else {
     // Readings are depths z; along the ray the reading lies at rho = z k, with
     // k = |(a, b, 1)|. D = |p| - rho(u(x), v(x)).
@@ -257,8 +270,9 @@ bool RangeMap::sample(const openvdb::Vec3d& x, RangeSample& out) const {
   return true;
 }
 
-openvdb::Vec3d RangeMap::readingPoint(int u, int v) const {
-  const double r = mReadings[index(u, v)];
+openvdb::Vec3d RangeMap::readingPoint(int u, int v) const { return pointAt(u, v, mReadings[index(u, v)]); }
+
+openvdb::Vec3d RangeMap::pointAt(double u, double v, double r) const {
   Vec3d p;
   if (mKind == Kind::kOrthographic)
     p = Vec3d(mOrtho.origin.x() + u * mOrtho.pixelSize, mOrtho.origin.y() + v * mOrtho.pixelSize, r);
@@ -280,7 +294,7 @@ openvdb::Vec3d RangeMap::scannerPosition() const {
 }
 
 double RangeMap::maxRaySpacing() const {
-  if (mKind == Kind::kOrthographic) return mOrtho.pixelSize;
+  if (mKind == Kind::kOrthographic) return 1.0 / std::sqrt(mRayDensity);
   double zmax = 0.0;
   for (float r : mReadings)
     if (r == r) zmax = std::max(zmax, static_cast<double>(r));

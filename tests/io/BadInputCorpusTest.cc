@@ -74,9 +74,9 @@ const BadInput kCorpus[] = {
   {"scan/no-range-grid.ply", Reader::kRangeGrid, "no 'range_grid' element: not a range scan"},
   {"scan/list-coordinates.ply", Reader::kRangeGrid, "the vertices have no scalar x, y and z"},
   {"scan/no-neighbouring-samples.ply", Reader::kRangeGrid, "the range grid has no neighbouring samples: nothing to triangulate"},
-  {"scan/huge-extent.ply", Reader::kRangeGrid, "the scan would need a range map of 1e+33 x 5 pixels of 0.001 m, more than the 4096 its 3 x 3 grid allows: choose a larger pixel size"},
-  {"scan/infinite-extent.ply", Reader::kRangeGrid, "the scan would need a range map of inf x 5 pixels"},
-  {"scan/sparse-map-from-nine-points.ply", Reader::kRangeGrid, "the scan would need a range map of 4365565 x 4 pixels"},
+  {"scan/huge-extent.ply", Reader::kRangeGrid, "the scan would need a range map of 2e+33 x 11 pixels of 0.0005 m, more than the 4096 its 3 x 3 grid allows: choose a larger pixel size"},
+  {"scan/infinite-extent.ply", Reader::kRangeGrid, "the scan would need a range map of inf x 11 pixels"},
+  {"scan/sparse-map-from-nine-points.ply", Reader::kRangeGrid, "the scan would need a range map of 8731131 x 8 pixels"},
   // Stanford .conf files (loadStanfordScans)
   {"conf/empty.conf", Reader::kStanfordConf, "no 'bmesh' lines: the file places no scans"},
   {"conf/only-a-camera.conf", Reader::kStanfordConf, "no 'bmesh' lines: the file places no scans"},

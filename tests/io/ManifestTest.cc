@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <random>
+#include <sstream>
 
 namespace levelfuse::io {
 namespace {
@@ -85,6 +87,29 @@ TEST(Manifest, RefusesAFileTooLargeToBeOne) {
   writeText(dir.path("m.json"), "{ \"scans\": [");
   std::filesystem::resize_file(dir.path("m.json"), std::uintmax_t(65) << 20);  // sparse: no disk used
   expectManifestError(dir.path("m.json"), "a manifest of 65 MiB: manifests list scans and take a few KiB");
+}
+
+TEST(Manifest, EstimatesTheNoiseOfStanfordScansWithoutASigma) {
+  // A 30 x 30 range grid of a plane with noise of 0.05 mm along z, 1 mm apart.
+  TempDir dir;
+  std::mt19937 random(11);
+  std::normal_distribution<double> noise(0.0, 0.00005);
+  std::ostringstream points, grid;
+  const int rows = 30, cols = 30;
+  for (int g = 0; g < rows * cols; ++g) {
+    points << 0.001 * (g % cols) << ' ' << 0.001 * (g / cols) << ' ' << 0.01 + noise(random) << '\n';
+    grid << "1 " << g << '\n';
+  }
+  writeText(dir.path("noisy.ply"), "ply\nformat ascii 1.0\nobj_info num_cols 30\nobj_info num_rows 30\nelement vertex 900\n"
+                                    "property float x\nproperty float y\nproperty float z\nelement range_grid 900\n"
+                                    "property list uchar int vertex_indices\nend_header\n" + points.str() + grid.str());
+  const std::string placed = R"("format": "stanford-ply", "file": "noisy.ply", "translation": [0, 0, 0], "quaternion": [0, 0, 0, 1])";
+  writeText(dir.path("estimated.json"), "{ \"scans\": [ { " + placed + " } ] }");
+  writeText(dir.path("told.json"), "{ \"scans\": [ { " + placed + ", \"sigma\": 0.0003 } ] }");
+  EXPECT_NEAR(loadManifest(dir.path("estimated.json"))[0].sigma(), 0.00005, 0.00001);
+  EXPECT_DOUBLE_EQ(loadManifest(dir.path("told.json"))[0].sigma(), 0.0003);
+  writeText(dir.path("zero.json"), "{ \"scans\": [ { " + placed + ", \"sigma\": 0 } ] }");
+  expectManifestError(dir.path("zero.json"), "scans[0]: 'sigma' must be positive");
 }
 
 TEST(Manifest, ListsTheBunny) {

@@ -57,6 +57,30 @@ TEST(RangeMap, OrthographicGeometry) {
   EXPECT_FALSE(map.sample(m2w.transform(Vec3d(5.0, 0.0, 2.0)), s));
 }
 
+TEST(RangeMap, ResampledFromSamplesKeepsTheScannersRayDensity) {
+  const Mat4d m2w = pose(0.3, Vec3d(1.0, -2.0, 0.5));
+  RangeMap map = tiltedPlane(m2w);  // pixels 0.1 apart
+  const Vec3d local(0.05, 0.12, 2.0 + 0.5 * 0.05 + 0.2);
+  RangeSample before, after;
+  ASSERT_TRUE(map.sample(m2w.transform(local), before));
+  EXPECT_EQ(map.sampleCount(), map.validCount());  // without samples, the readings are the samples
+  // The map resamples samples taken 0.2 apart: four pixels per ray.
+  map.setSamples({m2w.transform(Vec3d(0.0, 0.0, 2.0)), m2w.transform(Vec3d(0.2, 0.0, 2.1))}, 0.2);
+  EXPECT_EQ(map.sampleCount(), 2u);
+  EXPECT_NEAR(map.maxRaySpacing(), 0.2, 1e-12);
+  ASSERT_TRUE(map.sample(m2w.transform(local), after));
+  EXPECT_NEAR(after.gamma, 25.0, 1e-9);  // one ray per 0.2 x 0.2, whatever the pixels
+  EXPECT_EQ(after.D, before.D);
+  RangeMap::LocalSample fast;
+  ASSERT_TRUE(map.sampleLocal(local, 1.0, fast));
+  EXPECT_NEAR(fast.gamma, 25.0, 1e-9);
+  EXPECT_THROW(map.setSamples({Vec3d(0.0, NAN, 0.0)}, 0.2), std::invalid_argument);
+  EXPECT_THROW(map.setSamples({Vec3d(0.0)}, 0.0), std::invalid_argument);
+  RangeMap camera = RangeMap::pinhole(4, 4, std::vector<float>(16, 1.0f), PinholeProjection{2, 2, 1.5, 1.5},
+                                      Mat4d::identity(), 0.01, "camera");
+  EXPECT_THROW(camera.setSamples({Vec3d(0.0, 0.0, 1.0)}, 0.1), std::invalid_argument);
+}
+
 TEST(RangeMap, NeverInterpolatesAcrossMissingReadingsOrSteps) {
   RangeSample s;
   const RangeMap holed = tiltedPlane(Mat4d::identity(), kNone);

@@ -10,7 +10,9 @@
 // to a grid cell, so a scan becomes an orthographic range map by connecting
 // neighbouring grid samples into triangles (skipping missing samples and
 // edges much longer than the spacing: depth discontinuities) and rasterising
-// them along the line of sight into a regular depth image.
+// them along the line of sight into a regular depth image of half the sample
+// spacing, extended a pixel and a half beyond the scan's boundary so that no
+// sample the triangles reach is lost.
 #pragma once
 
 #include <levelfuse/scan/RangeMap.h>
@@ -58,14 +60,29 @@ struct StanfordScanOptions {
   /// bunny's scanner is on the +z side; the dragon's is tilted about 27 degrees
   /// toward +x: (0.46, 0.04, 0.89)).
   openvdb::Vec3d towardScanner{0.0, 0.0, 1.0};
-  double sigma = 0.0002;        ///< standard deviation of a reading (metres)
-  /// Pixel size of the rasterised range map; 0 takes the finer of the grid's
-  /// two median sample spacings as seen along the line of sight.
+  /// Standard deviation of a reading (metres); 0 estimates it from each scan
+  /// (estimateRangeNoise), never below a hundredth of its sample spacing, and
+  /// takes a quarter of the spacing for a scan too small to tell.
+  double sigma = 0.0;
+  /// Pixel size of the rasterised range map; 0 takes half the finer of the
+  /// grid's two median sample spacings as seen along the line of sight.
   double pixelSize = 0.0;
+  /// Pixels up to this far (in pixels) outside the triangles take the plane of
+  /// the nearest one, so that the samples on the scan's boundary are readings
+  /// of the map too (see scan/DepthRaster.h); 0 to 8.
+  double edgeExtension = 1.5;
   /// Triangles with an edge longer than this many median spacings span a
   /// depth discontinuity and are skipped.
   double maxEdgeFactor = 4.0;
 };
+
+/// The noise of a scan's readings along the line of sight (metres), from the
+/// scan alone: each sample with all eight grid neighbours is held against the
+/// least-squares plane through them, and sigma is the median of the absolute
+/// residuals (each divided by its own standard deviation in sigmas) over
+/// 0.6745, which depth steps and stray samples do not move. 0 if fewer than 16
+/// samples have full neighbourhoods. `towardScanner` is in the scan frame.
+double estimateRangeNoise(const RangeGridScan& scan, const openvdb::Vec3d& towardScanner);
 
 /// Median distance between neighbouring grid samples (metres); 0 if none.
 double rangeGridSpacing(const RangeGridScan& scan);

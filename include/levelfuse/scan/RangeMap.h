@@ -64,6 +64,18 @@ class RangeMap {
   bool hasRayDirections() const { return !mDirections.empty(); }
   /// Per-pixel standard deviations (world units), replacing the map's sigma.
   void setSigmas(std::vector<float> sigmas);
+  /// The points the scanner measured (world units), `raySpacing` apart, where
+  /// an orthographic map was resampled from them on finer pixels (a range grid
+  /// rasterised along the line of sight). The fit of a surface to the data is
+  /// measured at these, not at the interpolated readings of the pixels, and
+  /// the ray density gamma (Eq. 13) is the scanner's, 1 / raySpacing^2, not
+  /// the pixels'. Throws for a pinhole map, a point that is not finite, or a
+  /// spacing that is not positive.
+  void setSamples(std::vector<openvdb::Vec3d> worldPoints, double raySpacing);
+  /// The measured points if set (setSamples), else none: the readings are the samples.
+  const std::vector<openvdb::Vec3d>& samples() const { return mSamples; }
+  /// Points the scanner measured: the samples if set, else the valid readings.
+  std::size_t sampleCount() const { return mSamples.empty() ? mValidCount : mSamples.size(); }
   /// A 2x2 cell whose readings differ by more than `factor` times the distance
   /// between its rays, plus six sigma of noise (four standard deviations of
   /// the difference of two readings), is a depth discontinuity: never
@@ -130,10 +142,15 @@ class RangeMap {
   std::size_t validCount() const { return mValidCount; }
   /// World position of the surface point a reading measured.
   openvdb::Vec3d readingPoint(int u, int v) const;
+  /// World position of the point at pixel coordinates (u, v) (not necessarily
+  /// a pixel centre) with the given reading: depth z along the parallel rays or
+  /// the optical axis.
+  openvdb::Vec3d pointAt(double u, double v, double reading) const;
   /// World position of the scanner for a pinhole camera; for parallel rays a
   /// point far behind the readings along the line of sight.
   openvdb::Vec3d scannerPosition() const;
-  /// Largest distance between neighbouring rays at the readings (world units).
+  /// Largest distance between neighbouring rays at the readings (world units):
+  /// the scanner's, for a map resampled from its samples.
   double maxRaySpacing() const;
 
  private:
@@ -162,6 +179,7 @@ class RangeMap {
   std::vector<std::uint8_t> mUsableCell;
   std::vector<openvdb::Vec3f> mDirections;
   std::vector<float> mSigmas;
+  std::vector<openvdb::Vec3d> mSamples;  ///< world; empty where the readings are the samples
   std::vector<bool> mMisses;  ///< per pixel: no reading within the dropout reach (if misses are empty)
   int mDropoutReach = 2;
   std::size_t mValidCount = 0;
@@ -171,6 +189,7 @@ class RangeMap {
   double mLargestStep = 0.0;  ///< the most a usable cell's readings differ (parallel rays)
   OrthographicProjection mOrtho;
   double mInversePixel = 1.0;  ///< 1 / pixel size (orthographic)
+  double mRayDensity = 1.0;    ///< gamma of an orthographic map: rays per unit area (1 / pixel size^2 by default)
   PinholeProjection mPinhole;
   openvdb::math::Mat4d mMapToWorld = openvdb::math::Mat4d::identity();
   openvdb::math::Mat4d mWorldToMap = openvdb::math::Mat4d::identity();
@@ -220,7 +239,7 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
     out.D = p.z() - r;  // Eq. 13, rays along +z
     if (!(std::fabs(out.D) <= reach)) return false;
     out.gradDSquared = (ru * ru + rv * rv) * (mInversePixel * mInversePixel) + 1.0;
-    out.gamma = mInversePixel * mInversePixel;
+    out.gamma = mRayDensity;
   } else {
     const double a = (u - mPinhole.cx) / mPinhole.fx, b = (v - mPinhole.cy) / mPinhole.fy;
     const double k = std::sqrt(1.0 + a * a + b * b);
