@@ -17,10 +17,16 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<Ran
   if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
     throw std::invalid_argument("measureDataFit: the grid '" + levelSet.getName() + "' is not a level set");
   std::vector<openvdb::Vec3d> points;
-  for (const RangeMap& m : maps)
+  const std::size_t sampleStride = static_cast<std::size_t>(stride) * static_cast<std::size_t>(stride);
+  for (const RangeMap& m : maps) {
+    if (!m.samples().empty()) {  // the points measured, where the map was resampled from them
+      for (std::size_t i = 0; i < m.samples().size(); i += sampleStride) points.push_back(m.samples()[i]);
+      continue;
+    }
     for (int v = 0; v < m.height(); v += stride)
       for (int u = 0; u < m.width(); u += stride)
         if (m.valid(u, v)) points.push_back(m.readingPoint(u, v));
+  }
   return measureDataFit(levelSet, points);
 }
 

@@ -67,6 +67,32 @@ TEST_F(DataFitTest, SummarisesAMixture) {
   EXPECT_NEAR(fit.withinVoxel, 0.8, 1e-12);
 }
 
+TEST_F(DataFitTest, MeasuresTheSamplesOfAResampledMap) {
+  // A map whose readings lie on the sphere's top but whose samples (the points
+  // it was resampled from) lie 0.03 outside: the fit is the samples'.
+  const int n = 11;
+  std::vector<float> readings;
+  for (int v = 0; v < n; ++v)
+    for (int u = 0; u < n; ++u) {
+      const double x = 0.01 * (u - 5), y = 0.01 * (v - 5);
+      readings.push_back(static_cast<float>(-std::sqrt(radius * radius - x * x - y * y)));  // from above, rays along -z
+    }
+  openvdb::math::Mat4d mapToWorld = openvdb::math::Mat4d::identity();
+  mapToWorld.setToRotation(openvdb::math::X_AXIS, M_PI);  // the map's +z (away from the scanner) is the world's -z
+  mapToWorld.setTranslation(centre);
+  RangeMap map = RangeMap::orthographic(n, n, readings, OrthographicProjection{0.01, openvdb::math::Vec2d(-0.05)},
+                                        mapToWorld, 0.001, "cap");
+  std::vector<RangeMap> maps{map};
+  EXPECT_EQ(measureDataFit(*sphere, maps).readings, std::size_t(n * n));
+  EXPECT_LT(measureDataFit(*sphere, maps).mean, 0.01 * voxel);
+  const std::vector<Vec3d> samples = pointsAround(centre, radius, 0.03, 40, 13);
+  maps[0].setSamples(samples, 0.02);
+  const DataFit fit = measureDataFit(*sphere, maps);
+  EXPECT_EQ(fit.readings, 40u);
+  EXPECT_NEAR(fit.mean, 0.03, 0.01 * voxel);
+  EXPECT_EQ(measureDataFit(*sphere, maps, 2).readings, 10u);  // every 4th sample
+}
+
 TEST_F(DataFitTest, RefusesWhatIsNotALevelSet) {
   openvdb::FloatGrid fog;
   fog.setGridClass(openvdb::GRID_FOG_VOLUME);

@@ -59,7 +59,7 @@ nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
   const std::vector<RangeMap> maps = io::loadScans(path, load);
   nlohmann::json list = nlohmann::json::array();
   openvdb::BBoxd all;
-  std::size_t readings = 0;
+  std::size_t readings = 0, points = 0;
   for (const RangeMap& m : maps) {
     openvdb::BBoxd box;
     for (int v = 0; v < m.height(); ++v)
@@ -67,6 +67,7 @@ nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
         if (m.valid(u, v)) box.expand(m.readingPoint(u, v));
     all.expand(box);
     readings += m.validCount();
+    points += m.sampleCount();
     const openvdb::Vec3d scanner = m.kind() == RangeMap::Kind::kPinhole
                                        ? m.scannerPosition()
                                        : -m.mapToWorld().transform3x3(openvdb::Vec3d(0, 0, 1));
@@ -74,6 +75,7 @@ nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
                     {"projection", m.kind() == RangeMap::Kind::kOrthographic ? "orthographic" : "pinhole"},
                     {"width", m.width()},
                     {"height", m.height()},
+                    {"points", m.sampleCount()},
                     {"readings", m.validCount()},
                     {"ray_spacing", m.maxRaySpacing()},
                     {"sigma", m.sigma()},
@@ -83,6 +85,7 @@ nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
   nlohmann::json j{{"path", path},
                    {"kind", "scans"},
                    {"scans", list},
+                   {"points", points},
                    {"readings", readings},
                    {"bounds", {{all.min().x(), all.min().y(), all.min().z()}, {all.max().x(), all.max().y(), all.max().z()}}}};
   if (std::filesystem::path(path).extension() == ".json")
@@ -116,12 +119,13 @@ void print(const nlohmann::json& j) {
     }
     return;
   }
-  std::cout << path << ": " << j["scans"].size() << " scans, " << withCommas(j["readings"].get<std::size_t>())
-            << " readings, bounds " << point(j["bounds"][0]) << " to " << point(j["bounds"][1]) << "\n";
+  std::cout << path << ": " << j["scans"].size() << " scans, " << withCommas(j["points"].get<std::size_t>())
+            << " points, " << withCommas(j["readings"].get<std::size_t>()) << " readings, bounds " << point(j["bounds"][0]) << " to " << point(j["bounds"][1]) << "\n";
   if (j.contains("truth")) std::cout << "  synthetic: the truth is a " << j["truth"].get<std::string>() << "\n";
   for (const auto& m : j["scans"])
     std::cout << "  " << m["name"].get<std::string>() << ": " << m["projection"].get<std::string>() << " "
               << m["width"].get<int>() << " x " << m["height"].get<int>() << ", "
+              << withCommas(m["points"].get<std::size_t>()) << " points, "
               << withCommas(m["readings"].get<std::size_t>()) << " readings, ray spacing "
               << fixed(m["ray_spacing"].get<double>()) << ", sigma " << fixed(m["sigma"].get<double>()) << "\n";
 }

@@ -83,8 +83,11 @@ int runReconstruct(ReconstructSettings s) {
     for (RangeMap& m : io::loadScans(input, load)) maps.push_back(std::move(m));
     if (std::filesystem::path(input).extension() == ".json" && !truth) truth = io::loadManifestTruth(input);
   }
-  std::size_t readings = 0;
-  for (const RangeMap& m : maps) readings += m.validCount();
+  std::size_t readings = 0, points = 0;
+  for (const RangeMap& m : maps) {
+    readings += m.validCount();
+    points += m.sampleCount();
+  }
 
   // The surface.
   const Reconstructor reconstructor(maps, s.options);
@@ -143,6 +146,7 @@ int runReconstruct(ReconstructSettings s) {
                         {"engine_bytes", l.engineBytes}});
     nlohmann::json j{{"inputs", s.inputs},
                      {"scans", maps.size()},
+                     {"points", points},
                      {"readings", readings},
                      {"method", s.linear ? "linear" : "evolution"},
                      {"voxel_size", o.voxelSize},
@@ -154,7 +158,7 @@ int runReconstruct(ReconstructSettings s) {
                      {"peak_engine_bytes", result.peakEngineBytes},
                      {"peak_memory_bytes", peakResidentBytes()},
                      {"fit",
-                      {{"readings", fit.readings},
+                      {{"points", fit.readings},
                        {"mean", fit.mean},
                        {"rms", fit.rms},
                        {"median", fit.median},
@@ -170,8 +174,9 @@ int runReconstruct(ReconstructSettings s) {
     return kExitSuccess;
   }
   if (s.quiet) return kExitSuccess;
-  std::cout << "levelfuse reconstruct: " << maps.size() << " scans, " << withCommas(readings) << " readings ("
-            << joined(s.inputs) << ")\n"
+  std::cout << "levelfuse reconstruct: " << maps.size() << " scans, " << withCommas(points) << " points"
+            << (points != readings ? " (" + withCommas(readings) + " readings of their range maps)" : std::string())
+            << " (" << joined(s.inputs) << ")\n"
             << "  voxel " << fixed(o.voxelSize) << ", " << o.levels << (o.levels == 1 ? " grid" : " grids")
             << ", beta " << fixed(o.beta) << ", window " << fixed(o.epsilon) << "\n";
   if (s.linear) std::cout << "  the linear solution (zero set of g), no evolution\n";
@@ -181,7 +186,7 @@ int runReconstruct(ReconstructSettings s) {
               << withCommas(l.activeVoxels) << " active voxels, " << fixed(l.seconds, 3) << " s\n";
   std::cout << "  surface: " << withCommas(active) << " narrow-band voxels; memory: engine "
             << mebibytes(result.peakEngineBytes) << ", process peak " << mebibytes(peakResidentBytes()) << "\n"
-            << "  fit to the readings: mean " << fixed(fit.mean) << ", median " << fixed(fit.median) << ", 90% "
+            << "  fit to the points: mean " << fixed(fit.mean) << ", median " << fixed(fit.median) << ", 90% "
             << fixed(fit.p90) << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, "
             << fixed(100.0 * fit.beyondBand, 3) << "% beyond the band\n";
   if (truth)

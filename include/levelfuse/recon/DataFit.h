@@ -10,7 +10,7 @@
 
 namespace levelfuse {
 
-/// Distances from the scans' readings to the zero set of a level set (world
+/// Distances from the scans' points to the zero set of a level set (world
 /// units): each reading is projected onto the zero set of the trilinear
 /// interpolant along its gradient (the band's values are distances only near
 /// the zero set) and the distance it went is measured. Readings beyond the
@@ -18,14 +18,16 @@ namespace levelfuse {
 /// counted in `beyondBand`: a hole in the surface where the scans saw it shows
 /// there.
 struct DataFit {
-  std::size_t readings = 0;   ///< readings (points) measured
+  std::size_t readings = 0;   ///< points measured
   double mean = 0.0, rms = 0.0, median = 0.0, p90 = 0.0, p99 = 0.0;
   double withinVoxel = 0.0;   ///< fraction of readings within one voxel of the surface
   double beyondBand = 0.0;    ///< fraction of readings beyond the narrow band
 };
 
-/// Measures the fit of `levelSet` to the readings of `maps`, using every
-/// `stride`-th reading in each direction of each map.
+/// Measures the fit of `levelSet` to the points the scans measured: each map's
+/// samples where it was resampled from them (RangeMap::samples), else its
+/// readings; every `stride`-th reading in each direction of each map (every
+/// stride^2-th sample).
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride = 1);
 /// The same for any points (world units), e.g. a scan's original samples.
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points);
