@@ -1,6 +1,7 @@
 // levelfuse: the fit of a surface to its scans.
 
 #include <levelfuse/core/Parallel.h>
+#include <levelfuse/geometry/NearestTriangle.h>
 #include <levelfuse/recon/DataFit.h>
 
 #include <openvdb/tools/Interpolation.h>
@@ -9,8 +10,40 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace levelfuse {
+
+namespace {
+
+/// The summary of distances; `beyond` (per distance, or none) and `voxel`
+/// (0: none) fill the grid's measures.
+DataFit summarise(std::vector<double> distance, const std::vector<char>* beyond, double voxel) {
+  DataFit fit;
+  fit.readings = distance.size();
+  if (distance.empty()) return fit;
+  double sum = 0.0, sumSq = 0.0;
+  std::size_t near = 0, far = 0;
+  for (std::size_t i = 0; i < distance.size(); ++i) {
+    sum += distance[i];
+    sumSq += distance[i] * distance[i];
+    near += voxel > 0.0 && distance[i] <= voxel;
+    far += beyond && (*beyond)[i] != 0;
+  }
+  const double n = static_cast<double>(distance.size());
+  fit.mean = sum / n;
+  fit.rms = std::sqrt(sumSq / n);
+  fit.withinVoxel = static_cast<double>(near) / n;
+  fit.beyondBand = static_cast<double>(far) / n;
+  std::sort(distance.begin(), distance.end());
+  const auto quantile = [&](double q) { return distance[std::min(distance.size() - 1, static_cast<std::size_t>(q * n))]; };
+  fit.median = quantile(0.5);
+  fit.p90 = quantile(0.9);
+  fit.p99 = quantile(0.99);
+  return fit;
+}
+
+}  // namespace
 
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride) {
   if (stride < 1) throw std::invalid_argument("measureDataFit: the stride must be at least 1");
@@ -33,9 +66,7 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<Ran
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points) {
   if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
     throw std::invalid_argument("measureDataFit: the grid '" + levelSet.getName() + "' is not a level set");
-  DataFit fit;
-  fit.readings = points.size();
-  if (points.empty()) return fit;
+  if (points.empty()) return DataFit();
 
   const double background = levelSet.background();
   std::vector<double> distance(points.size());
@@ -84,25 +115,18 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<ope
       for (std::size_t k = 0; k < farIndices.size(); ++k)
         distance[farIndices[k]] = std::max<double>(distance[farIndices[k]], farDistances[k]);
   }
-  double sum = 0.0, sumSq = 0.0;
-  std::size_t near = 0, far = 0;
-  for (std::size_t i = 0; i < distance.size(); ++i) {
-    sum += distance[i];
-    sumSq += distance[i] * distance[i];
-    near += distance[i] <= voxel;
-    far += beyond[i] != 0;
-  }
-  const double n = static_cast<double>(distance.size());
-  fit.mean = sum / n;
-  fit.rms = std::sqrt(sumSq / n);
-  fit.withinVoxel = static_cast<double>(near) / n;
-  fit.beyondBand = static_cast<double>(far) / n;
-  std::sort(distance.begin(), distance.end());
-  const auto quantile = [&](double q) { return distance[std::min(distance.size() - 1, static_cast<std::size_t>(q * n))]; };
-  fit.median = quantile(0.5);
-  fit.p90 = quantile(0.9);
-  fit.p99 = quantile(0.99);
-  return fit;
+  return summarise(std::move(distance), &beyond, voxel);
+}
+
+DataFit measureDataFit(const TriangleMesh& mesh, const std::vector<openvdb::Vec3d>& points) {
+  if (mesh.triangleCount() == 0) throw std::invalid_argument("measureDataFit: the mesh has no triangles");
+  if (points.empty()) return DataFit();
+  const NearestTriangle nearest(mesh.xyz, mesh.triangles);
+  std::vector<double> distance(points.size());
+  parallelFor(points.size(), 4096, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) distance[i] = nearest.distance(points[i]);
+  });
+  return summarise(std::move(distance), nullptr, 0.0);
 }
 
 }  // namespace levelfuse

@@ -93,6 +93,24 @@ TEST_F(DataFitTest, MeasuresTheSamplesOfAResampledMap) {
   EXPECT_EQ(measureDataFit(*sphere, maps, 2).readings, 10u);  // every 4th sample
 }
 
+TEST_F(DataFitTest, MeasuresAMeshWithTheSameRuler) {
+  // The sphere's zero set as triangles: points at known distances from it
+  // measure the same as from the level set, inside the band and far beyond.
+  const TriangleMesh mesh = meshFromLevelSet(*sphere);
+  for (const double offset : {0.0, 0.013, -0.027, 0.3}) {
+    const std::vector<Vec3d> points = pointsAround(centre, radius, offset, 500, 19);
+    const DataFit fromMesh = measureDataFit(mesh, points);
+    EXPECT_EQ(fromMesh.readings, 500u);
+    EXPECT_NEAR(fromMesh.mean, std::fabs(offset), 0.01 * voxel) << offset;
+    EXPECT_NEAR(fromMesh.median, std::fabs(offset), 0.01 * voxel) << offset;
+    EXPECT_NEAR(fromMesh.mean, measureDataFit(*sphere, points).mean, 0.01 * voxel) << offset;
+    EXPECT_EQ(fromMesh.withinVoxel, 0.0);  // a mesh has no voxel and no band
+    EXPECT_EQ(fromMesh.beyondBand, 0.0);
+  }
+  EXPECT_EQ(measureDataFit(mesh, std::vector<Vec3d>{}).readings, 0u);
+  EXPECT_THROW(measureDataFit(TriangleMesh{}, pointsAround(centre, radius, 0.0, 5, 1)), std::invalid_argument);
+}
+
 TEST_F(DataFitTest, RefusesWhatIsNotALevelSet) {
   openvdb::FloatGrid fog;
   fog.setGridClass(openvdb::GRID_FOG_VOLUME);

@@ -1,6 +1,7 @@
 // levelfuse: how well a surface fits the scans it was made from.
 #pragma once
 
+#include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <openvdb/openvdb.h>
@@ -31,5 +32,11 @@ struct DataFit {
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride = 1);
 /// The same for any points (world units), e.g. a scan's original samples.
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points);
+/// Exact distances from `points` to the triangles of a mesh (world units),
+/// whichever tool made it: the same summary, so that a levelfuse surface and
+/// another method's mesh are held to one ruler. A mesh has no voxel and no
+/// band: `withinVoxel` and `beyondBand` stay 0. Throws std::invalid_argument
+/// for a mesh without triangles.
+DataFit measureDataFit(const TriangleMesh& mesh, const std::vector<openvdb::Vec3d>& points);
 
 }  // namespace levelfuse
