@@ -7,16 +7,31 @@
 //                    process for its own peak: --benchmark_filter)
 //   engine_mb        the largest sparse field along the way
 //   active           voxels of the final active set
-//   fit_mean_mm      mean distance from the scans' 362,272 points to the surface
-//   fit_median_mm    and its median
+//   fit_mean_mm      mean distance from the scans' 362,272 points to the zero
+//   fit_median_mm    set of the level set, its median and 90th percentile
+//   fit_p90_mm
 //   beyond_band      fraction of the points farther than the narrow band (holes)
-// Run with --benchmark_format=json; see docs/BENCHMARKS.md.
+//   mesh_fit_*_mm    the same distances, exact, to the triangles of its mesh
+//                    (the ruler the peers are measured with)
+//
+// The peer BM_PoissonReconBunny/<depth>/<threads> (when Open3D is found)
+// times PoissonRecon from the same scans' points, normals estimated per scan
+// and turned toward its scanner, and reports the fit of its mesh, and of its
+// surface stored as a 0.25 mm level set (levelset_fit_mean_mm), with the same
+// rulers. Run with --benchmark_format=json; see docs/BENCHMARKS.md.
 
 #include "BenchmarkSupport.h"
 
 #include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/Reconstructor.h>
+
+#if defined(LEVELFUSE_HAVE_OPEN3D)
+#include "peers/PoissonRecon.h"
+
+#include <openvdb/tools/MeshToVolume.h>
+#endif
 
 #include <tbb/global_control.h>
 
@@ -40,6 +55,13 @@ std::vector<openvdb::Vec3d> bunnyPoints() {
   return points;
 }
 
+void reportMeshFit(benchmark::State& state, const DataFit& fit) {
+  state.counters["mesh_fit_mean_mm"] = 1000.0 * fit.mean;
+  state.counters["mesh_fit_median_mm"] = 1000.0 * fit.median;
+  state.counters["mesh_fit_p90_mm"] = 1000.0 * fit.p90;
+  state.counters["mesh_fit_p99_mm"] = 1000.0 * fit.p99;
+}
+
 void reconstruct(benchmark::State& state, double voxelSize, int threads) {
   if (!std::filesystem::exists(kBunny)) {
     state.SkipWithError("../shared/data/stanford/bunny is absent");
@@ -53,14 +75,57 @@ void reconstruct(benchmark::State& state, double voxelSize, int threads) {
     options.voxelSize = voxelSize;
     result = Reconstructor(io::loadStanfordScans(kBunny), options).run();
   }
-  const DataFit fit = measureDataFit(*result.levelSet, bunnyPoints());
   state.counters["peak_rss_mb"] = peakResidentMegabytes();
+  const std::vector<openvdb::Vec3d> points = bunnyPoints();
+  const DataFit fit = measureDataFit(*result.levelSet, points);
   state.counters["engine_mb"] = static_cast<double>(result.peakEngineBytes) / 1048576.0;
   state.counters["active"] = static_cast<double>(result.levels.back().activeVoxels);
   state.counters["fit_mean_mm"] = 1000.0 * fit.mean;
   state.counters["fit_median_mm"] = 1000.0 * fit.median;
+  state.counters["fit_p90_mm"] = 1000.0 * fit.p90;
   state.counters["beyond_band"] = fit.beyondBand;
+  const TriangleMesh mesh = meshFromLevelSet(*result.levelSet);
+  reportMeshFit(state, measureDataFit(mesh, points));
+  state.counters["triangles"] = static_cast<double>(mesh.triangleCount());
 }
+
+#if defined(LEVELFUSE_HAVE_OPEN3D)
+void poissonRecon(benchmark::State& state, int depth, int threads) {
+  if (!std::filesystem::exists(kBunny)) {
+    state.SkipWithError("../shared/data/stanford/bunny is absent");
+    return;
+  }
+  peers::PoissonMesh result;
+  for (auto _ : state) {
+    std::vector<peers::PoissonScan> scans;
+    for (const io::StanfordPlacement& p : io::readStanfordConf(kBunny)) {
+      peers::PoissonScan scan;
+      for (const openvdb::Vec3d& q : io::readRangeGridPly(p.path).points) scan.points.push_back({q.x(), q.y(), q.z()});
+      const openvdb::math::Mat4d toWorld = p.scanToWorld();
+      for (int i = 0; i < 16; ++i) scan.scanToWorld[i] = toWorld(i / 4, i % 4);
+      scans.push_back(std::move(scan));
+    }
+    result = peers::poissonReconstruct(scans, depth, threads);
+  }
+  state.counters["peak_rss_mb"] = peakResidentMegabytes();
+  TriangleMesh mesh;
+  mesh.xyz = std::move(result.xyz);
+  mesh.triangles = std::move(result.triangles);
+  const std::vector<openvdb::Vec3d> points = bunnyPoints();
+  reportMeshFit(state, measureDataFit(mesh, points));
+  state.counters["triangles"] = static_cast<double>(mesh.triangleCount());
+  // The same surface as a 0.25 mm OpenVDB level set, measured as levelfuse's are.
+  const auto transform = openvdb::math::Transform::createLinearTransform(0.00025);
+  std::vector<openvdb::Vec3s> vertices(mesh.vertexCount());
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    vertices[i] = openvdb::Vec3s(mesh.xyz[3 * i], mesh.xyz[3 * i + 1], mesh.xyz[3 * i + 2]);
+  std::vector<openvdb::Vec3I> triangles(mesh.triangleCount());
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    triangles[i] = openvdb::Vec3I(mesh.triangles[3 * i], mesh.triangles[3 * i + 1], mesh.triangles[3 * i + 2]);
+  const auto levelSet = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, vertices, triangles, 3.0f);
+  state.counters["levelset_fit_mean_mm"] = 1000.0 * measureDataFit(*levelSet, points).mean;
+}
+#endif
 
 void registerAll() {
   for (int micrometres : {500, 250})
@@ -69,6 +134,11 @@ void registerAll() {
           ("BM_ReconstructBunny/" + std::to_string(micrometres) + "/" + std::to_string(threads)).c_str(), reconstruct,
           micrometres * 1e-6, threads)
           ->Iterations(1)->Repetitions(3)->UseRealTime()->Unit(benchmark::kSecond);
+#if defined(LEVELFUSE_HAVE_OPEN3D)
+  for (int threads : {2, 1})
+    benchmark::RegisterBenchmark(("BM_PoissonReconBunny/9/" + std::to_string(threads)).c_str(), poissonRecon, 9, threads)
+        ->Iterations(1)->Repetitions(3)->UseRealTime()->Unit(benchmark::kSecond);
+#endif
 }
 
 }  // namespace

@@ -20,7 +20,7 @@ case "$mode" in demo|test|bench) ;; *) echo "usage: $0 demo|test|bench" >&2; exi
 packages=(cmake g++ make ccache pkg-config
           libopenvdb-dev libopenvdb-tools libtbb-dev libblosc-dev libboost-iostreams-dev
           libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libpng-dev libopenexr-dev)
-[ "$mode" = bench ] && packages+=(libinsighttoolkit5-dev)
+[ "$mode" = bench ] && packages+=(libinsighttoolkit5-dev libopen3d-dev)
 
 "$root/tools/install-packages.sh" "${packages[@]}"
 

@@ -1,0 +1,44 @@
+// PoissonRecon (screened Poisson, as Open3D 0.16 ships it) as a benchmark peer.
+
+#include "peers/PoissonRecon.h"
+
+#include <open3d/geometry/KDTreeSearchParam.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/geometry/TriangleMesh.h>
+
+namespace levelfuse::peers {
+
+PoissonMesh poissonReconstruct(const std::vector<PoissonScan>& scans, int depth, int threads) {
+  open3d::geometry::PointCloud all;
+  for (const PoissonScan& scan : scans) {
+    open3d::geometry::PointCloud cloud;
+    for (const auto& p : scan.points) cloud.points_.emplace_back(p[0], p[1], p[2]);
+    cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamKNN(12));
+    cloud.OrientNormalsToAlignWithDirection(
+        Eigen::Vector3d(scan.towardScanner[0], scan.towardScanner[1], scan.towardScanner[2]));
+    // Row vectors: p_world = p * M, so the rotation acts as its transpose on columns.
+    Eigen::Matrix3d rotation;
+    Eigen::Vector3d translation;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) rotation(c, r) = scan.scanToWorld[4 * r + c];
+      translation[r] = scan.scanToWorld[12 + r];
+    }
+    for (std::size_t i = 0; i < cloud.points_.size(); ++i) {
+      all.points_.push_back(rotation * cloud.points_[i] + translation);
+      all.normals_.push_back(rotation * cloud.normals_[i]);
+    }
+  }
+  const auto reconstructed = open3d::geometry::TriangleMesh::CreateFromPointCloudPoisson(
+      all, static_cast<std::size_t>(depth), 0.0f, 1.1f, false, threads);
+  const open3d::geometry::TriangleMesh& mesh = *std::get<0>(reconstructed);
+  PoissonMesh out;
+  out.xyz.reserve(3 * mesh.vertices_.size());
+  for (const Eigen::Vector3d& v : mesh.vertices_)
+    for (int k = 0; k < 3; ++k) out.xyz.push_back(static_cast<float>(v[k]));
+  out.triangles.reserve(3 * mesh.triangles_.size());
+  for (const Eigen::Vector3i& t : mesh.triangles_)
+    for (int k = 0; k < 3; ++k) out.triangles.push_back(static_cast<std::uint32_t>(t[k]));
+  return out;
+}
+
+}  // namespace levelfuse::peers
