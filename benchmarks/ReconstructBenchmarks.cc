@@ -18,13 +18,18 @@
 // times PoissonRecon from the same scans' points, normals estimated per scan
 // and turned toward its scanner, and reports the fit of its mesh, and of its
 // surface stored as a 0.25 mm level set (levelset_fit_mean_mm), with the same
-// rulers. Run with --benchmark_format=json; see docs/BENCHMARKS.md.
+// rulers. BM_MapFromPoissonBunny/<micrometres> then starts the finest grid's
+// MAP evolution (data term and prior, as the Reconstructor runs it) from
+// PoissonRecon's surface and reports the fit before and after 64 iterations
+// (from_*, map_*): where the MAP estimate goes from a surface that fits the
+// points more closely. Run with --benchmark_format=json; see docs/BENCHMARKS.md.
 
 #include "BenchmarkSupport.h"
 
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/recon/DataFit.h>
+#include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/recon/Reconstructor.h>
 
 #if defined(LEVELFUSE_HAVE_OPEN3D)
@@ -38,7 +43,9 @@
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <utility>
 
 namespace levelfuse::bench {
 namespace {
@@ -90,40 +97,84 @@ void reconstruct(benchmark::State& state, double voxelSize, int threads) {
 }
 
 #if defined(LEVELFUSE_HAVE_OPEN3D)
-void poissonRecon(benchmark::State& state, int depth, int threads) {
-  if (!std::filesystem::exists(kBunny)) {
-    state.SkipWithError("../shared/data/stanford/bunny is absent");
-    return;
+/// PoissonRecon's mesh of the bunny from its scans' points.
+TriangleMesh poissonBunny(int depth, int threads) {
+  std::vector<peers::PoissonScan> scans;
+  for (const io::StanfordPlacement& p : io::readStanfordConf(kBunny)) {
+    peers::PoissonScan scan;
+    for (const openvdb::Vec3d& q : io::readRangeGridPly(p.path).points) scan.points.push_back({q.x(), q.y(), q.z()});
+    const openvdb::math::Mat4d toWorld = p.scanToWorld();
+    for (int i = 0; i < 16; ++i) scan.scanToWorld[i] = toWorld(i / 4, i % 4);
+    scans.push_back(std::move(scan));
   }
-  peers::PoissonMesh result;
-  for (auto _ : state) {
-    std::vector<peers::PoissonScan> scans;
-    for (const io::StanfordPlacement& p : io::readStanfordConf(kBunny)) {
-      peers::PoissonScan scan;
-      for (const openvdb::Vec3d& q : io::readRangeGridPly(p.path).points) scan.points.push_back({q.x(), q.y(), q.z()});
-      const openvdb::math::Mat4d toWorld = p.scanToWorld();
-      for (int i = 0; i < 16; ++i) scan.scanToWorld[i] = toWorld(i / 4, i % 4);
-      scans.push_back(std::move(scan));
-    }
-    result = peers::poissonReconstruct(scans, depth, threads);
-  }
-  state.counters["peak_rss_mb"] = peakResidentMegabytes();
+  peers::PoissonMesh result = peers::poissonReconstruct(scans, depth, threads);
   TriangleMesh mesh;
   mesh.xyz = std::move(result.xyz);
   mesh.triangles = std::move(result.triangles);
-  const std::vector<openvdb::Vec3d> points = bunnyPoints();
-  reportMeshFit(state, measureDataFit(mesh, points));
-  state.counters["triangles"] = static_cast<double>(mesh.triangleCount());
-  // The same surface as a 0.25 mm OpenVDB level set, measured as levelfuse's are.
-  const auto transform = openvdb::math::Transform::createLinearTransform(0.00025);
+  return mesh;
+}
+
+/// A mesh as an OpenVDB level set of `voxelSize` (half-width 3).
+openvdb::FloatGrid::Ptr levelSetOf(const TriangleMesh& mesh, double voxelSize) {
+  const auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
   std::vector<openvdb::Vec3s> vertices(mesh.vertexCount());
   for (std::size_t i = 0; i < vertices.size(); ++i)
     vertices[i] = openvdb::Vec3s(mesh.xyz[3 * i], mesh.xyz[3 * i + 1], mesh.xyz[3 * i + 2]);
   std::vector<openvdb::Vec3I> triangles(mesh.triangleCount());
   for (std::size_t i = 0; i < triangles.size(); ++i)
     triangles[i] = openvdb::Vec3I(mesh.triangles[3 * i], mesh.triangles[3 * i + 1], mesh.triangles[3 * i + 2]);
-  const auto levelSet = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, vertices, triangles, 3.0f);
-  state.counters["levelset_fit_mean_mm"] = 1000.0 * measureDataFit(*levelSet, points).mean;
+  return openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, vertices, triangles, 3.0f);
+}
+
+void poissonRecon(benchmark::State& state, int depth, int threads) {
+  if (!std::filesystem::exists(kBunny)) {
+    state.SkipWithError("../shared/data/stanford/bunny is absent");
+    return;
+  }
+  TriangleMesh mesh;
+  for (auto _ : state) mesh = poissonBunny(depth, threads);
+  state.counters["peak_rss_mb"] = peakResidentMegabytes();
+  const std::vector<openvdb::Vec3d> points = bunnyPoints();
+  reportMeshFit(state, measureDataFit(mesh, points));
+  state.counters["triangles"] = static_cast<double>(mesh.triangleCount());
+  // The same surface as a 0.25 mm OpenVDB level set, measured as levelfuse's are.
+  state.counters["levelset_fit_mean_mm"] = 1000.0 * measureDataFit(*levelSetOf(mesh, 0.00025), points).mean;
+}
+
+void mapFromPoisson(benchmark::State& state, double voxelSize, double beta) {
+  if (!std::filesystem::exists(kBunny)) {
+    state.SkipWithError("../shared/data/stanford/bunny is absent");
+    return;
+  }
+  ReconstructionOptions options;
+  options.voxelSize = voxelSize;
+  options.beta = beta;
+  const Reconstructor reconstructor(io::loadStanfordScans(kBunny), options);
+  const openvdb::FloatGrid::Ptr start = levelSetOf(poissonBunny(9, 2), voxelSize);
+  const std::vector<openvdb::Vec3d> points = bunnyPoints();
+  const DataFit before = measureDataFit(*start, points);
+  // The finest grid's evolution, as Reconstructor::run sets it up.
+  const int finest = reconstructor.options().levels - 1;
+  const ForceField force(std::make_shared<const std::vector<RangeMap>>(reconstructor.maps()),
+                         reconstructor.forceOptions(finest));
+  DataSpeed speed;
+  speed.force = DataForce{&force, force.typicalWeight()};
+  speed.beta = reconstructor.options().beta * voxelSize * voxelSize;
+  speed.sampling = ForceSampling::kSubcell;
+  openvdb::FloatGrid::Ptr evolved;
+  for (auto _ : state) {
+    SparseField field = SparseField::fromLevelSet(*start);
+    for (int i = 0; i < 64; ++i) field.step(speed);
+    evolved = field.toLevelSet(3.0);
+  }
+  const DataFit after = measureDataFit(*evolved, points);
+  state.counters["beta"] = reconstructor.options().beta;
+  state.counters["from_fit_mean_mm"] = 1000.0 * before.mean;
+  state.counters["from_fit_median_mm"] = 1000.0 * before.median;
+  state.counters["from_fit_p90_mm"] = 1000.0 * before.p90;
+  state.counters["map_fit_mean_mm"] = 1000.0 * after.mean;
+  state.counters["map_fit_median_mm"] = 1000.0 * after.median;
+  state.counters["map_fit_p90_mm"] = 1000.0 * after.p90;
 }
 #endif
 
@@ -138,6 +189,11 @@ void registerAll() {
   for (int threads : {2, 1})
     benchmark::RegisterBenchmark(("BM_PoissonReconBunny/9/" + std::to_string(threads)).c_str(), poissonRecon, 9, threads)
         ->Iterations(1)->Repetitions(3)->UseRealTime()->Unit(benchmark::kSecond);
+  // beta: the default (-1, derived from the data) and none.
+  for (const auto& [name, beta] : {std::pair<const char*, double>{"default", -1.0}, {"0", 0.0}})
+    benchmark::RegisterBenchmark((std::string("BM_MapFromPoissonBunny/250/beta:") + name).c_str(), mapFromPoisson,
+                                 0.00025, beta)
+        ->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
 #endif
 }
 
