@@ -131,9 +131,9 @@ struct RealCase {
 
 std::ostream& operator<<(std::ostream& os, const RealCase& c) { return os << c.name; }
 
-class RealScans : public ::testing::TestWithParam<RealCase> {};
+class RealScanReconstruction : public ::testing::TestWithParam<RealCase> {};
 
-TEST_P(RealScans, OneClosedSurfaceCloseToThePoints) {
+TEST_P(RealScanReconstruction, OneClosedSurfaceCloseToThePoints) {
   if (test::sharedData("").empty()) GTEST_SKIP() << "../shared/data is absent: the real scans are not tested";
   const RealCase& c = GetParam();
   io::StanfordScanOptions load;
@@ -153,7 +153,7 @@ TEST_P(RealScans, OneClosedSurfaceCloseToThePoints) {
   EXPECT_LT(1000.0 * fit.median, c.maxMedianMm);
 }
 
-INSTANTIATE_TEST_SUITE_P(Stanford, RealScans,
+INSTANTIATE_TEST_SUITE_P(Stanford, RealScanReconstruction,
                          ::testing::Values(RealCase{"bunny", "stanford/bunny/bun.conf", Vec3d(0, 0, 1), 0, 0.001, 0.1, 0.07},
                                            RealCase{"dragon", "stanford/dragon/dragonStandRight.conf",
                                                     Vec3d(0.46, 0.04, 0.89), 2, 0.02, 0.16, 0.095}),
