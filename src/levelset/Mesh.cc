@@ -2,6 +2,7 @@
 
 #include <levelfuse/levelset/Mesh.h>
 
+#include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <stdexcept>
@@ -53,6 +54,17 @@ TriangleMesh meshFromLevelSet(const openvdb::FloatGrid& levelSet, double adaptiv
     mesh.triangles.insert(mesh.triangles.end(), {q[3], q[2], q[0]});
   }
   return mesh;
+}
+
+openvdb::FloatGrid::Ptr levelSetFromMesh(const TriangleMesh& mesh, double voxelSize, float halfWidth) {
+  const auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
+  std::vector<openvdb::Vec3s> vertices(mesh.vertexCount());
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    vertices[i] = openvdb::Vec3s(mesh.xyz[3 * i], mesh.xyz[3 * i + 1], mesh.xyz[3 * i + 2]);
+  std::vector<openvdb::Vec3I> triangles(mesh.triangleCount());
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    triangles[i] = openvdb::Vec3I(mesh.triangles[3 * i], mesh.triangles[3 * i + 1], mesh.triangles[3 * i + 2]);
+  return openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, vertices, triangles, halfWidth);
 }
 
 }  // namespace levelfuse

@@ -65,5 +65,21 @@ TEST(Mesh, IsClosedOutwardFacingAndOnTheSurface) {
   }
 }
 
+TEST(Mesh, BackToALevelSetOfAnyVoxel) {
+  const openvdb::Vec3d centre(0.3, -0.2, 0.1);
+  const TriangleMesh mesh = meshFromLevelSet(*test::makeSphere(20.0, centre, 0.05));  // radius 1
+  const openvdb::FloatGrid::Ptr levelSet = levelSetFromMesh(mesh, 0.02, 4.0f);
+  EXPECT_EQ(levelSet->getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_NEAR(levelSet->voxelSize().x(), 0.02, 1e-12);
+  EXPECT_FLOAT_EQ(levelSet->background(), 4.0f * 0.02f);
+  // Signed distances, negative inside, world units.
+  const openvdb::FloatGrid::ConstAccessor values = levelSet->getConstAccessor();
+  for (const double offset : {-0.05, 0.0, 0.03}) {
+    const openvdb::Vec3d p = centre + openvdb::Vec3d(0.0, 0.0, 1.0 + offset);
+    EXPECT_NEAR(values.getValue(levelSet->transform().worldToIndexNodeCentered(p)), offset, 0.015) << offset;  // half a voxel of rounding
+  }
+  EXPECT_LT(values.getValue(levelSet->transform().worldToIndexNodeCentered(centre)), 0.0f);
+}
+
 }  // namespace
 }  // namespace levelfuse

@@ -25,4 +25,9 @@ struct TriangleMesh {
 /// triangles), with `adaptivity` in [0, 1] (0: uniform, as fine as the grid).
 TriangleMesh meshFromLevelSet(const openvdb::FloatGrid& levelSet, double adaptivity = 0.0);
 
+/// A closed mesh as an OpenVDB level set of `voxelSize` (world units) with a
+/// narrow band of `halfWidth` voxels on either side, by meshToLevelSet: how a
+/// peer's mesh is held to the rulers of a level set.
+openvdb::FloatGrid::Ptr levelSetFromMesh(const TriangleMesh& mesh, double voxelSize, float halfWidth = 3.0f);
+
 }  // namespace levelfuse
