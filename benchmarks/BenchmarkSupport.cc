@@ -2,7 +2,11 @@
 
 #include <levelfuse/levelset/ZeroCrossings.h>
 
+#include <malloc.h>
 #include <sys/resource.h>
+
+#include <fstream>
+#include <string>
 
 namespace levelfuse::bench {
 
@@ -14,9 +18,18 @@ double meanRadius(const openvdb::FloatGrid& grid, const openvdb::Vec3d& centre) 
 }
 
 double peakResidentMegabytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;  // kB
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // kilobytes on Linux
+}
+
+void resetPeakResident() {
+  malloc_trim(0);  // what was freed leaves the resident set, or it would count again
+  std::ofstream clearRefs("/proc/self/clear_refs");
+  if (clearRefs) clearRefs << "5";
 }
 
 std::size_t iterationsFor(int radius) {

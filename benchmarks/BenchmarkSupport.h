@@ -20,9 +20,13 @@ inline double simulatedTimePerIteration(double r0, double r1, std::size_t iterat
   return (r0 * r0 - r1 * r1) / (4.0 * static_cast<double>(iterations));
 }
 
-/// The process's peak resident memory so far, in MB (one benchmark per
-/// process reports its own peak).
+/// The process's peak resident memory since the last resetPeakResident() (or
+/// since it started), in MB.
 double peakResidentMegabytes();
+/// Starts a new peak (Linux's /proc/self/clear_refs): what one benchmark
+/// measured afterwards does not count toward the next one's peak. Without it
+/// (another system), one benchmark per process reports its own peak.
+void resetPeakResident();
 
 /// Iterations timed per repetition for a sphere of radius R: enough to measure,
 /// few enough that the sphere changes little.

@@ -3,8 +3,8 @@
 // 0.25 mm voxels, with 2 threads (and 1 for the scaling).
 //
 // Each benchmark reports real time per reconstruction (loading included) and
-//   peak_rss_mb      the process's peak resident memory (run one benchmark per
-//                    process for its own peak: --benchmark_filter)
+//   peak_rss_mb      the process's peak resident memory while it ran (the peak
+//                    is reset before each benchmark's timed loop)
 //   engine_mb        the largest sparse field along the way
 //   active           voxels of the final active set
 //   fit_mean_mm      mean distance from the scans' 362,272 points to the zero
@@ -13,6 +13,16 @@
 //   beyond_band      fraction of the points farther than the narrow band (holes)
 //   mesh_fit_*_mm    the same distances, exact, to the triangles of its mesh
 //                    (the ruler the peers are measured with)
+//   rms_curvature_per_mm, median_curvature_per_mm
+//                    the mesh's mean curvature where the points project onto
+//                    it (measureRoughness, a 0.1 mm ruler, points within
+//                    0.3 mm): how much of the scans' noise the surface keeps
+//
+// BM_ReconstructBunny/250/2/beta:0 is the same run without the prior (the
+// roughness the target is set against). BM_HoldOutBunny/<scan>/<method> makes
+// the surface from the other nine scans and measures the fit of the scan left
+// out, for levelfuse and PoissonRecon: the accuracy on points the method did
+// not see.
 //
 // The peer BM_PoissonReconBunny/<depth>/<threads> (when Open3D is found)
 // times PoissonRecon from the same scans' points, normals estimated per scan
@@ -31,11 +41,11 @@
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/SurfaceRoughness.h>
 
 #if defined(LEVELFUSE_HAVE_OPEN3D)
 #include "peers/PoissonRecon.h"
 
-#include <openvdb/tools/MeshToVolume.h>
 #endif
 
 #include <tbb/global_control.h>
@@ -52,10 +62,12 @@ namespace {
 
 const std::string kBunny = std::string(LEVELFUSE_SHARED_DATA_DIR) + "/stanford/bunny/bun.conf";
 
-/// The scans' original points in the world.
-std::vector<openvdb::Vec3d> bunnyPoints() {
+/// The scans' original points in the world: all scans (`onlyScan` < 0) or one.
+std::vector<openvdb::Vec3d> bunnyPoints(int onlyScan = -1) {
   std::vector<openvdb::Vec3d> points;
+  int scan = 0;
   for (const io::StanfordPlacement& p : io::readStanfordConf(kBunny)) {
+    if (onlyScan >= 0 && scan++ != onlyScan) continue;
     const openvdb::math::Mat4d toWorld = p.scanToWorld();
     for (const openvdb::Vec3d& q : io::readRangeGridPly(p.path).points) points.push_back(toWorld.transform(q));
   }
@@ -69,17 +81,25 @@ void reportMeshFit(benchmark::State& state, const DataFit& fit) {
   state.counters["mesh_fit_p99_mm"] = 1000.0 * fit.p99;
 }
 
-void reconstruct(benchmark::State& state, double voxelSize, int threads) {
+void reportRoughness(benchmark::State& state, const TriangleMesh& mesh, const std::vector<openvdb::Vec3d>& points) {
+  const SurfaceRoughness roughness = measureRoughness(mesh, points, 0.0001, 0.0003);
+  state.counters["rms_curvature_per_mm"] = roughness.rms / 1000.0;
+  state.counters["median_curvature_per_mm"] = roughness.medianAbsolute / 1000.0;
+}
+
+void reconstruct(benchmark::State& state, double voxelSize, int threads, double beta) {
   if (!std::filesystem::exists(kBunny)) {
     state.SkipWithError("../shared/data/stanford/bunny is absent");
     return;
   }
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   ReconstructionResult result;
+  resetPeakResident();
   for (auto _ : state) {
     result = ReconstructionResult();
     ReconstructionOptions options;
     options.voxelSize = voxelSize;
+    options.beta = beta;
     result = Reconstructor(io::loadStanfordScans(kBunny), options).run();
   }
   state.counters["peak_rss_mb"] = peakResidentMegabytes();
@@ -93,14 +113,17 @@ void reconstruct(benchmark::State& state, double voxelSize, int threads) {
   state.counters["beyond_band"] = fit.beyondBand;
   const TriangleMesh mesh = meshFromLevelSet(*result.levelSet);
   reportMeshFit(state, measureDataFit(mesh, points));
+  reportRoughness(state, mesh, points);
   state.counters["triangles"] = static_cast<double>(mesh.triangleCount());
 }
 
 #if defined(LEVELFUSE_HAVE_OPEN3D)
-/// PoissonRecon's mesh of the bunny from its scans' points.
-TriangleMesh poissonBunny(int depth, int threads) {
+/// PoissonRecon's mesh of the bunny from its scans' points, all but `leftOut` (if >= 0).
+TriangleMesh poissonBunny(int depth, int threads, int leftOut = -1) {
   std::vector<peers::PoissonScan> scans;
+  int scan = 0;
   for (const io::StanfordPlacement& p : io::readStanfordConf(kBunny)) {
+    if (scan++ == leftOut) continue;
     peers::PoissonScan scan;
     for (const openvdb::Vec3d& q : io::readRangeGridPly(p.path).points) scan.points.push_back({q.x(), q.y(), q.z()});
     const openvdb::math::Mat4d toWorld = p.scanToWorld();
@@ -114,31 +137,45 @@ TriangleMesh poissonBunny(int depth, int threads) {
   return mesh;
 }
 
-/// A mesh as an OpenVDB level set of `voxelSize` (half-width 3).
-openvdb::FloatGrid::Ptr levelSetOf(const TriangleMesh& mesh, double voxelSize) {
-  const auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
-  std::vector<openvdb::Vec3s> vertices(mesh.vertexCount());
-  for (std::size_t i = 0; i < vertices.size(); ++i)
-    vertices[i] = openvdb::Vec3s(mesh.xyz[3 * i], mesh.xyz[3 * i + 1], mesh.xyz[3 * i + 2]);
-  std::vector<openvdb::Vec3I> triangles(mesh.triangleCount());
-  for (std::size_t i = 0; i < triangles.size(); ++i)
-    triangles[i] = openvdb::Vec3I(mesh.triangles[3 * i], mesh.triangles[3 * i + 1], mesh.triangles[3 * i + 2]);
-  return openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, vertices, triangles, 3.0f);
-}
-
 void poissonRecon(benchmark::State& state, int depth, int threads) {
   if (!std::filesystem::exists(kBunny)) {
     state.SkipWithError("../shared/data/stanford/bunny is absent");
     return;
   }
   TriangleMesh mesh;
+  resetPeakResident();
   for (auto _ : state) mesh = poissonBunny(depth, threads);
   state.counters["peak_rss_mb"] = peakResidentMegabytes();
   const std::vector<openvdb::Vec3d> points = bunnyPoints();
   reportMeshFit(state, measureDataFit(mesh, points));
+  reportRoughness(state, mesh, points);
   state.counters["triangles"] = static_cast<double>(mesh.triangleCount());
   // The same surface as a 0.25 mm OpenVDB level set, measured as levelfuse's are.
-  state.counters["levelset_fit_mean_mm"] = 1000.0 * measureDataFit(*levelSetOf(mesh, 0.00025), points).mean;
+  state.counters["levelset_fit_mean_mm"] = 1000.0 * measureDataFit(*levelSetFromMesh(mesh, 0.00025), points).mean;
+}
+
+/// The surface from nine scans, measured against the tenth (2 threads, 0.25 mm).
+void holdOut(benchmark::State& state, int leftOut, bool poisson) {
+  if (!std::filesystem::exists(kBunny)) {
+    state.SkipWithError("../shared/data/stanford/bunny is absent");
+    return;
+  }
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+  TriangleMesh mesh;
+  for (auto _ : state) {
+    if (poisson) {
+      mesh = poissonBunny(9, 2, leftOut);
+    } else {
+      std::vector<RangeMap> maps = io::loadStanfordScans(kBunny);
+      maps.erase(maps.begin() + leftOut);
+      ReconstructionOptions options;
+      options.voxelSize = 0.00025;
+      mesh = meshFromLevelSet(*Reconstructor(std::move(maps), options).run().levelSet);
+    }
+  }
+  const std::vector<openvdb::Vec3d> points = bunnyPoints(leftOut);
+  state.counters["held_out_points"] = static_cast<double>(points.size());
+  reportMeshFit(state, measureDataFit(mesh, points));
 }
 
 void mapFromPoisson(benchmark::State& state, double voxelSize, double beta) {
@@ -150,7 +187,7 @@ void mapFromPoisson(benchmark::State& state, double voxelSize, double beta) {
   options.voxelSize = voxelSize;
   options.beta = beta;
   const Reconstructor reconstructor(io::loadStanfordScans(kBunny), options);
-  const openvdb::FloatGrid::Ptr start = levelSetOf(poissonBunny(9, 2), voxelSize);
+  const openvdb::FloatGrid::Ptr start = levelSetFromMesh(poissonBunny(9, 2), voxelSize);
   const std::vector<openvdb::Vec3d> points = bunnyPoints();
   const DataFit before = measureDataFit(*start, points);
   // The finest grid's evolution, as Reconstructor::run sets it up.
@@ -183,12 +220,19 @@ void registerAll() {
     for (int threads : {2, 1})
       benchmark::RegisterBenchmark(
           ("BM_ReconstructBunny/" + std::to_string(micrometres) + "/" + std::to_string(threads)).c_str(), reconstruct,
-          micrometres * 1e-6, threads)
+          micrometres * 1e-6, threads, -1.0)
           ->Iterations(1)->Repetitions(3)->UseRealTime()->Unit(benchmark::kSecond);
+  benchmark::RegisterBenchmark("BM_ReconstructBunny/250/2/beta:0", reconstruct, 0.00025, 2, 0.0)
+      ->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
 #if defined(LEVELFUSE_HAVE_OPEN3D)
   for (int threads : {2, 1})
     benchmark::RegisterBenchmark(("BM_PoissonReconBunny/9/" + std::to_string(threads)).c_str(), poissonRecon, 9, threads)
         ->Iterations(1)->Repetitions(3)->UseRealTime()->Unit(benchmark::kSecond);
+  for (int scan : {0, 2, 4})
+    for (const auto& [name, poisson] : {std::pair<const char*, bool>{"levelfuse", false}, {"poisson", true}})
+      benchmark::RegisterBenchmark(("BM_HoldOutBunny/" + std::to_string(scan) + "/" + name).c_str(), holdOut, scan,
+                                   poisson)
+          ->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
   // beta: the default (-1, derived from the data) and none.
   for (const auto& [name, beta] : {std::pair<const char*, double>{"default", -1.0}, {"0", 0.0}})
     benchmark::RegisterBenchmark((std::string("BM_MapFromPoissonBunny/250/beta:") + name).c_str(), mapFromPoisson,
