@@ -65,9 +65,10 @@ const std::string kBunny = std::string(LEVELFUSE_SHARED_DATA_DIR) + "/stanford/b
 /// The scans' original points in the world: all scans (`onlyScan` < 0) or one.
 std::vector<openvdb::Vec3d> bunnyPoints(int onlyScan = -1) {
   std::vector<openvdb::Vec3d> points;
-  int scan = 0;
+  int index = -1;
   for (const io::StanfordPlacement& p : io::readStanfordConf(kBunny)) {
-    if (onlyScan >= 0 && scan++ != onlyScan) continue;
+    ++index;
+    if (onlyScan >= 0 && index != onlyScan) continue;
     const openvdb::math::Mat4d toWorld = p.scanToWorld();
     for (const openvdb::Vec3d& q : io::readRangeGridPly(p.path).points) points.push_back(toWorld.transform(q));
   }
@@ -121,9 +122,9 @@ void reconstruct(benchmark::State& state, double voxelSize, int threads, double 
 /// PoissonRecon's mesh of the bunny from its scans' points, all but `leftOut` (if >= 0).
 TriangleMesh poissonBunny(int depth, int threads, int leftOut = -1) {
   std::vector<peers::PoissonScan> scans;
-  int scan = 0;
+  int index = -1;
   for (const io::StanfordPlacement& p : io::readStanfordConf(kBunny)) {
-    if (scan++ == leftOut) continue;
+    if (++index == leftOut) continue;
     peers::PoissonScan scan;
     for (const openvdb::Vec3d& q : io::readRangeGridPly(p.path).points) scan.points.push_back({q.x(), q.y(), q.z()});
     const openvdb::math::Mat4d toWorld = p.scanToWorld();

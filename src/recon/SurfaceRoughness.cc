@@ -19,7 +19,8 @@ SurfaceRoughness measureRoughness(const TriangleMesh& mesh, const std::vector<op
   if (mesh.triangleCount() == 0) throw std::invalid_argument("measureRoughness: the mesh has no triangles");
   if (!(rulerVoxel > 0.0) || !(reach > 0.0))
     throw std::invalid_argument("measureRoughness: the ruler's voxel and the reach must be positive");
-  // The band holds `reach` and the stencil of the curvature (one voxel) beyond it.
+  // The band holds `reach`, then a voxel for the trilinear samples near it and
+  // one for the curvature's central differences.
   const float halfWidth = static_cast<float>(std::ceil(reach / rulerVoxel) + 2.0);
   const openvdb::FloatGrid::Ptr distance = levelSetFromMesh(mesh, rulerVoxel, halfWidth);
   const openvdb::math::Transform& transform = distance->transform();

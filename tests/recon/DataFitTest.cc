@@ -1,5 +1,7 @@
 // The fit of a surface to points at known distances from it.
 
+#include "support/TestSupport.h"
+
 #include <levelfuse/recon/DataFit.h>
 
 #include <openvdb/tools/LevelSetSphere.h>
@@ -7,7 +9,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 
 namespace levelfuse {
 namespace {
@@ -16,15 +17,7 @@ using openvdb::Vec3d;
 
 /// Points on random directions around `centre`, `offset` outside a sphere of radius `radius`.
 std::vector<Vec3d> pointsAround(const Vec3d& centre, double radius, double offset, int count, unsigned seed) {
-  std::mt19937 random(seed);
-  std::normal_distribution<double> normal;
-  std::vector<Vec3d> points;
-  for (int i = 0; i < count; ++i) {
-    Vec3d direction(normal(random), normal(random), normal(random));
-    direction.normalize();
-    points.push_back(centre + direction * (radius + offset));
-  }
-  return points;
+  return test::pointsOnSphere(centre, radius + offset, count, seed);
 }
 
 class DataFitTest : public ::testing::Test {

@@ -1,5 +1,7 @@
 // The roughness ruler on surfaces of known curvature.
 
+#include "support/TestSupport.h"
+
 #include <levelfuse/recon/SurfaceRoughness.h>
 
 #include <openvdb/tools/LevelSetPlatonic.h>
@@ -18,17 +20,7 @@ namespace {
 
 using openvdb::Vec3d;
 
-std::vector<Vec3d> pointsOnSphere(const Vec3d& centre, double radius, int count, unsigned seed) {
-  std::mt19937 random(seed);
-  std::normal_distribution<double> normal;
-  std::vector<Vec3d> points;
-  for (int i = 0; i < count; ++i) {
-    Vec3d direction(normal(random), normal(random), normal(random));
-    direction.normalize();
-    points.push_back(centre + direction * radius);
-  }
-  return points;
-}
+using test::pointsOnSphere;
 
 class SurfaceRoughnessTest : public ::testing::Test {
  protected:

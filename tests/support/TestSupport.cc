@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <random>
 #include <sstream>
 #include <vector>
 
@@ -40,6 +41,18 @@ const auto* const kSerialTbb = ::testing::AddGlobalTestEnvironment(new SerialTbb
 openvdb::FloatGrid::Ptr makeSphere(double radius, const openvdb::Vec3d& centre, double dx) {
   return openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(
       static_cast<float>(radius * dx), openvdb::Vec3f(centre), static_cast<float>(dx), 3.0f);
+}
+
+std::vector<openvdb::Vec3d> pointsOnSphere(const openvdb::Vec3d& centre, double radius, int count, unsigned seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<double> normal;
+  std::vector<openvdb::Vec3d> points;
+  for (int i = 0; i < count; ++i) {
+    openvdb::Vec3d direction(normal(random), normal(random), normal(random));
+    direction.normalize();
+    points.push_back(centre + direction * radius);
+  }
+  return points;
 }
 
 bool identical(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b, std::string* why) {

@@ -6,12 +6,17 @@
 #include <openvdb/openvdb.h>
 
 #include <string>
+#include <vector>
 
 namespace levelfuse::test {
 
 /// A narrow-band level set of a sphere of `radius` voxels (voxel size `dx`) at `centre` (world).
 openvdb::FloatGrid::Ptr makeSphere(double radius, const openvdb::Vec3d& centre = openvdb::Vec3d(0.0),
                                    double dx = 1.0);
+
+/// `count` points `radius` (world units) from `centre`, in directions drawn at
+/// random, uniformly over the sphere, from `seed`.
+std::vector<openvdb::Vec3d> pointsOnSphere(const openvdb::Vec3d& centre, double radius, int count, unsigned seed);
 
 /// True if the two grids have the same topology, the same values bit for bit,
 /// and the same tiles; otherwise `why` says where they first differ.
