@@ -195,8 +195,8 @@ void mapFromPoisson(benchmark::State& state, double voxelSize, double beta) {
   const int finest = reconstructor.options().levels - 1;
   const ForceField force(std::make_shared<const std::vector<RangeMap>>(reconstructor.maps()),
                          reconstructor.forceOptions(finest));
-  DataSpeed speed;
-  speed.force = DataForce{&force, force.typicalWeight()};
+  DataSpeed<ForceField> speed;
+  speed.force = DataForce<ForceField>{&force, force.typicalWeight()};
   speed.beta = reconstructor.options().beta * voxelSize * voxelSize;
   speed.sampling = ForceSampling::kSubcell;
   openvdb::FloatGrid::Ptr evolved;

@@ -5,6 +5,7 @@
 
 namespace levelfuse {
 
-template StepResult SparseField::step<DataSpeed>(const DataSpeed&, double);
+template StepResult SparseField::step<DataSpeed<DataTermGrids>>(const DataSpeed<DataTermGrids>&, double);
+template StepResult SparseField::step<DataSpeed<ForceField>>(const DataSpeed<ForceField>&, double);
 
 }  // namespace levelfuse

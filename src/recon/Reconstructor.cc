@@ -26,7 +26,8 @@ using Clock = std::chrono::steady_clock;
 /// values since `before` (world units). Surfaces no scan saw move under the
 /// prior alone toward a minimal surface, slowly and for long: they are not
 /// waited for.
-double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid& before, const ForceField& force) {
+template <typename Field>
+double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid& before, const Field& data) {
   const float half = static_cast<float>(0.5 * now.voxelSize()[0]);
   openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(now.tree());
   std::vector<double> drift(leaves.leafCount(), 0.0);
@@ -41,7 +42,7 @@ double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid
       sum += *it - old.getValue(it.getCoord());
       ++points;
     }
-    if (points >= 8 && force.weight(now.indexToWorld(first)) >= force.typicalWeight()) drift[i] = std::fabs(sum) / points;
+    if (points >= 8 && data.weight(now.indexToWorld(first)) >= data.typicalWeight()) drift[i] = std::fabs(sum) / points;
   });
   return drift.empty() ? 0.0 : *std::max_element(drift.begin(), drift.end());
 }
@@ -94,6 +95,8 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
   if (!(o.epsilon > 0.0) || !std::isfinite(o.epsilon))
     throw std::invalid_argument("reconstruction: the window width epsilon must be positive");
   if (o.beta < 0.0) o.beta = std::max(0.5, median(sigmas) / o.voxelSize);
+  if (o.dataTerm == DataTermSource::kAuto)
+    o.dataTerm = mMaps->size() > kGridsFromScans ? DataTermSource::kGrids : DataTermSource::kPerMap;
   if (!(o.beta >= 0.0) || !std::isfinite(o.beta)) throw std::invalid_argument("reconstruction: beta must be finite");
   if (!(o.tolerance > 0.0)) throw std::invalid_argument("reconstruction: the tolerance must be positive");
   if (o.patience < 1) throw std::invalid_argument("reconstruction: the patience must be at least one iteration");
@@ -149,13 +152,69 @@ ForceFieldOptions Reconstructor::forceOptions(int level) const {
   return f;
 }
 
+DataTermGrids Reconstructor::dataTermGrids(int level) const {
+  const ForceFieldOptions f = forceOptions(level);
+  DataTermGrids data(voxelSize(level), f.dataWindow(), f.positionVariance, f.grainSize);
+  for (const RangeMap& map : *mMaps) data.integrate(map);
+  return data;
+}
+
+template <typename Field>
+LevelReport Reconstructor::evolveLevel(SparseField& field, const Field& data, double h, ReconstructionProgress& state,
+                                       const std::function<void()>& report) const {
+  DataSpeed<Field> speed;
+  speed.force = DataForce<Field>{&data, data.typicalWeight()};
+  const double finest = mOptions.voxelSize;
+  speed.beta = mOptions.beta * finest * finest;  // beta in voxels of the finest grid
+  speed.sampling = ForceSampling::kSubcell;      // Eqs. 34-36
+  LevelReport done;
+  double slowest = std::numeric_limits<double>::infinity();
+  int lastProgress = 0, snapshotIteration = 0;
+  openvdb::FloatGrid::Ptr snapshot = field.grid().deepCopy();
+  for (int iteration = 1; iteration <= mOptions.maxIterations; ++iteration) {
+    const StepResult step = field.step(speed);
+    done.simulatedTime += step.dt;
+    state.iteration = iteration;
+    state.activeVoxels = step.activeVoxels;
+    state.speed = step.dt > 0.0 ? step.rmsChange / step.dt / h : 0.0;
+    done.iterations = iteration;
+    report();
+    if (iteration < mOptions.minIterations) continue;
+    if (state.speed < mOptions.tolerance || step.dt <= 0.0) {
+      done.converged = true;
+      break;
+    }
+    // Settled: the speed has stopped falling, and no region drifts. Points
+    // whose zero crossing lies near the edge of their voxel keep trading
+    // places with their neighbours, and noisy data keep the surface
+    // trembling, so the speed of a settled surface does not reach zero; a
+    // region still on its way (a lump of the initial model dissolving)
+    // moves steadily one way, which the mean change over a leaf node shows.
+    if (state.speed < 0.95 * slowest) {
+      slowest = state.speed;
+      lastProgress = iteration;
+    }
+    if (iteration - snapshotIteration >= mOptions.patience) {
+      state.drift =
+          largestLocalDrift(field.grid(), *snapshot, data) / h / static_cast<double>(iteration - snapshotIteration);
+      snapshot = field.grid().deepCopy();
+      snapshotIteration = iteration;
+      if (iteration - lastProgress >= mOptions.patience && state.drift < mOptions.drift) {
+        done.settled = true;
+        break;
+      }
+    }
+  }
+  return done;
+}
+
 ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const {
   const auto start = Clock::now();
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   ReconstructionProgress state;
   state.levels = mOptions.levels;
   state.maxIterations = mOptions.maxIterations;
-  const auto report = [&] {
+  const std::function<void()> report = [&] {
     state.seconds = elapsed();
     if (progress && !progress(state)) throw ReconstructionCancelled();
   };
@@ -183,56 +242,18 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const 
                                                                       mOptions.engine));
     }
     // 2. Evolve under the data term and the prior until the surface settles.
-    const ForceField force(mMaps, forceOptions(level));
-    DataSpeed speed;
-    speed.force = DataForce{&force, force.typicalWeight()};
-    speed.beta = mOptions.beta * finest * finest;  // beta in voxels of the finest grid
-    speed.sampling = ForceSampling::kSubcell;      // Eqs. 34-36
     state.stage = ReconstructionProgress::Stage::kEvolving;
     LevelReport done;
-    done.voxelSize = h;
-    double slowest = std::numeric_limits<double>::infinity();
-    int lastProgress = 0, snapshotIteration = 0;
-    openvdb::FloatGrid::Ptr snapshot = field->grid().deepCopy();
-    for (int iteration = 1; iteration <= mOptions.maxIterations; ++iteration) {
-      const StepResult step = field->step(speed);
-      done.simulatedTime += step.dt;
-      state.iteration = iteration;
-      state.activeVoxels = step.activeVoxels;
-      state.speed = step.dt > 0.0 ? step.rmsChange / step.dt / h : 0.0;
-      done.iterations = iteration;
-      report();
-      if (iteration < mOptions.minIterations) continue;
-      if (state.speed < mOptions.tolerance || step.dt <= 0.0) {
-        done.converged = true;
-        break;
-      }
-      // Settled: the speed has stopped falling, and no region drifts. Points
-      // whose zero crossing lies near the edge of their voxel keep trading
-      // places with their neighbours, and noisy data keep the surface
-      // trembling, so the speed of a settled surface does not reach zero; a
-      // region still on its way (a lump of the initial model dissolving)
-      // moves steadily one way, which the mean change over a leaf node shows.
-      if (state.speed < 0.95 * slowest) {
-        slowest = state.speed;
-        lastProgress = iteration;
-      }
-      if (iteration - snapshotIteration >= mOptions.patience) {
-        state.drift =
-            largestLocalDrift(field->grid(), *snapshot, force) / h / static_cast<double>(iteration - snapshotIteration);
-        snapshot = field->grid().deepCopy();
-        snapshotIteration = iteration;
-        if (iteration - lastProgress >= mOptions.patience && state.drift < mOptions.drift) {
-          done.settled = true;
-          break;
-        }
-      }
-    }
+    if (mOptions.dataTerm == DataTermSource::kGrids)
+      done = evolveLevel(*field, dataTermGrids(level), h, state, report);
+    else
+      done = evolveLevel(*field, ForceField(mMaps, forceOptions(level)), h, state, report);
     totalIterations += done.iterations;
     const SparseFieldStats stats = field->stats();
     done.activeVoxels = stats.activeVoxels;
     done.bandVoxels = stats.bandVoxels;
     done.engineBytes = stats.memoryBytes;
+    done.voxelSize = h;
     done.seconds = std::chrono::duration<double>(Clock::now() - levelStart).count();
     result.peakEngineBytes = std::max(result.peakEngineBytes, stats.memoryBytes);
     result.levels.push_back(done);
@@ -247,6 +268,8 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const 
   out.insertMeta("levelfuse_epsilon", openvdb::DoubleMetadata(mOptions.epsilon));
   out.insertMeta("levelfuse_window",
                  openvdb::StringMetadata(mOptions.window == WindowKind::kGaussian ? "gaussian" : "binary"));
+  out.insertMeta("levelfuse_data_term",
+                 openvdb::StringMetadata(mOptions.dataTerm == DataTermSource::kGrids ? "grids" : "maps"));
   out.insertMeta("levelfuse_tolerance", openvdb::DoubleMetadata(mOptions.tolerance));
   out.insertMeta("levelfuse_iterations", openvdb::Int32Metadata(totalIterations));
   out.insertMeta("levelfuse_scans", openvdb::Int32Metadata(static_cast<int>(mMaps->size())));

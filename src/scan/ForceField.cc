@@ -3,6 +3,9 @@
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/scan/ForceField.h>
 
+#include "LeavesReached.h"
+#include "ReadingWeight.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -36,11 +39,8 @@ ForceField::ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& opti
     : ForceField(std::make_shared<const std::vector<RangeMap>>(std::move(maps)), options) {}
 
 ForceField::ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const ForceFieldOptions& options)
-    : mMaps(std::move(maps)), mOptions(options) {
+    : mMaps(std::move(maps)), mOptions(options), mWindow(options.dataWindow()) {
   if (!mMaps || mMaps->empty()) throw std::invalid_argument("ForceField: no range maps");
-  if (!(mOptions.epsilon > 0.0) || !std::isfinite(mOptions.epsilon))
-    throw std::invalid_argument("ForceField: the window width epsilon must be positive");
-  if (!(mOptions.reach > 0.0)) throw std::invalid_argument("ForceField: the window reach must be positive");
   if (!(mOptions.positionVariance >= 0.0)) throw std::invalid_argument("ForceField: negative position variance");
   // A typical reading's c gamma: the median over maps of gamma c at their
   // readings, for a surface square to the line of sight (|grad D| = 1, Eq. 38).
@@ -52,7 +52,7 @@ ForceField::ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const 
   std::nth_element(weights.begin(), weights.begin() + weights.size() / 2, weights.end());
   mTypicalWeight = weights[weights.size() / 2];
   // Where each map's windows reach, and its line of sight if it is one.
-  const double reach = windowReach();
+  const double reach = mWindow.reach();
   for (const RangeMap& m : *mMaps) {
     openvdb::BBoxd box;
     for (int v = 0; v < m.height(); ++v)
@@ -63,25 +63,12 @@ ForceField::ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const 
     const bool parallel = m.kind() == RangeMap::Kind::kOrthographic && !m.hasRayDirections();
     mParallelSight.push_back(parallel ? m.mapToWorld().transform3x3(Vec3d(0, 0, 1)) : Vec3d(0.0));
   }
-  // The Gaussian window exp(-D^2 / (2 eps^2)), tabulated in x = (D / eps)^2 up to
-  // the reach; interpolated linearly it is within 1e-6 of the exponential.
-  const std::size_t entries = 4096;
-  const double reachSq = mOptions.reach * mOptions.reach;
-  mTableScale = static_cast<double>(entries - 1) / reachSq;
-  mInverseEpsilonSq = 1.0 / (mOptions.epsilon * mOptions.epsilon);
-  mGaussian.resize(entries + 1);
-  for (std::size_t i = 0; i < entries; ++i) mGaussian[i] = std::exp(-0.5 * static_cast<double>(i) / mTableScale);
-  mGaussian[entries] = 0.0;  // beyond the reach
-}
-
-double ForceField::windowReach() const {
-  return mOptions.window == WindowKind::kBinary ? mOptions.epsilon : mOptions.reach * mOptions.epsilon;
 }
 
 bool ForceField::term(std::size_t j, const Vec3d& x, double& gTerm, double& wTerm, Vec3d* lineOfSight) const {
   RangeSample s;
   if (!(*mMaps)[j].sample(x, s)) return false;
-  const double w = window(s.D);
+  const double w = mWindow(s.D);
   if (w == 0.0) return false;
   const double c = 1.0 / (s.sigma * s.sigma + s.gradD.lengthSqr() * mOptions.positionVariance);  // Eq. 38
   wTerm = c * w * s.gamma;
@@ -108,7 +95,7 @@ double ForceField::facing(const Vec3d& x, const Vec3d& normal) const { return fa
 
 ForceField::Terms ForceField::facingTerms(const Vec3d& x, const Vec3d& normal) const {
   Terms sum;
-  const double reach = windowReach();
+  const double reach = mWindow.reach();
   for (std::size_t j = 0; j < mMaps->size(); ++j) {
     if (!mReach[j].isInside(x)) continue;
     const Vec3d& sight = mParallelSight[j];
@@ -117,11 +104,11 @@ ForceField::Terms ForceField::facingTerms(const Vec3d& x, const Vec3d& normal) c
       if (!(sight.dot(normal) < 0.0)) continue;
       RangeMap::LocalSample s;
       if (!(*mMaps)[j].sampleLocal((*mMaps)[j].worldToMap().transform(x), reach, s)) continue;
-      const double w = window(s.D);
+      const double w = mWindow(s.D);
       if (w == 0.0) continue;
-      const double c = 1.0 / (s.sigma * s.sigma + s.gradDSquared * mOptions.positionVariance);  // Eq. 38
-      sum.weight += c * w * s.gamma;
-      sum.g += c * w * s.gamma * s.D;  // Eq. 17
+      const double weight = detail::readingWeight(w, s, mOptions.positionVariance);  // Eq. 38
+      sum.weight += weight;
+      sum.g += weight * s.D;  // Eq. 17
       continue;
     }
     double gt, wt;
@@ -137,51 +124,13 @@ ForceField::Terms ForceField::facingTerms(const Vec3d& x, const Vec3d& normal) c
 AccumulatedField ForceField::accumulate(double voxelSize) const {
   if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
     throw std::invalid_argument("ForceField::accumulate: the voxel size must be positive");
-  const double reach = windowReach();
+  const double reach = mWindow.reach();
   const int leafDim = static_cast<int>(LeafT::DIM);
 
-  // 1. Which leaf nodes each range map's windows reach: per tile of pixels,
-  //    the lines of sight through it between its nearest reading less the
-  //    reach and its farthest plus the reach (a box for parallel rays, a
-  //    frustum for a camera; a depth difference is at most the distance along
-  //    the ray). Marked in a coarse mask whose voxels are leaves: duplicates
-  //    cost nothing.
-  constexpr int kTile = 4;  // pixels per side; tiles share their last row and column
+  // 1. Which leaf nodes each range map's windows reach.
   std::vector<std::vector<Coord>> touched(mMaps->size());
   parallelFor(mMaps->size(), 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t j = begin; j < end; ++j) {
-      const RangeMap& m = (*mMaps)[j];
-      openvdb::MaskTree coarse;
-      openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(coarse);
-      for (int v0 = 0; v0 + 1 < m.height(); v0 += kTile)
-        for (int u0 = 0; u0 + 1 < m.width(); u0 += kTile) {
-          const int u1 = std::min(u0 + kTile, m.width() - 1), v1 = std::min(v0 + kTile, m.height() - 1);
-          float nearest = std::numeric_limits<float>::max(), farthest = -nearest;
-          for (int v = v0; v <= v1; ++v)
-            for (int u = u0; u <= u1; ++u)
-              if (m.valid(u, v)) {
-                nearest = std::min(nearest, m.reading(u, v));
-                farthest = std::max(farthest, m.reading(u, v));
-              }
-          if (nearest > farthest) continue;
-          double front = nearest - reach;
-          if (m.kind() == RangeMap::Kind::kPinhole) front = std::max(front, 1e-6 * farthest);
-          openvdb::BBoxd box;
-          for (int c = 0; c < 8; ++c)
-            box.expand(m.pointAt(c & 1 ? u1 : u0, c & 2 ? v1 : v0, c & 4 ? farthest + reach : front));
-          const Coord lo = Coord::floor(box.min() / (voxelSize * leafDim));
-          const Coord hi = Coord::floor(box.max() / (voxelSize * leafDim));
-          for (int x = lo.x(); x <= hi.x(); ++x)
-            for (int y = lo.y(); y <= hi.y(); ++y)
-              for (int z = lo.z(); z <= hi.z(); ++z) marks.setValueOn(Coord(x, y, z));
-        }
-      std::vector<Coord>& leaves = touched[j];
-      leaves.reserve(coarse.activeVoxelCount());
-      for (auto it = coarse.cbeginValueOn(); it; ++it) {
-        const Coord& block = it.getCoord();  // scaled, not shifted: the coordinates may be negative
-        leaves.emplace_back(block.x() * leafDim, block.y() * leafDim, block.z() * leafDim);
-      }
-    }
+    for (std::size_t j = begin; j < end; ++j) touched[j] = detail::leavesReached((*mMaps)[j], voxelSize, reach);
   });
 
   // 2. The union, with the range maps reaching each leaf in map order.
@@ -215,25 +164,7 @@ AccumulatedField ForceField::accumulate(double voxelSize) const {
         const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
         const Vec3d step[3] = {toMap.transform3x3(Vec3d(voxelSize, 0, 0)), toMap.transform3x3(Vec3d(0, voxelSize, 0)),
                                toMap.transform3x3(Vec3d(0, 0, voxelSize))};
-        // Cull: the window cannot reach the leaf if its depths and the readings
-        // over its footprint are more than `reach` apart.
-        double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300, z0 = 1e300, z1 = -1e300;
-        bool behind = false;
-        for (int c = 0; c < 8; ++c) {
-          const Vec3d q = base + step[0] * ((c & 1) * (leafDim - 1)) + step[1] * (((c >> 1) & 1) * (leafDim - 1)) +
-                          step[2] * ((c >> 2) * (leafDim - 1));
-          if (m.kind() == RangeMap::Kind::kPinhole && !(q.z() > 0.0)) behind = true;
-          const openvdb::math::Vec2d uv = m.project(q);
-          u0 = std::min(u0, uv.x());
-          u1 = std::max(u1, uv.x());
-          v0 = std::min(v0, uv.y());
-          v1 = std::max(v1, uv.y());
-          z0 = std::min(z0, q.z());
-          z1 = std::max(z1, q.z());
-        }
-        double lo, hi;
-        if (!behind && (!m.readingBounds(u0, v0, u1 + 1.0, v1 + 1.0, lo, hi) || z0 - hi > reach || z1 - lo < -reach))
-          continue;
+        if (!detail::leafMayBeReached(m, origin, voxelSize, reach)) continue;
         RangeMap::LocalSample sample;
         for (int i = 0; i < leafDim; ++i)
           for (int j = 0; j < leafDim; ++j) {
@@ -242,10 +173,9 @@ AccumulatedField ForceField::accumulate(double voxelSize) const {
             for (int k = 0; k < leafDim; ++k, q += step[2]) {
               ++evaluations[l];
               if (!m.sampleLocal(q, reach, sample)) continue;
-              const double w = window(sample.D);
+              const double w = mWindow(sample.D);
               if (w == 0.0) continue;
-              const double c = 1.0 / (sample.sigma * sample.sigma + sample.gradDSquared * sigmaX2);  // Eq. 38
-              const double weight = c * w * sample.gamma;
+              const double weight = detail::readingWeight(w, sample, sigmaX2);  // Eq. 38
               gSum[row + k] += weight * sample.D;  // Eq. 17
               wSum[row + k] += weight;
             }

@@ -80,7 +80,7 @@ openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double half
   if (field.g->tree().leafCount() == 0)
     throw std::invalid_argument("ForceField::linearSolution: no reading reaches any voxel");
   const float width = levelSetBackground(halfWidth, voxelSize);
-  const double margin = windowReach();
+  const double margin = mWindow.reach();
   const openvdb::math::Transform& xform = field.g->transform();
   const auto inside = [&](const Coord& ijk) { return carvedInside(*mMaps, xform.indexToWorld(ijk), margin); };
   const auto clamp = [width](float value) { return std::max(-width, std::min(width, value)); };

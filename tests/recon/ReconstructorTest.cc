@@ -89,6 +89,40 @@ TEST(Reconstructor, BeatsTheLinearSolutionOnNoisyData) {
   EXPECT_LT(rms, 0.25 * sigma);
 }
 
+TEST(Reconstructor, ChoosesTheDataTermByTheNumberOfScans) {
+  EXPECT_EQ(Reconstructor(noisySphere(0.01)).options().dataTerm, DataTermSource::kPerMap);
+  std::vector<RangeMap> many;
+  for (int copy = 0; copy <= static_cast<int>(kGridsFromScans) / 6; ++copy)
+    for (RangeMap& m : noisySphere(0.01, static_cast<std::uint64_t>(1 + 6 * copy))) many.push_back(std::move(m));
+  ASSERT_GT(many.size(), kGridsFromScans);
+  EXPECT_EQ(Reconstructor(many).options().dataTerm, DataTermSource::kGrids);
+  ReconstructionOptions chosen;
+  chosen.dataTerm = DataTermSource::kGrids;
+  EXPECT_EQ(Reconstructor(noisySphere(0.01), chosen).options().dataTerm, DataTermSource::kGrids);
+}
+
+TEST(Reconstructor, GridsAndPerMapTermsReachTheSameSurface) {
+  // The same noisy sphere with the data term sampled from grids and
+  // evaluated per map: the two surfaces lie as close to the sphere (within
+  // 10%) and a small part of a voxel from each other.
+  const double sigma = 0.08;
+  const std::vector<RangeMap> maps = noisySphere(sigma);
+  ReconstructionOptions options = smallOptions();
+  options.dataTerm = DataTermSource::kPerMap;
+  const ReconstructionResult perMap = Reconstructor(maps, options).run();
+  options.dataTerm = DataTermSource::kGrids;
+  const ReconstructionResult grids = Reconstructor(maps, options).run();
+  EXPECT_EQ(grids.levelSet->metaValue<std::string>("levelfuse_data_term"), "grids");
+  EXPECT_EQ(perMap.levelSet->metaValue<std::string>("levelfuse_data_term"), "maps");
+  const double rmsPerMap = rmsOver(zeroCrossings(*perMap.levelSet), kSphere);
+  const double rmsGrids = rmsOver(zeroCrossings(*grids.levelSet), kSphere);
+  RecordProperty("rms_per_map_over_sigma", std::to_string(rmsPerMap / sigma));
+  RecordProperty("rms_grids_over_sigma", std::to_string(rmsGrids / sigma));
+  EXPECT_LT(rmsGrids, 1.1 * rmsPerMap);
+  EXPECT_LT(rmsGrids, 0.25 * sigma);
+  EXPECT_EQ(insideComponents(*grids.levelSet), 1);
+}
+
 TEST(Reconstructor, RefusesAVoxelSizeThatWouldNotFitInMemory) {
   ReconstructionOptions options;
   options.voxelSize = 0.005;  // 400 voxels across: about 0.5 million on the surface, some 200 MiB

@@ -15,6 +15,7 @@
 
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/SpeedTerms.h>
+#include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
 
 #include <algorithm>
@@ -22,13 +23,16 @@
 namespace levelfuse {
 
 /// The data force of the MAP evolution: outward normal speed at x for a surface
-/// with outward normal n (world units per unit time).
+/// with outward normal n (world units per unit time), from a data term that
+/// answers facingTerms(x, n) (Eq. 37): DataTermGrids, sampled from grids, or
+/// ForceField, evaluated per range map.
+template <typename Field>
 struct DataForce {
-  const ForceField* field = nullptr;
-  double unitWeight = 1.0;  ///< W1: a single typical reading's weight (ForceField::typicalWeight)
+  const Field* field = nullptr;
+  double unitWeight = 1.0;  ///< W1: a single typical reading's weight (Field::typicalWeight)
 
   double operator()(const openvdb::Vec3d& x, const openvdb::Vec3d& n) const {
-    const ForceField::Terms t = field->facingTerms(x, n);  // Eq. 37
+    const DataTerms t = field->facingTerms(x, n);  // Eq. 37
     return t.g / std::max(t.weight, unitWeight);
   }
   /// At most 1 per unit time: F is at most a weighted mean of distances along
@@ -38,7 +42,8 @@ struct DataForce {
 
 /// The MAP evolution's speed: the data force at x^ plus the surface-area prior
 /// (ForceSpeed::beta, the weight of kappa |grad psi| in world units squared per
-/// unit time). SparseField::step is instantiated for it by the library.
-using DataSpeed = ForceSpeed<DataForce>;
+/// unit time). SparseField::step is instantiated for both by the library.
+template <typename Field>
+using DataSpeed = ForceSpeed<DataForce<Field>>;
 
 }  // namespace levelfuse

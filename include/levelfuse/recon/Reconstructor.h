@@ -10,6 +10,7 @@
 #pragma once
 
 #include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/RangeMap.h>
 
@@ -23,6 +24,18 @@
 #include <vector>
 
 namespace levelfuse {
+
+/// Where the evolution takes its data term from.
+enum class DataTermSource {
+  kAuto,    ///< grids from more than kGridsFromScans range maps, per map below
+  kPerMap,  ///< every range map that reaches an active voxel, at every iteration (ForceField)
+  kGrids,   ///< grids accumulated once per grid level, binned by line of sight (DataTermGrids)
+};
+
+/// From how many range maps kAuto samples the data term from grids: below,
+/// evaluating each map where the surface is costs less time and memory than
+/// grids (docs/RECONSTRUCTION.md has the measurements).
+inline constexpr std::size_t kGridsFromScans = 32;
 
 /// Settings of a reconstruction. Zeros (a negative beta) mean "derive from the
 /// data" and are replaced by the values Reconstructor::options() reports.
@@ -46,6 +59,8 @@ struct ReconstructionOptions {
   /// narrows below a voxel of the grid it works on.
   double epsilon = 0.0;
   WindowKind window = WindowKind::kGaussian;
+  /// Where the evolution samples the data term; kAuto is resolved to one of the others.
+  DataTermSource dataTerm = DataTermSource::kAuto;
   /// A grid has converged when the rms speed of its active values falls below
   /// this many voxels per unit time (the data term relaxes in about one).
   double tolerance = 0.05;
@@ -149,6 +164,8 @@ class Reconstructor {
   double voxelSize(int level) const;
   /// The data term's settings on grid `level`.
   ForceFieldOptions forceOptions(int level) const;
+  /// The data term of every scan accumulated on grid `level`.
+  DataTermGrids dataTermGrids(int level) const;
   const std::vector<RangeMap>& maps() const { return *mMaps; }
   /// World box of the scans' readings.
   const openvdb::BBoxd& bounds() const { return mBounds; }
@@ -158,6 +175,11 @@ class Reconstructor {
   void requireCoarsestGridMemory() const;
   /// The linear solution on the coarsest grid, as a sparse field.
   SparseField initialModel() const;
+  /// Evolves `field`, of voxel size h, under the data term and the prior
+  /// until it converges, settles or reaches the iteration limit (section 6).
+  template <typename Field>
+  LevelReport evolveLevel(SparseField& field, const Field& data, double h, ReconstructionProgress& state,
+                          const std::function<void()>& report) const;
   /// Throws InsufficientMemory if the finest grid of a surface with this many
   /// active voxels on the coarsest grid would not fit.
   void requireFinestGridMemory(std::size_t coarsestActiveVoxels) const;

@@ -9,6 +9,8 @@
 // set of g, the linear solution; it is the initial model of the evolution.
 #pragma once
 
+#include <levelfuse/scan/DataTermGrids.h>
+#include <levelfuse/scan/DataWindow.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <openvdb/openvdb.h>
@@ -19,11 +21,6 @@
 
 namespace levelfuse {
 
-enum class WindowKind {
-  kGaussian,  ///< exp(-D^2 / (2 eps^2)), as in the paper's results, cut at `reach` eps
-  kBinary,    ///< 1 for -eps <= D < eps: a reading reaches eps in front of and behind itself
-};
-
 struct ForceFieldOptions {
   WindowKind window = WindowKind::kGaussian;
   double epsilon = 0.0;   ///< window width (world units); must be set
@@ -33,6 +30,10 @@ struct ForceFieldOptions {
   /// subcell positioning (section 6).
   double positionVariance = 0.0;
   std::size_t grainSize = 1;  ///< leaf nodes per parallel task; 0 runs serially
+
+  /// The window these options describe; throws std::invalid_argument for an
+  /// epsilon or reach that is not positive and finite.
+  DataWindow dataWindow() const { return DataWindow(window, epsilon, reach); }
 };
 
 /// Options derived from the data for a grid of `voxelSize`: a Gaussian window
@@ -68,10 +69,7 @@ class ForceField {
   /// c_j D_j w_j gamma_j and of c_j w_j gamma_j over the range maps whose
   /// scanner a surface through x with outward normal N faces. The hot path of
   /// the evolution: maps whose windows cannot reach x are skipped at once.
-  struct Terms {
-    double g = 0.0;
-    double weight = 0.0;
-  };
+  using Terms = DataTerms;
   Terms facingTerms(const openvdb::Vec3d& x, const openvdb::Vec3d& normal) const;
 
   /// Accumulates g over the voxels (of size `voxelSize`, centred on multiples
@@ -100,18 +98,6 @@ class ForceField {
  private:
   /// Adds range map j's term at x to g and weight; returns false if it has none.
   bool term(std::size_t j, const openvdb::Vec3d& x, double& gTerm, double& wTerm, openvdb::Vec3d* lineOfSight) const;
-  /// w(D) of Eqs. 8-9.
-  double window(double D) const {
-    const double eps = mOptions.epsilon;
-    if (mOptions.window == WindowKind::kBinary) return (D >= -eps && D < eps) ? 1.0 : 0.0;
-    // The Gaussian, tabulated in (D / eps)^2 up to the reach and interpolated.
-    const double x = D * D * mInverseEpsilonSq * mTableScale;
-    if (!(x < static_cast<double>(mGaussian.size() - 1))) return 0.0;
-    const std::size_t i = static_cast<std::size_t>(x);
-    const double f = x - static_cast<double>(i);
-    return mGaussian[i] + f * (mGaussian[i + 1] - mGaussian[i]);
-  }
-  double windowReach() const;
 
   std::shared_ptr<const std::vector<RangeMap>> mMaps;
   /// Per map: the world box its windows reach, and its line of sight where it
@@ -119,9 +105,8 @@ class ForceField {
   std::vector<openvdb::BBoxd> mReach;
   std::vector<openvdb::Vec3d> mParallelSight;
   ForceFieldOptions mOptions;
+  DataWindow mWindow;
   double mTypicalWeight = 1.0;
-  std::vector<double> mGaussian;  ///< exp(-x / 2) at x = i / mTableScale, x up to reach^2
-  double mTableScale = 1.0, mInverseEpsilonSq = 1.0;
 };
 
 }  // namespace levelfuse

@@ -87,10 +87,12 @@ class RangeMap {
   /// or they straddle a depth discontinuity (then x gets no data from this map).
   bool sample(const openvdb::Vec3d& x, RangeSample& out) const;
 
-  /// The fast path of accumulation: D, |grad D|^2, gamma and sigma at a point
-  /// given in the map's frame, or false if there is no reading or |D| > reach.
+  /// The fast path of accumulation: D, grad D, the line of sight, gamma and
+  /// sigma at a point given in the map's frame (vectors in the map's frame),
+  /// or false if there is no reading or |D| > reach.
   struct LocalSample {
     double D, gradDSquared, gamma, sigma;
+    openvdb::Vec3d gradD, lineOfSight;
   };
 #if defined(__GNUC__)
   __attribute__((always_inline))
@@ -238,7 +240,9 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
   if (mKind == Kind::kOrthographic) {
     out.D = p.z() - r;  // Eq. 13, rays along +z
     if (!(std::fabs(out.D) <= reach)) return false;
-    out.gradDSquared = (ru * ru + rv * rv) * (mInversePixel * mInversePixel) + 1.0;
+    out.gradD = openvdb::Vec3d(-ru * mInversePixel, -rv * mInversePixel, 1.0);
+    out.gradDSquared = out.gradD.lengthSqr();
+    out.lineOfSight = openvdb::Vec3d(0.0, 0.0, 1.0);
     out.gamma = mRayDensity;
   } else {
     const double a = (u - mPinhole.cx) / mPinhole.fx, b = (v - mPinhole.cy) / mPinhole.fy;
@@ -249,13 +253,15 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
     const double rhoU = ru * k + r * a / (mPinhole.fx * k);
     const double rhoV = rv * k + r * b / (mPinhole.fy * k);
     const double z = p.z();
-    const openvdb::Vec3d grad = p / distance -
-                                openvdb::Vec3d(mPinhole.fx / z, 0.0, -mPinhole.fx * p.x() / (z * z)) * rhoU -
-                                openvdb::Vec3d(0.0, mPinhole.fy / z, -mPinhole.fy * p.y() / (z * z)) * rhoV;
-    out.gradDSquared = grad.lengthSqr();
+    out.lineOfSight = p / distance;
+    out.gradD = out.lineOfSight - openvdb::Vec3d(mPinhole.fx / z, 0.0, -mPinhole.fx * p.x() / (z * z)) * rhoU -
+                openvdb::Vec3d(0.0, mPinhole.fy / z, -mPinhole.fy * p.y() / (z * z)) * rhoV;
+    out.gradDSquared = out.gradD.lengthSqr();
     out.gamma = mPinhole.fx * mPinhole.fy * k / (z * z);
   }
-  out.sigma = mSigmas.empty() ? mSigma : mSigmas[index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1)];
+  const std::size_t nearest = index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1);
+  if (!mDirections.empty()) out.lineOfSight = openvdb::Vec3d(mDirections[nearest]);
+  out.sigma = mSigmas.empty() ? mSigma : mSigmas[nearest];
   return true;
 }
 

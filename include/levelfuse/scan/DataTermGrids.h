@@ -1,0 +1,102 @@
+// levelfuse: the MAP data term accumulated on sparse grids, one range map at
+// a time, so that the evolution samples grids and never the scans.
+//
+// Per voxel p and per direction bin b of the lines of sight (SightBins.h), the
+// grids hold the sums over the range maps j whose line of sight at p falls in b
+//
+//   G_b(p) = sum_j c_j D_j w_j gamma_j           (the terms of g, Eq. 17)
+//   W_b(p) = sum_j c_j w_j gamma_j               (their weights)
+//   V_b(p) = sum_j c_j w_j gamma_j grad D_j      (the weighted gradients of D)
+//
+// with the window w (Eqs. 8-9) and the confidence c (Eq. 38), and per leaf
+// node and bin the weighted sum of the lines of sight n_j,
+//
+//   S_b(leaf) = sum over the leaf's voxels and the maps j of c_j w_j gamma_j n_j
+//
+// (lines of sight turn slowly in space: a leaf of a 1 cm grid 2 m from a camera
+// spans 2.3 degrees of its rays). At a point x and an outward normal N the
+// facing-checked term g~ (Eq. 37) is the sum over the bins whose mean line of
+// sight faces the surface (S_b . N < 0), each bin's terms taken from the
+// eight voxels around x, each voxel's term carried to x along its gradient:
+//
+//   G_b(x) = sum_k t_k (G_b(p_k) + V_b(p_k) . (x - p_k)),   W_b(x) = sum_k t_k W_b(p_k)
+//
+// with t_k the trilinear weights. A single reading of a planar surface thus
+// gives D(x) = G_b(x) / W_b(x) exactly at any x between voxels, as the
+// per-map evaluation does. The approximation against Eq. 37 evaluated per map
+// is the facing check made per bin and leaf on the mean line of sight (maps
+// that share a bin are at most 71 degrees apart), the weights interpolated
+// between voxels, and the readings' curvature between voxels:
+// docs/RECONSTRUCTION.md measures what it costs.
+#pragma once
+
+#include <levelfuse/scan/DataWindow.h>
+#include <levelfuse/scan/RangeMap.h>
+#include <levelfuse/scan/SightBins.h>
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+namespace levelfuse {
+
+/// The sums of a data term at a point: sum c D w gamma and sum c w gamma.
+struct DataTerms {
+  double g = 0.0;
+  double weight = 0.0;
+};
+
+class DataTermGrids {
+ public:
+  /// Grids of voxel size `voxelSize` (voxel centres at multiples of it) for a
+  /// data term of the given window, and sigma_x^2 of Eq. 38 (world units
+  /// squared). Throws std::invalid_argument for a voxel size that is not
+  /// positive and finite or a negative variance.
+  DataTermGrids(double voxelSize, const DataWindow& window, double positionVariance, std::size_t grainSize = 1);
+
+  /// Adds the terms of one range map to every voxel its windows reach; the
+  /// map may be released afterwards. Parallel over leaf nodes; the sums are
+  /// deterministic for a given order of maps, whatever the number of threads.
+  void integrate(const RangeMap& map);
+
+  /// g~(x) and its weight for a surface through x with outward normal N (Eq. 37).
+  DataTerms facingTerms(const openvdb::Vec3d& x, const openvdb::Vec3d& normal) const;
+  /// The total weight sum_j c_j w_j gamma_j at x, all directions (interpolated).
+  double weight(const openvdb::Vec3d& x) const;
+
+  /// g and its weight summed over all bins, per voxel (GRID_UNKNOWN, named "g"
+  /// and "weight"): the field whose zero set is the linear solution.
+  openvdb::FloatGrid::Ptr gGrid() const;
+  openvdb::FloatGrid::Ptr weightGrid() const;
+
+  /// A single typical reading's weight c gamma (the median over the maps
+  /// integrated so far of 1 / (spacing^2 (sigma^2 + sigma_x^2)) for a surface
+  /// square to the line of sight); 1 before any map.
+  double typicalWeight() const;
+  std::size_t mapCount() const { return mMapWeights.size(); }
+  double voxelSize() const { return mVoxelSize; }
+  const DataWindow& window() const { return mWindow; }
+  /// (voxel, range map) pairs evaluated so far.
+  std::size_t evaluations() const { return mEvaluations; }
+  /// Memory held by the grids (bytes).
+  std::size_t memoryBytes() const;
+
+ private:
+  struct Bin {
+    openvdb::FloatGrid::Ptr g, weight;
+    openvdb::Vec3fGrid::Ptr gradient;
+    openvdb::Vec3fGrid::Ptr sight;  ///< S_b, one voxel per leaf node (voxel size 8 h)
+  };
+  std::array<Bin, kSightBins> mBins;
+  openvdb::Int32Grid::Ptr mBinMask;  ///< per voxel, bit b set where bin b holds terms
+  double mVoxelSize;
+  DataWindow mWindow;
+  double mPositionVariance;
+  std::size_t mGrainSize;
+  std::vector<double> mMapWeights;
+  std::size_t mEvaluations = 0;
+};
+
+}  // namespace levelfuse

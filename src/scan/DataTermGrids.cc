@@ -1,0 +1,277 @@
+// levelfuse: the data term accumulated on grids binned by line of sight.
+
+#include <levelfuse/core/Parallel.h>
+#include <levelfuse/scan/DataTermGrids.h>
+
+#include "LeavesReached.h"
+#include "ReadingWeight.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+
+namespace levelfuse {
+
+namespace {
+
+using openvdb::Coord;
+using openvdb::Vec3d;
+using openvdb::Vec3f;
+using FloatLeaf = openvdb::FloatTree::LeafNodeType;
+using VectorLeaf = openvdb::Vec3fTree::LeafNodeType;
+using MaskLeaf = openvdb::Int32Tree::LeafNodeType;
+constexpr int kLeafDim = static_cast<int>(FloatLeaf::DIM);
+
+/// One range map's term at one voxel of a leaf.
+struct VoxelTerm {
+  std::uint16_t offset;  ///< within the leaf
+  std::uint8_t bin;
+  float g, weight;
+  Vec3f gradient;  ///< weight * grad D, world
+  Vec3f sight;     ///< weight * the line of sight, world
+};
+
+/// The leaves of one bin that a leaf's terms go into.
+struct BinLeaves {
+  FloatLeaf* g = nullptr;
+  FloatLeaf* weight = nullptr;
+  VectorLeaf* gradient = nullptr;
+  VectorLeaf* sight = nullptr;  ///< holds the leaf's S_b at `sightOffset`
+  openvdb::Index sightOffset = 0;
+};
+
+template <typename GridT>
+typename GridT::Ptr emptyGrid(double voxelSize, const char* name) {
+  typename GridT::Ptr grid = GridT::create();
+  grid->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
+  grid->setGridClass(openvdb::GRID_UNKNOWN);
+  grid->setName(name);
+  return grid;
+}
+
+/// The voxel, in a grid of one voxel per leaf node, of the leaf holding `ijk`
+/// (arithmetic shifts: floor division, also of negative coordinates).
+Coord leafBlock(const Coord& ijk) {
+  return Coord(ijk.x() >> FloatLeaf::LOG2DIM, ijk.y() >> FloatLeaf::LOG2DIM, ijk.z() >> FloatLeaf::LOG2DIM);
+}
+
+double median(std::vector<double> values) {
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+}  // namespace
+
+DataTermGrids::DataTermGrids(double voxelSize, const DataWindow& window, double positionVariance, std::size_t grainSize)
+    : mVoxelSize(voxelSize), mWindow(window), mPositionVariance(positionVariance), mGrainSize(grainSize) {
+  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
+    throw std::invalid_argument("DataTermGrids: the voxel size must be positive and finite");
+  if (!(positionVariance >= 0.0) || !std::isfinite(positionVariance))
+    throw std::invalid_argument("DataTermGrids: the position variance must be finite and not negative");
+  for (Bin& bin : mBins) {
+    bin.g = emptyGrid<openvdb::FloatGrid>(voxelSize, "g");
+    bin.weight = emptyGrid<openvdb::FloatGrid>(voxelSize, "weight");
+    bin.gradient = emptyGrid<openvdb::Vec3fGrid>(voxelSize, "gradient");
+    bin.sight = emptyGrid<openvdb::Vec3fGrid>(voxelSize * kLeafDim, "sight");
+  }
+  mBinMask = emptyGrid<openvdb::Int32Grid>(voxelSize, "sight_bins");
+}
+
+void DataTermGrids::integrate(const RangeMap& map) {
+  const double reach = mWindow.reach();
+  const double h = mVoxelSize;
+  const std::vector<Coord> leaves = detail::leavesReached(map, h, reach);
+  const openvdb::math::Mat4d& toMap = map.worldToMap();
+  const openvdb::math::Mat4d& toWorld = map.mapToWorld();
+  const Vec3d step[3] = {toMap.transform3x3(Vec3d(h, 0, 0)), toMap.transform3x3(Vec3d(0, h, 0)),
+                         toMap.transform3x3(Vec3d(0, 0, h))};
+  // Parallel rays: one line of sight, one bin.
+  const bool parallel = map.kind() == RangeMap::Kind::kOrthographic && !map.hasRayDirections();
+  const int parallelBin = sightBin(toWorld.transform3x3(Vec3d(0, 0, 1)));
+
+  // 1. Per leaf, the map's terms at its voxels (Eqs. 17, 38).
+  std::vector<std::vector<VoxelTerm>> terms(leaves.size());
+  std::vector<std::size_t> evaluations(leaves.size(), 0);
+  parallelFor(leaves.size(), mGrainSize, [&](std::size_t begin, std::size_t end) {
+    RangeMap::LocalSample s;
+    for (std::size_t l = begin; l < end; ++l) {
+      if (!detail::leafMayBeReached(map, leaves[l], h, reach)) continue;
+      const Vec3d base = toMap.transform(leaves[l].asVec3d() * h);
+      std::vector<VoxelTerm>& out = terms[l];
+      for (int i = 0; i < kLeafDim; ++i)
+        for (int j = 0; j < kLeafDim; ++j) {
+          Vec3d q = base + step[0] * i + step[1] * j;
+          const int row = (i << 6) | (j << 3);
+          for (int k = 0; k < kLeafDim; ++k, q += step[2]) {
+            ++evaluations[l];
+            if (!map.sampleLocal(q, reach, s)) continue;
+            const double w = mWindow(s.D);
+            if (w == 0.0) continue;
+            const double weight = detail::readingWeight(w, s, mPositionVariance);  // Eq. 38
+            const Vec3d sight = toWorld.transform3x3(s.lineOfSight);
+            const int bin = parallel ? parallelBin : sightBin(sight);
+            out.push_back(VoxelTerm{static_cast<std::uint16_t>(row + k), static_cast<std::uint8_t>(bin),
+                                    static_cast<float>(weight * s.D),  // Eq. 17
+                                    static_cast<float>(weight), Vec3f(toWorld.transform3x3(s.gradD) * weight),
+                                    Vec3f(sight * weight)});
+          }
+        }
+    }
+  });
+
+  // 2. The leaves that receive terms, created serially (tree topology).
+  std::vector<std::array<BinLeaves, kSightBins>> targets(leaves.size());
+  std::vector<MaskLeaf*> maskLeaves(leaves.size(), nullptr);
+  {
+    openvdb::tree::ValueAccessor<openvdb::Int32Tree> mask(mBinMask->tree());
+    for (std::size_t l = 0; l < leaves.size(); ++l) {
+      if (terms[l].empty()) continue;
+      maskLeaves[l] = mask.touchLeaf(leaves[l]);
+      for (const VoxelTerm& t : terms[l]) {
+        BinLeaves& target = targets[l][t.bin];
+        if (target.g) continue;
+        Bin& bin = mBins[t.bin];
+        target.g = bin.g->tree().touchLeaf(leaves[l]);
+        target.weight = bin.weight->tree().touchLeaf(leaves[l]);
+        target.gradient = bin.gradient->tree().touchLeaf(leaves[l]);
+        const Coord block = leafBlock(leaves[l]);
+        target.sight = bin.sight->tree().touchLeaf(block);
+        target.sightOffset = VectorLeaf::coordToOffset(block);
+      }
+    }
+  }
+
+  // 3. The terms added in, each leaf by one task: deterministic.
+  std::vector<std::array<Vec3f, kSightBins>> sights(leaves.size());
+  parallelFor(leaves.size(), mGrainSize, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t l = begin; l < end; ++l) {
+      for (const VoxelTerm& t : terms[l]) {
+        BinLeaves& target = targets[l][t.bin];
+        const openvdb::Index o = t.offset;
+        target.g->setValueOn(o, target.g->getValue(o) + t.g);
+        target.weight->setValueOn(o, target.weight->getValue(o) + t.weight);
+        target.gradient->setValueOn(o, target.gradient->getValue(o) + t.gradient);
+        maskLeaves[l]->setValueOn(o, maskLeaves[l]->getValue(o) | (1 << t.bin));
+      }
+      sights[l].fill(Vec3f(0.0f));
+      for (const VoxelTerm& t : terms[l]) sights[l][t.bin] += t.sight;
+    }
+  });
+
+  // 4. S_b of each leaf, serially: many leaves share a leaf of the sight grids.
+  for (std::size_t l = 0; l < leaves.size(); ++l)
+    for (std::size_t b = 0; b < kSightBins; ++b) {
+      const BinLeaves& target = targets[l][b];
+      if (!target.sight) continue;
+      target.sight->setValueOn(target.sightOffset, target.sight->getValue(target.sightOffset) + sights[l][b]);
+    }
+
+  for (std::size_t e : evaluations) mEvaluations += e;
+  const double spacing = map.maxRaySpacing();
+  mMapWeights.push_back(1.0 / (spacing * spacing) / (map.sigma() * map.sigma() + mPositionVariance));
+}
+
+double DataTermGrids::typicalWeight() const { return mMapWeights.empty() ? 1.0 : median(mMapWeights); }
+
+namespace {
+
+/// The eight voxels around a point and their trilinear weights.
+struct Corners {
+  Coord ijk[8];
+  double t[8];
+  Vec3d offset[8];  ///< x - p_k, world
+};
+
+Corners cornersAround(const Vec3d& x, double h) {
+  Corners c;
+  const Vec3d index = x / h;
+  const Coord lo = Coord::floor(index);
+  const Vec3d f = index - lo.asVec3d();
+  for (int k = 0; k < 8; ++k) {
+    const int dx = k & 1, dy = (k >> 1) & 1, dz = k >> 2;
+    c.ijk[k] = lo.offsetBy(dx, dy, dz);
+    c.t[k] = (dx ? f.x() : 1.0 - f.x()) * (dy ? f.y() : 1.0 - f.y()) * (dz ? f.z() : 1.0 - f.z());
+    c.offset[k] = x - c.ijk[k].asVec3d() * h;
+  }
+  return c;
+}
+
+}  // namespace
+
+DataTerms DataTermGrids::facingTerms(const Vec3d& x, const Vec3d& normal) const {
+  const Corners c = cornersAround(x, mVoxelSize);
+  openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> maskAccess(mBinMask->tree());
+  std::int32_t masks[8], any = 0;
+  for (int k = 0; k < 8; ++k) any |= masks[k] = maskAccess.getValue(c.ijk[k]);
+  DataTerms sum;
+  for (int b = 0; any != 0; ++b, any >>= 1) {
+    if (!(any & 1)) continue;
+    const Bin& bin = mBins[static_cast<std::size_t>(b)];
+    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> g(bin.g->tree()), w(bin.weight->tree());
+    openvdb::tree::ValueAccessor<const openvdb::Vec3fTree, false> grad(bin.gradient->tree()), sight(bin.sight->tree());
+    double G = 0.0, W = 0.0;
+    Vec3d S(0.0);
+    for (int k = 0; k < 8; ++k) {
+      if (!(masks[k] & (1 << b)) || c.t[k] == 0.0) continue;
+      G += c.t[k] * (g.getValue(c.ijk[k]) + Vec3d(grad.getValue(c.ijk[k])).dot(c.offset[k]));  // carried to x
+      W += c.t[k] * w.getValue(c.ijk[k]);
+      S += c.t[k] * Vec3d(sight.getValue(leafBlock(c.ijk[k])));
+    }
+    if (!(S.dot(normal) < 0.0)) continue;  // Eq. 37, per bin
+    sum.g += G;
+    sum.weight += W;
+  }
+  return sum;
+}
+
+double DataTermGrids::weight(const Vec3d& x) const {
+  const Corners c = cornersAround(x, mVoxelSize);
+  double sum = 0.0;
+  for (const Bin& bin : mBins) {
+    if (bin.weight->tree().leafCount() == 0) continue;
+    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> w(bin.weight->tree());
+    for (int k = 0; k < 8; ++k) sum += c.t[k] * w.getValue(c.ijk[k]);
+  }
+  return sum;
+}
+
+namespace {
+
+/// The sum over the bins of one of their grids, voxel by voxel, in bin order.
+openvdb::FloatGrid::Ptr sumOverBins(const std::vector<const openvdb::FloatGrid*>& grids, double voxelSize,
+                                    const char* name) {
+  openvdb::FloatGrid::Ptr total = emptyGrid<openvdb::FloatGrid>(voxelSize, name);
+  openvdb::tree::ValueAccessor<openvdb::FloatTree> out(total->tree());
+  for (const openvdb::FloatGrid* grid : grids)
+    for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
+      FloatLeaf* target = out.touchLeaf(leaf->origin());
+      for (auto it = leaf->cbeginValueOn(); it; ++it)
+        target->setValueOn(it.pos(), target->getValue(it.pos()) + *it);
+    }
+  return total;
+}
+
+}  // namespace
+
+openvdb::FloatGrid::Ptr DataTermGrids::gGrid() const {
+  std::vector<const openvdb::FloatGrid*> grids;
+  for (const Bin& bin : mBins) grids.push_back(bin.g.get());
+  return sumOverBins(grids, mVoxelSize, "g");
+}
+
+openvdb::FloatGrid::Ptr DataTermGrids::weightGrid() const {
+  std::vector<const openvdb::FloatGrid*> grids;
+  for (const Bin& bin : mBins) grids.push_back(bin.weight.get());
+  return sumOverBins(grids, mVoxelSize, "weight");
+}
+
+std::size_t DataTermGrids::memoryBytes() const {
+  std::size_t bytes = static_cast<std::size_t>(mBinMask->memUsage());
+  for (const Bin& bin : mBins)
+    bytes += static_cast<std::size_t>(bin.g->memUsage() + bin.weight->memUsage() + bin.gradient->memUsage() +
+                                      bin.sight->memUsage());
+  return bytes;
+}
+
+}  // namespace levelfuse

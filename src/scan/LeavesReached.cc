@@ -1,0 +1,74 @@
+// levelfuse: the leaf nodes a range map's windows reach.
+
+#include "LeavesReached.h"
+
+#include <openvdb/openvdb.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace levelfuse::detail {
+
+namespace {
+using openvdb::Coord;
+using openvdb::Vec3d;
+constexpr int kLeafDim = 8;
+}  // namespace
+
+std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double reach) {
+  constexpr int kTile = 4;  // pixels per side; tiles share their last row and column
+  openvdb::MaskTree coarse;  // one voxel per leaf: duplicates cost nothing
+  openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(coarse);
+  for (int v0 = 0; v0 + 1 < m.height(); v0 += kTile)
+    for (int u0 = 0; u0 + 1 < m.width(); u0 += kTile) {
+      const int u1 = std::min(u0 + kTile, m.width() - 1), v1 = std::min(v0 + kTile, m.height() - 1);
+      float nearest = std::numeric_limits<float>::max(), farthest = -nearest;
+      for (int v = v0; v <= v1; ++v)
+        for (int u = u0; u <= u1; ++u)
+          if (m.valid(u, v)) {
+            nearest = std::min(nearest, m.reading(u, v));
+            farthest = std::max(farthest, m.reading(u, v));
+          }
+      if (nearest > farthest) continue;
+      double front = nearest - reach;
+      if (m.kind() == RangeMap::Kind::kPinhole) front = std::max(front, 1e-6 * farthest);
+      openvdb::BBoxd box;
+      for (int c = 0; c < 8; ++c)
+        box.expand(m.pointAt(c & 1 ? u1 : u0, c & 2 ? v1 : v0, c & 4 ? farthest + reach : front));
+      const Coord lo = Coord::floor(box.min() / (voxelSize * kLeafDim));
+      const Coord hi = Coord::floor(box.max() / (voxelSize * kLeafDim));
+      for (int x = lo.x(); x <= hi.x(); ++x)
+        for (int y = lo.y(); y <= hi.y(); ++y)
+          for (int z = lo.z(); z <= hi.z(); ++z) marks.setValueOn(Coord(x, y, z));
+    }
+  std::vector<Coord> leaves;
+  leaves.reserve(coarse.activeVoxelCount());
+  for (auto it = coarse.cbeginValueOn(); it; ++it) {
+    const Coord& block = it.getCoord();  // scaled, not shifted: the coordinates may be negative
+    leaves.emplace_back(block.x() * kLeafDim, block.y() * kLeafDim, block.z() * kLeafDim);
+  }
+  std::sort(leaves.begin(), leaves.end());
+  return leaves;
+}
+
+bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {
+  const openvdb::math::Mat4d& toMap = m.worldToMap();
+  const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
+  const double span = voxelSize * (kLeafDim - 1);
+  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300, z0 = 1e300, z1 = -1e300;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3d q = base + toMap.transform3x3(Vec3d((c & 1) * span, ((c >> 1) & 1) * span, (c >> 2) * span));
+    if (m.kind() == RangeMap::Kind::kPinhole && !(q.z() > 0.0)) return true;  // straddles the camera plane
+    const openvdb::math::Vec2d uv = m.project(q);
+    u0 = std::min(u0, uv.x());
+    u1 = std::max(u1, uv.x());
+    v0 = std::min(v0, uv.y());
+    v1 = std::max(v1, uv.y());
+    z0 = std::min(z0, q.z());
+    z1 = std::max(z1, q.z());
+  }
+  double lo, hi;
+  return m.readingBounds(u0, v0, u1 + 1.0, v1 + 1.0, lo, hi) && z0 - hi <= reach && z1 - lo >= -reach;
+}
+
+}  // namespace levelfuse::detail

@@ -1,0 +1,25 @@
+// levelfuse: which leaf nodes of a grid a range map's windows reach (private
+// to the data term's accumulation).
+#pragma once
+
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/math/Coord.h>
+
+#include <vector>
+
+namespace levelfuse::detail {
+
+/// The origins (in voxels of size `voxelSize`, voxel centres at multiples of
+/// it) of the 8^3 leaf nodes that readings of `map` reach within `reach`
+/// along their lines of sight, sorted: per tile of 4 x 4 pixels, the lines of
+/// sight through it between its nearest reading less the reach and its
+/// farthest plus the reach (a box for parallel rays, a frustum for a camera).
+std::vector<openvdb::Coord> leavesReached(const RangeMap& map, double voxelSize, double reach);
+
+/// Whether readings of `map` can reach the leaf at `origin` within `reach`:
+/// false if the leaf's depths and the readings over its footprint in the map
+/// are more than `reach` apart.
+bool leafMayBeReached(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double reach);
+
+}  // namespace levelfuse::detail
