@@ -134,7 +134,7 @@ ForceField::Terms ForceField::facingTerms(const Vec3d& x, const Vec3d& normal) c
   return sum;
 }
 
-AccumulatedField ForceField::accumulate(double voxelSize) const {
+AccumulatedField ForceField::accumulate(double voxelSize, const Interrupter& interrupter) const {
   if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
     throw std::invalid_argument("ForceField::accumulate: the voxel size must be positive");
   const double reach = windowReach();
@@ -150,6 +150,7 @@ AccumulatedField ForceField::accumulate(double voxelSize) const {
   std::vector<std::vector<Coord>> touched(mMaps->size());
   parallelFor(mMaps->size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) {
+      checkInterrupter(interrupter);
       const RangeMap& m = (*mMaps)[j];
       openvdb::MaskTree coarse;
       openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(coarse);
@@ -206,6 +207,7 @@ AccumulatedField ForceField::accumulate(double voxelSize) const {
   parallelFor(leafCount, mOptions.grainSize, [&](std::size_t begin, std::size_t end) {
     std::vector<double> gSum(LeafT::SIZE), wSum(LeafT::SIZE);
     for (std::size_t l = begin; l < end; ++l) {
+      checkInterrupter(interrupter);
       const Coord origin = pairs[firstPair[l]].first;
       std::fill(gSum.begin(), gSum.end(), 0.0);
       std::fill(wSum.begin(), wSum.end(), 0.0);

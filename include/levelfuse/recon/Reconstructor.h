@@ -9,6 +9,7 @@
 //     to the requested voxel size: a continuation from coarse to fine.
 #pragma once
 
+#include <levelfuse/core/Interrupter.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/RangeMap.h>
@@ -84,9 +85,9 @@ struct ReconstructionProgress {
 using ProgressCallback = std::function<bool(const ReconstructionProgress&)>;
 
 /// Thrown by Reconstructor::run when the progress callback asks to stop.
-class ReconstructionCancelled : public std::runtime_error {
+class ReconstructionCancelled : public Interrupted {
  public:
-  ReconstructionCancelled() : std::runtime_error("the reconstruction was cancelled") {}
+  ReconstructionCancelled() : Interrupted("the reconstruction was cancelled") {}
 };
 
 /// Thrown by Reconstructor::run when the finest grid would need more memory
@@ -135,13 +136,16 @@ class Reconstructor {
   Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options = {});
 
   /// Runs the pipeline. Throws ReconstructionCancelled if `progress` returns
-  /// false, InsufficientMemory if the finest grid would not fit.
-  ReconstructionResult run(const ProgressCallback& progress = {}) const;
+  /// false, Interrupted if `interrupter` stops the initial model (the linear
+  /// solution, before the first progress report), InsufficientMemory if the
+  /// finest grid would not fit.
+  ReconstructionResult run(const ProgressCallback& progress = {}, const Interrupter& interrupter = {}) const;
 
   /// The linear solution (the zero set of g, Eq. 17) on the finest grid
   /// alone, no evolution: VRIP-style fusion. Throws InsufficientMemory, as
-  /// run() does, if the finest grid would not fit.
-  openvdb::FloatGrid::Ptr linearSolution() const;
+  /// run() does, if the finest grid would not fit; Interrupted if
+  /// `interrupter` stops it.
+  openvdb::FloatGrid::Ptr linearSolution(const Interrupter& interrupter = {}) const;
 
   /// The options with every default resolved.
   const ReconstructionOptions& options() const { return mOptions; }
@@ -157,7 +161,7 @@ class Reconstructor {
   /// Throws InsufficientMemory if the coarsest grid's box would not fit.
   void requireCoarsestGridMemory() const;
   /// The linear solution on the coarsest grid, as a sparse field.
-  SparseField initialModel() const;
+  SparseField initialModel(const Interrupter& interrupter) const;
   /// Throws InsufficientMemory if the finest grid of a surface with this many
   /// active voxels on the coarsest grid would not fit.
   void requireFinestGridMemory(std::size_t coarsestActiveVoxels) const;
