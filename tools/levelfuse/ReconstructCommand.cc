@@ -259,7 +259,7 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("--max-memory", s->maxMemoryGiB,
                   "Memory to use at most, GiB (default: the machine's); a run that would need more stops at once "
                   "and says which voxel size fits")
-      ->check(numberIn(0.0, 1048576.0, true));
+      ->check(numberIn(0.0, 1e6, true));
   cmd->add_flag("--json", s->json, "Print the summary as JSON (no progress line)");
   cmd->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
   cmd->footer(
