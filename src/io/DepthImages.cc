@@ -3,6 +3,7 @@
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/MemoryBudget.h>
 
 #include <png.h>
@@ -40,10 +41,6 @@ constexpr double kMaxDeflateRatio = 1032.0;
 const char* const kTooLargeAdvice = "crop or downsample the image, or use a machine with more memory";
 const float kNoReading = std::numeric_limits<float>::quiet_NaN();
 
-void requireFile(const std::string& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path, "no such file");
-}
 
 using Problem = char[200];
 
@@ -156,7 +153,7 @@ std::string readPng16(const char* path, double fileBytes, int& width, int& heigh
 }
 
 std::vector<double> readNumbers(const std::string& path, std::size_t expected) {
-  requireFile(path);
+  requireInputFile(path);
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot be opened for reading");
   std::vector<double> values;
@@ -169,7 +166,7 @@ std::vector<double> readNumbers(const std::string& path, std::size_t expected) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != word.size()) throw InputError(path, "'" + word + "' is not a number");
+    if (used != word.size()) throw InputError(path, quote(word) + " is not a number");
     if (!std::isfinite(v)) throw InputError(path, "a value is not finite");
     values.push_back(v);
     if (values.size() > expected) break;
@@ -183,7 +180,7 @@ std::vector<double> readNumbers(const std::string& path, std::size_t expected) {
 }  // namespace
 
 DepthImage readDepthPng(const std::string& path, double scale, const std::vector<unsigned> invalid) {
-  requireFile(path);
+  requireInputFile(path);
   if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError(path, "the depth scale must be positive");
   DepthImage image;
   std::vector<std::uint16_t> samples;
@@ -202,7 +199,7 @@ DepthImage readDepthPng(const std::string& path, double scale, const std::vector
 }
 
 DepthImage readDepthPfm(const std::string& path, bool positiveOnly) {
-  requireFile(path);
+  requireInputFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot be opened for reading");
   std::string magic;
@@ -246,10 +243,16 @@ DepthImage readDepthPfm(const std::string& path, bool positiveOnly) {
 }
 
 void writeDepthPfm(const std::string& path, const DepthImage& image) {
+  OutputSet outputs;
+  writeDepthPfm(outputs, path, image);
+  outputs.commit();
+}
+
+void writeDepthPfm(OutputSet& outputs, const std::string& path, const DepthImage& image) {
   if (image.width < 1 || image.height < 1 ||
       image.depth.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
     throw std::invalid_argument("writeDepthPfm: the image's size and its pixels disagree");
-  writeAtomically(path, [&](const std::string& temporary) {
+  outputs.add(path, [&](const std::string& temporary) {
     std::ofstream out(temporary, std::ios::binary);
     if (!out) throw std::runtime_error("cannot open a temporary file beside it");
     out << "Pf\n" << image.width << " " << image.height << "\n-1\n";  // negative scale: little-endian
@@ -262,13 +265,12 @@ void writeDepthPfm(const std::string& path, const DepthImage& image) {
         if (!hostLittle) std::reverse(b, b + 4);
         out.write(reinterpret_cast<const char*>(b), 4);
       }
-    out.close();
-    if (!out) throw std::runtime_error("write error (disk full?)");
+    closeChecked(out);
   });
 }
 
 DepthImage readDepthExr(const std::string& path) {
-  requireFile(path);
+  requireInputFile(path);
 #if defined(LEVELFUSE_HAVE_OPENEXR)
   try {
     Imf::InputFile file(path.c_str());
@@ -300,7 +302,7 @@ DepthImage readDepthExr(const std::string& path) {
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
-    throw InputError(path, std::string("not a readable EXR file (") + e.what() + ")");
+    throw InputError(path, "not a readable EXR file (" + excerpt(e.what()) + ")");
   }
 #else
   throw InputError(path, "this levelfuse was built without OpenEXR; install libopenexr-dev and rebuild");
@@ -313,7 +315,7 @@ DepthImage readDepthImage(const std::string& path, double pngScale) {
   if (ext == ".png") return readDepthPng(path, pngScale);
   if (ext == ".pfm") return readDepthPfm(path);
   if (ext == ".exr") return readDepthExr(path);
-  throw InputError(path, "unknown depth image type '" + ext + "' (expected .png, .pfm or .exr)");
+  throw InputError(path, "unknown depth image type " + quote(ext) + " (expected .png, .pfm or .exr)");
 }
 
 PinholeProjection readIntrinsics(const std::string& path) {

@@ -3,6 +3,7 @@
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/StanfordScans.h>
 
@@ -63,10 +64,10 @@ class Entry {
   }
   std::vector<double> numbers(const json& j, const std::string& key, std::size_t count) const {
     if (!j.is_array() || j.size() != count)
-      fail("'" + key + "' needs " + std::to_string(count) + " numbers");
+      fail(quote(key) + " needs " + std::to_string(count) + " numbers");
     std::vector<double> v;
     for (const json& x : j) {
-      if (!x.is_number() || !std::isfinite(x.get<double>())) fail("'" + key + "' holds something that is not a number");
+      if (!x.is_number() || !std::isfinite(x.get<double>())) fail(quote(key) + " holds something that is not a number");
       v.push_back(x.get<double>());
     }
     return v;
@@ -118,9 +119,8 @@ openvdb::math::Mat4d poseOf(const Entry& e, const std::string& manifest) {
 }
 
 json parseManifest(const std::string& path) {
+  requireInputFile(path);
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw InputError(path, fs::exists(path, ec) ? "not a regular file" : "no such file");
   const std::uintmax_t bytes = fs::file_size(path, ec);
   if (!ec && bytes > kMaxManifestBytes)
     throw InputError(path, "a manifest of " + std::to_string(bytes >> 20) +
@@ -130,13 +130,13 @@ json parseManifest(const std::string& path) {
   try {
     return json::parse(in);
   } catch (const json::exception& e) {  // parse errors, and numbers too large for a double
-    throw InputError(path, std::string("not valid JSON (") + e.what() + ")");
+    throw InputError(path, "not valid JSON (" + excerpt(e.what()) + ")");
   }
 }
 
 }  // namespace
 
-std::vector<RangeMap> loadManifest(const std::string& path) {
+std::vector<RangeMap> loadManifest(const std::string& path, const Interrupter& interrupter) {
   const json root = parseManifest(path);
   if (!root.is_object() || !root.contains("scans") || !root["scans"].is_array())
     throw InputError(path, "expected an object with an array 'scans'");
@@ -144,11 +144,14 @@ std::vector<RangeMap> loadManifest(const std::string& path) {
 
   std::vector<RangeMap> maps;
   for (std::size_t i = 0; i < root["scans"].size(); ++i) {
+    checkInterrupter(interrupter);
     const Entry e(path, root["scans"][i], i);
     const std::string format = e.string("format");
     const std::size_t first = maps.size();
     if (format == "stanford-conf") {
-      for (RangeMap& m : loadStanfordScans(e.path("file"), stanfordOptions(e))) maps.push_back(std::move(m));
+      StanfordScanOptions stanford = stanfordOptions(e);
+      stanford.interrupter = interrupter;
+      for (RangeMap& m : loadStanfordScans(e.path("file"), stanford)) maps.push_back(std::move(m));
     } else if (format == "stanford-ply") {
       StanfordPlacement placement;
       const auto t = e.numbers("translation", 3);
@@ -201,8 +204,8 @@ std::vector<RangeMap> loadManifest(const std::string& path) {
         e.fail(error.what());
       }
     } else {
-      e.fail("unknown format '" + format +
-             "' (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr or orthographic-pfm)");
+      e.fail("unknown format " + quote(format) +
+             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr or orthographic-pfm)");
     }
     if (e.has("misses_are_empty")) {
       if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");
@@ -248,12 +251,20 @@ std::optional<shapes::AnalyticShape> loadManifestTruth(const std::string& path) 
     truth.mug = shapes::Mug{centre,          number("radius"),      number("height"),
                             number("wall"), number("handle_bend"), number("handle_radius")};
   } else {
-    fail("unknown shape '" + shape + "' (sphere, torus or mug)");
+    fail("unknown shape " + quote(shape) + " (sphere, torus or mug)");
   }
   return truth;
 }
 
 std::string writeScanSet(const std::string& directory, const std::vector<RangeMap>& maps,
+                         const std::optional<shapes::AnalyticShape>& truth) {
+  OutputSet outputs;
+  const std::string manifest = writeScanSet(outputs, directory, maps, truth);
+  outputs.commit();
+  return manifest;
+}
+
+std::string writeScanSet(OutputSet& outputs, const std::string& directory, const std::vector<RangeMap>& maps,
                          const std::optional<shapes::AnalyticShape>& truth) {
   std::error_code ec;
   fs::create_directories(directory, ec);
@@ -275,7 +286,7 @@ std::string writeScanSet(const std::string& directory, const std::vector<RangeMa
     image.depth.reserve(static_cast<std::size_t>(m.width()) * m.height());
     for (int v = 0; v < m.height(); ++v)
       for (int u = 0; u < m.width(); ++u) image.depth.push_back(m.reading(u, v));
-    writeDepthPfm((fs::path(directory) / file).string(), image);
+    writeDepthPfm(outputs, (fs::path(directory) / file).string(), image);
     json entry{{"file", file}, {"pose", rowMajor(m.mapToWorld())}, {"sigma", m.sigma()}};
     if (m.kind() == RangeMap::Kind::kOrthographic) {
       entry["format"] = "orthographic-pfm";
@@ -312,12 +323,11 @@ std::string writeScanSet(const std::string& directory, const std::vector<RangeMa
     }
   }
   const std::string manifest = (fs::path(directory) / "scans.json").string();
-  writeAtomically(manifest, [&](const std::string& temporary) {
+  outputs.add(manifest, [&](const std::string& temporary) {
     std::ofstream out(temporary);
     if (!out) throw std::runtime_error("cannot open a temporary file beside it");
     out << root.dump(2) << "\n";
-    out.close();
-    if (!out) throw std::runtime_error("write error (disk full?)");
+    closeChecked(out);
   });
   return manifest;
 }

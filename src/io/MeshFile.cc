@@ -14,8 +14,15 @@ namespace levelfuse::io {
 
 namespace {
 
-void writeObj(const std::string& path, const TriangleMesh& mesh) {
-  writeAtomically(path, [&](const std::string& temporary) {
+std::string lowerExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+void writeObj(OutputSet& outputs, const std::string& path, const TriangleMesh& mesh) {
+  outputs.add(path, [&](const std::string& temporary) {
     std::FILE* file = std::fopen(temporary.c_str(), "w");
     if (!file) throw std::runtime_error("cannot open a temporary file beside it");
     std::fprintf(file, "# written by levelfuse: %zu vertices, %zu triangles\n", mesh.vertexCount(),
@@ -24,20 +31,29 @@ void writeObj(const std::string& path, const TriangleMesh& mesh) {
       std::fprintf(file, "v %.9g %.9g %.9g\n", mesh.xyz[i], mesh.xyz[i + 1], mesh.xyz[i + 2]);
     for (std::size_t t = 0; t < mesh.triangles.size(); t += 3)  // OBJ counts vertices from 1
       std::fprintf(file, "f %u %u %u\n", mesh.triangles[t] + 1, mesh.triangles[t + 1] + 1, mesh.triangles[t + 2] + 1);
-    const bool failed = std::ferror(file) != 0;
+    const bool failed = std::fflush(file) != 0 || std::ferror(file) != 0;
     if (std::fclose(file) != 0 || failed) throw std::runtime_error("write error (disk full?)");
   });
 }
 
 }  // namespace
 
+void requireMeshFileName(const std::string& path) {
+  const std::string extension = lowerExtension(path);
+  if (extension != ".ply" && extension != ".obj")
+    throw std::invalid_argument("cannot write a mesh as '" + path + "': the name must end in .ply or .obj");
+}
+
+void writeMesh(OutputSet& outputs, const std::string& path, const TriangleMesh& mesh) {
+  requireMeshFileName(path);
+  if (lowerExtension(path) == ".ply") return writeMeshPly(outputs, path, mesh.xyz, mesh.triangles, true);
+  writeObj(outputs, path, mesh);
+}
+
 void writeMesh(const std::string& path, const TriangleMesh& mesh) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (extension == ".ply") return writeMeshPly(path, mesh.xyz, mesh.triangles, true);
-  if (extension == ".obj") return writeObj(path, mesh);
-  throw std::invalid_argument("cannot write a mesh as '" + path + "': the name must end in .ply or .obj");
+  OutputSet outputs;
+  writeMesh(outputs, path, mesh);
+  outputs.commit();
 }
 
 }  // namespace levelfuse::io

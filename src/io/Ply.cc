@@ -2,6 +2,7 @@
 
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/io/Ply.h>
 
@@ -75,8 +76,8 @@ std::vector<std::string> split(const std::string& line) {
 }
 
 std::string readWholeFile(const std::string& path) {
+  requireInputFile(path);
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "no such file");
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
   if (!ec) requireMemory(path, static_cast<double>(size), "reading the file", kTooLargeAdvice);
   std::ifstream in(path, std::ios::binary);
@@ -131,7 +132,7 @@ class Parser {
         if (w[1] == "ascii") mData.format = PlyFormat::kAscii;
         else if (w[1] == "binary_little_endian") mData.format = PlyFormat::kBinaryLittleEndian;
         else if (w[1] == "binary_big_endian") mData.format = PlyFormat::kBinaryBigEndian;
-        else fail(at + "unknown format '" + w[1] + "'");
+        else fail(at + "unknown format " + quote(w[1]));
         if (w[2] != "1.0") mData.warnings.push_back(at + "format version " + w[2] + " read as 1.0");
         sawFormat = true;
       } else if (key == "comment") {
@@ -145,7 +146,7 @@ class Parser {
         const char* b = w[2].data();
         const auto [end, ec] = std::from_chars(b, b + w[2].size(), e.count);
         if (ec != std::errc() || end != b + w[2].size())
-          fail(at + "element '" + w[1] + "' has an invalid count '" + w[2] + "'");
+          fail(at + "element " + quote(w[1]) + " has an invalid count " + quote(w[2]));
         mData.elements.push_back(std::move(e));
       } else if (key == "property") {
         if (mData.elements.empty()) fail(at + "a property before any element");
@@ -153,18 +154,18 @@ class Parser {
         if (w.size() == 5 && w[1] == "list") {
           p.isList = true;
           if (!parseType(w[2], p.countType) || !isInteger(p.countType))
-            fail(at + "invalid list count type '" + w[2] + "'");
-          if (!parseType(w[3], p.type)) fail(at + "unknown type '" + w[3] + "'");
+            fail(at + "invalid list count type " + quote(w[2]));
+          if (!parseType(w[3], p.type)) fail(at + "unknown type " + quote(w[3]));
           p.name = w[4];
         } else if (w.size() == 3) {
-          if (!parseType(w[1], p.type)) fail(at + "unknown type '" + w[1] + "'");
+          if (!parseType(w[1], p.type)) fail(at + "unknown type " + quote(w[1]));
           p.name = w[2];
         } else {
           fail(at + "expected 'property <type> <name>' or 'property list <count type> <type> <name>'");
         }
         mData.elements.back().properties.push_back(p);
       } else {
-        mData.warnings.push_back(at + "skipped unknown header line '" + line + "'");
+        mData.warnings.push_back(at + "skipped unknown header line " + quote(line));
       }
     }
     if (!sawFormat) fail("the header has no format line");
@@ -178,7 +179,7 @@ class Parser {
     double needed = 0.0, valueBytes = 0.0;
     for (const PlyElement& e : mData.elements) {
       if (e.count > 0 && e.properties.empty())
-        fail("element '" + e.name + "' declares " + std::to_string(e.count) + " entries but no properties");
+        fail("element " + quote(e.name) + " declares " + std::to_string(e.count) + " entries but no properties");
       double perEntry = 0.0;
       for (const PlyProperty& p : e.properties) {
         if (mData.format == PlyFormat::kAscii) perEntry += 2.0;  // a digit and a separator at least
@@ -186,7 +187,7 @@ class Parser {
       }
       needed += perEntry * static_cast<double>(e.count);
       if (needed > remaining)
-        fail("element '" + e.name + "' declares " + std::to_string(e.count) + " entries, but only " +
+        fail("element " + quote(e.name) + " declares " + std::to_string(e.count) + " entries, but only " +
              std::to_string(mBytes.size() - mPos) + " bytes follow the header (truncated file or a wrong count?)");
       // A double per scalar; per list, offsets and at most as many items as the bytes left can hold.
       for (const PlyProperty& p : e.properties) {
@@ -215,10 +216,10 @@ class Parser {
   double asciiNumber(const PlyElement& e, std::size_t entry, PlyType type) {
     skipSpaces();
     if (mPos >= mBytes.size())
-      fail("the file ends in '" + e.name + "' entry " + std::to_string(entry) + " of " + std::to_string(e.count) +
+      fail("the file ends in " + quote(e.name) + " entry " + std::to_string(entry) + " of " + std::to_string(e.count) +
            " (truncated?)");
     if (mBytes[mPos] == '\n')
-      fail("line " + std::to_string(mLine) + ": '" + e.name + "' entry " + std::to_string(entry) +
+      fail("line " + std::to_string(mLine) + ": " + quote(e.name) + " entry " + std::to_string(entry) +
            " has fewer values than its " + std::to_string(e.properties.size()) + " properties");
     const char* b = mBytes.data() + mPos;
     const char* end = mBytes.data() + mBytes.size();
@@ -227,15 +228,15 @@ class Parser {
     if (ec != std::errc() || (next < end && *next != ' ' && *next != '\t' && *next != '\n' && *next != '\r')) {
       const char* stop = b;
       while (stop < end && *stop != ' ' && *stop != '\n' && stop - b < 32) ++stop;
-      fail("line " + std::to_string(mLine) + ": '" + std::string(b, stop) + "' is not a number");
+      fail("line " + std::to_string(mLine) + ": " + quote(std::string(b, stop)) + " is not a number");
     }
     mPos = static_cast<std::size_t>(next - mBytes.data());
     if (isInteger(type)) {
       double lo, hi;
       limits(type, lo, hi);
       if (v != std::floor(v) || v < lo || v > hi)
-        fail("line " + std::to_string(mLine) + ": " + std::to_string(v) + " does not fit the integer type of '" +
-             e.name + "'");
+        fail("line " + std::to_string(mLine) + ": " + std::to_string(v) + " does not fit the integer type of " +
+             quote(e.name));
     }
     return v;
   }
@@ -267,7 +268,7 @@ class Parser {
       }
       skipSpaces();
       if (mPos < mBytes.size() && mBytes[mPos] != '\n')
-        fail("line " + std::to_string(mLine) + ": '" + e.name + "' entry " + std::to_string(entry) +
+        fail("line " + std::to_string(mLine) + ": " + quote(e.name) + " entry " + std::to_string(entry) +
              " has more values than its " + std::to_string(e.properties.size()) + " properties");
       if (mPos < mBytes.size()) {
         ++mPos;
@@ -280,7 +281,7 @@ class Parser {
   double binaryNumber(const PlyElement& e, std::size_t entry, PlyType type) {
     const std::size_t n = sizeOf(type);
     if (mPos + n > mBytes.size())
-      fail("the file ends in '" + e.name + "' entry " + std::to_string(entry) + " of " + std::to_string(e.count) +
+      fail("the file ends in " + quote(e.name) + " entry " + std::to_string(entry) + " of " + std::to_string(e.count) +
            " (truncated?)");
     unsigned char raw[8];
     std::memcpy(raw, mBytes.data() + mPos, n);
@@ -311,9 +312,9 @@ class Parser {
           continue;
         }
         const double n = binaryNumber(e, entry, prop.countType);
-        if (n < 0) fail("'" + e.name + "' entry " + std::to_string(entry) + " has a negative list length");
+        if (n < 0) fail(quote(e.name) + " entry " + std::to_string(entry) + " has a negative list length");
         if (mPos + static_cast<std::size_t>(n) * sizeOf(prop.type) > mBytes.size())
-          fail("the file ends in '" + e.name + "' entry " + std::to_string(entry) + " (truncated?)");
+          fail("the file ends in " + quote(e.name) + " entry " + std::to_string(entry) + " (truncated?)");
         if (e.listOffsets[p].empty()) e.listOffsets[p].push_back(0);
         for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i)
           e.values[p].push_back(binaryNumber(e, entry, prop.type));
@@ -363,9 +364,16 @@ PlyData readPly(const std::string& path) { return Parser(path, readWholeFile(pat
 
 void writeMeshPly(const std::string& path, const std::vector<float>& xyz, const std::vector<std::uint32_t>& triangles,
                   bool binary) {
+  OutputSet outputs;
+  writeMeshPly(outputs, path, xyz, triangles, binary);
+  outputs.commit();
+}
+
+void writeMeshPly(OutputSet& outputs, const std::string& path, const std::vector<float>& xyz,
+                  const std::vector<std::uint32_t>& triangles, bool binary) {
   if (xyz.size() % 3 != 0 || triangles.size() % 3 != 0)
     throw std::invalid_argument("writeMeshPly: coordinates and triangle indices come in threes");
-  writeAtomically(path, [&](const std::string& temporary) {
+  outputs.add(path, [&](const std::string& temporary) {
     std::ofstream out(temporary, std::ios::binary);
     if (!out) throw std::runtime_error("cannot open a temporary file beside it");
     out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
@@ -387,8 +395,7 @@ void writeMeshPly(const std::string& path, const std::vector<float>& xyz, const 
       for (std::size_t t = 0; t < triangles.size(); t += 3)
         out << "3 " << triangles[t] << ' ' << triangles[t + 1] << ' ' << triangles[t + 2] << '\n';
     }
-    out.close();
-    if (!out) throw std::runtime_error("write error (disk full?)");
+    closeChecked(out);
   });
 }
 

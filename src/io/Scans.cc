@@ -1,6 +1,7 @@
 // levelfuse: loading scans by what the path is.
 
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Scans.h>
 
@@ -38,6 +39,7 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
   const PinholeProjection intrinsics = readIntrinsics(intrinsicsFile.string());
   std::vector<RangeMap> maps;
   for (std::size_t i = 0; i < frames.size(); i += static_cast<std::size_t>(options.frameStride)) {
+    checkInterrupter(options.interrupter);
     const std::string image = frames[i].string();
     const std::string stem = image.substr(0, image.size() - std::string(".depth.png").size());
     const std::string pose = stem + ".pose.txt";
@@ -51,14 +53,18 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
 }  // namespace
 
 std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& options) {
+  requireInputFile(path, /*folderToo=*/true);
   std::error_code ec;
   if (fs::is_directory(path, ec)) return loadDepthFolder(path, options);
-  if (!fs::exists(path, ec)) throw InputError(path, "no such file or folder");
   std::string extension = fs::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (extension == ".conf") return loadStanfordScans(path, options.stanford);
-  if (extension == ".json") return loadManifest(path);
+  if (extension == ".conf") {
+    StanfordScanOptions stanford = options.stanford;
+    stanford.interrupter = options.interrupter;
+    return loadStanfordScans(path, stanford);
+  }
+  if (extension == ".json") return loadManifest(path, options.interrupter);
   throw InputError(path, "not a kind of scan levelfuse reads: give a Stanford .conf file, a JSON manifest "
                          "(.json) or a folder of depth frames");
 }

@@ -1,6 +1,7 @@
 // levelfuse: Stanford range scans and their .conf placements.
 
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/scan/DepthRaster.h>
@@ -69,9 +70,10 @@ Mat4d StanfordPlacement::scanToWorld() const {
 }
 
 std::vector<StanfordPlacement> readStanfordConf(const std::string& path) {
+  requireInputFile(path);
   std::ifstream in(path);
   std::error_code ec;  // the non-throwing overloads: names may be too long or unreadable
-  if (!in) throw InputError(path, fs::exists(path, ec) ? "cannot be opened for reading" : "no such file");
+  if (!in) throw InputError(path, "cannot be opened for reading");
   const fs::path folder = fs::path(path).parent_path();
   std::vector<StanfordPlacement> scans;
   std::string line;
@@ -82,7 +84,7 @@ std::vector<StanfordPlacement> readStanfordConf(const std::string& path) {
     if (!(words >> key) || key[0] == '#') continue;
     const std::string at = "line " + std::to_string(lineNo) + ": ";
     if (key == "camera" || key == "mesh") continue;  // viewer entries, not scans
-    if (key != "bmesh") throw InputError(path, at + "unknown entry '" + key + "' (expected bmesh, mesh or camera)");
+    if (key != "bmesh") throw InputError(path, at + "unknown entry " + quote(key) + " (expected bmesh, mesh or camera)");
     StanfordPlacement s;
     s.line = lineNo;
     double v[7];
@@ -93,11 +95,11 @@ std::vector<StanfordPlacement> readStanfordConf(const std::string& path) {
       if (!(words >> word)) throw InputError(path, at + "expected 'bmesh FILE tx ty tz qi qj qk qr'");
       char* end = nullptr;
       x = std::strtod(word.c_str(), &end);
-      if (end != word.c_str() + word.size()) throw InputError(path, at + "'" + word + "' is not a number");
-      if (!std::isfinite(x)) throw InputError(path, at + "'" + word + "' is not a finite number");
+      if (end != word.c_str() + word.size()) throw InputError(path, at + quote(word) + " is not a number");
+      if (!std::isfinite(x)) throw InputError(path, at + quote(word) + " is not a finite number");
     }
     std::string extra;
-    if (words >> extra) throw InputError(path, at + "unexpected '" + extra + "' after the quaternion");
+    if (words >> extra) throw InputError(path, at + "unexpected " + quote(extra) + " after the quaternion");
     s.translation = Vec3d(v[0], v[1], v[2]);
     const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
     if (norm < 1e-9) throw InputError(path, at + "the quaternion is zero: it describes no rotation");
@@ -106,7 +108,7 @@ std::vector<StanfordPlacement> readStanfordConf(const std::string& path) {
     s.rotation = openvdb::math::Quatd(v[3] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
     s.path = (folder / s.file).string();
     if (!fs::is_regular_file(s.path, ec))
-      throw InputError(path, at + "scan file '" + s.file + "' does not exist (looked for " + s.path + ")");
+      throw InputError(path, at + "scan file " + quote(s.file) + " does not exist (looked for " + quote(s.path) + ")");
     scans.push_back(s);
   }
   if (scans.empty()) throw InputError(path, "no 'bmesh' lines: the file places no scans");
@@ -297,8 +299,10 @@ RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, c
 
 std::vector<RangeMap> loadStanfordScans(const std::string& confPath, const StanfordScanOptions& options) {
   std::vector<RangeMap> maps;
-  for (const StanfordPlacement& s : readStanfordConf(confPath))
+  for (const StanfordPlacement& s : readStanfordConf(confPath)) {
+    checkInterrupter(options.interrupter);
     maps.push_back(rangeMapFromScan(readRangeGridPly(s.path), s.scanToWorld(), options, s.file));
+  }
   return maps;
 }
 

@@ -2,6 +2,7 @@
 
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/VdbFile.h>
 
 #include <array>
@@ -59,22 +60,39 @@ void stampContentUuid(const std::string& path) {
   if (!file.flush()) throw std::runtime_error(path + ": cannot finish the header");
 }
 
+/// Writes grids as openvdb::io::File does (a seekable stream, with grid
+/// offsets), but to a stream that is checked: File::write does not look at
+/// its stream, so a full disk left a truncated file that looked written.
+class CheckedVdbWriter : public openvdb::io::Archive {
+ public:
+  void writeFile(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata) const {
+    std::ofstream out(path, std::ios::out | std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot open a temporary file beside it");
+    Archive::write(out, grids, /*seekable=*/true, metadata);
+    closeChecked(out);
+  }
+};
+
 }  // namespace
 
-void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& fileMetadata) {
+void writeVdb(OutputSet& outputs, const std::string& path, const openvdb::GridCPtrVec& grids,
+              const openvdb::MetaMap& fileMetadata) {
   openvdb::initialize();
-  writeAtomically(path, [&](const std::string& temporary) {
-    openvdb::io::File file(temporary);
-    file.write(grids, fileMetadata);
-    file.close();
+  outputs.add(path, [&](const std::string& temporary) {
+    CheckedVdbWriter().writeFile(temporary, grids, fileMetadata);
     stampContentUuid(temporary);
   });
 }
 
+void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& fileMetadata) {
+  OutputSet outputs;
+  writeVdb(outputs, path, grids, fileMetadata);
+  outputs.commit();
+}
+
 openvdb::GridPtrVecPtr readVdb(const std::string& path, openvdb::MetaMap::Ptr* fileMetadata) {
   openvdb::initialize();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "no such file");
+  requireInputFile(path);
   try {
     openvdb::io::File file(path);
     file.open();
@@ -83,7 +101,7 @@ openvdb::GridPtrVecPtr readVdb(const std::string& path, openvdb::MetaMap::Ptr* f
     file.close();
     return grids;
   } catch (const std::exception& e) {
-    throw InputError(path, std::string("not a readable .vdb file (") + e.what() + ")");
+    throw InputError(path, "not a readable .vdb file (" + excerpt(e.what()) + ")");
   }
 }
 

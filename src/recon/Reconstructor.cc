@@ -113,10 +113,10 @@ void Reconstructor::requireCoarsestGridMemory() const {
                 "use more grids (levels) or a larger voxel size");
 }
 
-SparseField Reconstructor::initialModel() const {
+SparseField Reconstructor::initialModel(const Interrupter& interrupter) const {
   requireCoarsestGridMemory();
   const ForceField force(mMaps, forceOptions(0));
-  return SparseField::fromLevelSet(*force.linearSolution(voxelSize(0)), mOptions.engine);
+  return SparseField::fromLevelSet(*force.linearSolution(voxelSize(0), 3.0, "surface", interrupter), mOptions.engine);
 }
 
 void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) const {
@@ -131,11 +131,11 @@ void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) co
                     shortNumber(mOptions.voxelSize * std::sqrt(1.1 * bytes / budget)) + " or allow more memory");
 }
 
-openvdb::FloatGrid::Ptr Reconstructor::linearSolution() const {
-  if (mOptions.levels > 1) requireFinestGridMemory(initialModel().stats().activeVoxels);
+openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
+  if (mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter).stats().activeVoxels);
   else requireCoarsestGridMemory();
   const ForceField force(mMaps, forceOptions(mOptions.levels - 1));
-  return force.linearSolution(mOptions.voxelSize, 3.0, mOptions.name);
+  return force.linearSolution(mOptions.voxelSize, 3.0, mOptions.name, interrupter);
 }
 
 double Reconstructor::voxelSize(int level) const {
@@ -152,10 +152,13 @@ ForceFieldOptions Reconstructor::forceOptions(int level) const {
   return f;
 }
 
-DataTermGrids Reconstructor::dataTermGrids(int level) const {
+DataTermGrids Reconstructor::dataTermGrids(int level, const Interrupter& interrupter) const {
   const ForceFieldOptions f = forceOptions(level);
   DataTermGrids data(voxelSize(level), f.dataWindow(), f.positionVariance, f.grainSize);
-  for (const RangeMap& map : *mMaps) data.integrate(map);
+  for (const RangeMap& map : *mMaps) {
+    checkInterrupter(interrupter);
+    data.integrate(map);
+  }
   return data;
 }
 
@@ -208,7 +211,7 @@ LevelReport Reconstructor::evolveLevel(SparseField& field, const Field& data, do
   return done;
 }
 
-ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const {
+ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const Interrupter& interrupter) const {
   const auto start = Clock::now();
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   ReconstructionProgress state;
@@ -223,7 +226,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const 
   state.voxelSize = voxelSize(0);
   report();
   // 1. The initial model: the linear solution on the coarsest grid.
-  std::unique_ptr<SparseField> field = std::make_unique<SparseField>(initialModel());
+  std::unique_ptr<SparseField> field = std::make_unique<SparseField>(initialModel(interrupter));
   requireFinestGridMemory(field->stats().activeVoxels);
   const double finest = mOptions.voxelSize;
   int totalIterations = 0;
@@ -245,7 +248,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress) const 
     state.stage = ReconstructionProgress::Stage::kEvolving;
     LevelReport done;
     if (mOptions.dataTerm == DataTermSource::kGrids)
-      done = evolveLevel(*field, dataTermGrids(level), h, state, report);
+      done = evolveLevel(*field, dataTermGrids(level, interrupter), h, state, report);
     else
       done = evolveLevel(*field, ForceField(mMaps, forceOptions(level)), h, state, report);
     totalIterations += done.iterations;

@@ -121,7 +121,7 @@ ForceField::Terms ForceField::facingTerms(const Vec3d& x, const Vec3d& normal) c
   return sum;
 }
 
-AccumulatedField ForceField::accumulate(double voxelSize) const {
+AccumulatedField ForceField::accumulate(double voxelSize, const Interrupter& interrupter) const {
   if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
     throw std::invalid_argument("ForceField::accumulate: the voxel size must be positive");
   const double reach = mWindow.reach();
@@ -130,7 +130,10 @@ AccumulatedField ForceField::accumulate(double voxelSize) const {
   // 1. Which leaf nodes each range map's windows reach.
   std::vector<std::vector<Coord>> touched(mMaps->size());
   parallelFor(mMaps->size(), 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t j = begin; j < end; ++j) touched[j] = detail::leavesReached((*mMaps)[j], voxelSize, reach);
+    for (std::size_t j = begin; j < end; ++j) {
+      checkInterrupter(interrupter);
+      touched[j] = detail::leavesReached((*mMaps)[j], voxelSize, reach);
+    }
   });
 
   // 2. The union, with the range maps reaching each leaf in map order.
@@ -155,6 +158,7 @@ AccumulatedField ForceField::accumulate(double voxelSize) const {
   parallelFor(leafCount, mOptions.grainSize, [&](std::size_t begin, std::size_t end) {
     std::vector<double> gSum(LeafT::SIZE), wSum(LeafT::SIZE);
     for (std::size_t l = begin; l < end; ++l) {
+      checkInterrupter(interrupter);
       const Coord origin = pairs[firstPair[l]].first;
       std::fill(gSum.begin(), gSum.end(), 0.0);
       std::fill(wSum.begin(), wSum.end(), 0.0);

@@ -74,9 +74,10 @@ class BlockClasses {
 
 }  // namespace
 
-openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double halfWidth, const std::string& name) const {
+openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double halfWidth, const std::string& name,
+                                                   const Interrupter& interrupter) const {
   if (!(halfWidth >= 1.0)) throw std::invalid_argument("ForceField::linearSolution: half-width below one voxel");
-  const AccumulatedField field = accumulate(voxelSize);
+  const AccumulatedField field = accumulate(voxelSize, interrupter);
   if (field.g->tree().leafCount() == 0)
     throw std::invalid_argument("ForceField::linearSolution: no reading reaches any voxel");
   const float width = levelSetBackground(halfWidth, voxelSize);
@@ -103,6 +104,7 @@ openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double half
     }
   });
 
+  checkInterrupter(interrupter);
   // 2. The blocks around the data, carved at their centres.
   openvdb::CoordBBox box;
   for (std::size_t i = 0; i < dataLeaves.leafCount(); ++i) box.expand(dataLeaves.leaf(i).origin() >> LeafT::LOG2DIM);
@@ -145,6 +147,7 @@ openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double half
     }
   });
 
+  checkInterrupter(interrupter);
   // 4. Together they make a level set whose values are distances along the
   //    lines of sight, and steps where carving closes what no scan saw:
   //    rebuilt into a true narrow band of Euclidean distances. (Every voxel of

@@ -18,9 +18,11 @@ struct CliRun {
   std::string output;  // stdout and stderr
 };
 
-inline CliRun levelfuse(const std::string& arguments) {
+/// Runs `levelfuse <arguments>`, with `environment` ("NAME=value ...") added to its environment.
+inline CliRun levelfuse(const std::string& arguments, const std::string& environment = "") {
   CliRun run;
-  const std::string command = std::string(LEVELFUSE_CLI) + " " + arguments + " 2>&1";
+  const std::string command =
+      (environment.empty() ? "" : "env " + environment + " ") + std::string(LEVELFUSE_CLI) + " " + arguments + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return run;
   char buffer[4096];

@@ -146,9 +146,9 @@ TEST_F(ReconstructCli, BadInputFailsClearlyAndWritesNothing) {
   EXPECT_EQ(run.exitCode, 1);
   EXPECT_NE(run.output.find("not a regular file"), std::string::npos) << run.output;
   EXPECT_TRUE(fs::is_character_file("/dev/null"));
-  // A malformed preview direction stops the run before it writes the level set.
+  // A malformed preview direction is a usage error: the run never starts.
   run = levelfuse("reconstruct " + scans + " --view 1,2 -o " + path("out.vdb") + " --preview " + path("out.png"));
-  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_EQ(run.exitCode, 2) << run.output;
   EXPECT_NE(run.output.find("'1,2' is not three numbers x,y,z"), std::string::npos) << run.output;
   EXPECT_FALSE(fs::exists(path("out.vdb")));
   run = levelfuse("reconstruct " + scans + " --beta -1 -o " + path("out.vdb"));
@@ -207,7 +207,7 @@ TEST_F(ReconstructCli, InterruptedRunWritesNothing) {
   const std::string output = fileBytes(log);
   ASSERT_TRUE(WIFEXITED(status)) << output;
   EXPECT_EQ(WEXITSTATUS(status), 130) << output;
-  EXPECT_NE(output.find("interrupted; nothing written"), std::string::npos) << output;
+  EXPECT_NE(output.find("interrupted while evolving; nothing written"), std::string::npos) << output;
   EXPECT_FALSE(fs::exists(path("out.vdb")));
   fs::remove(log);
   for (const auto& entry : fs::directory_iterator(mDir)) EXPECT_EQ(entry.path().extension(), "") << entry.path();

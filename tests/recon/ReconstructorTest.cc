@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 
 namespace levelfuse {
@@ -183,6 +184,20 @@ TEST(Reconstructor, ReportsProgressAndCanBeCancelled) {
   int calls = 0;
   EXPECT_THROW(r.run([&](const ReconstructionProgress&) { return ++calls < 4; }), ReconstructionCancelled);
   EXPECT_EQ(calls, 4);
+}
+
+/// The linear solution asks its interrupter while it works, not only before:
+/// an interrupter that says stop at its n-th call stops it mid-way.
+TEST(Reconstructor, TheLinearSolutionStopsWhenItsInterrupterSaysSo) {
+  const Reconstructor r(noisySphere(0.01), smallOptions());
+  std::atomic<int> calls{0};
+  ASSERT_TRUE(r.linearSolution([&] { return ++calls < 0; }));  // never stops: counts the questions
+  const int asked = calls.load();
+  ASSERT_GT(asked, 10);
+  calls = 0;
+  EXPECT_THROW(r.linearSolution([&] { return ++calls >= asked / 2; }), Interrupted);
+  calls = 0;
+  EXPECT_THROW(r.run({}, [&] { return ++calls >= 3; }), Interrupted);  // in the initial model
 }
 
 TEST(Reconstructor, OneAndTwoThreadsGiveIdenticalSurfaces) {

@@ -2,10 +2,13 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
+#include <cstring>
 
 namespace levelfuse::cli {
 namespace {
 std::atomic<bool> gCancelled{false};
+const char* gPhase = "starting";
 extern "C" void onSignal(int) { gCancelled.store(true); }
 }  // namespace
 
@@ -15,5 +18,22 @@ void installCancellationHandlers() {
 }
 
 bool cancellationRequested() { return gCancelled.load(); }
+
+Interrupter cancellationInterrupter() {
+  return [] { return cancellationRequested(); };
+}
+
+void checkCancellation() {
+  if (cancellationRequested()) throw Interrupted();
+}
+
+void enterPhase(const char* phase) {
+  checkCancellation();
+  gPhase = phase;
+  const char* signalAt = std::getenv("LEVELFUSE_TEST_SIGNAL_AT");
+  if (signalAt && std::strcmp(signalAt, phase) == 0) std::raise(SIGINT);
+}
+
+std::string currentPhase() { return gPhase; }
 
 }  // namespace levelfuse::cli

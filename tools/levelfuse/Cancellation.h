@@ -1,5 +1,9 @@
-// levelfuse CLI: cooperative cancellation on SIGINT and SIGTERM.
+// levelfuse CLI: cooperative cancellation on SIGINT and SIGTERM, phase by phase.
 #pragma once
+
+#include <levelfuse/core/Interrupter.h>
+
+#include <string>
 
 namespace levelfuse::cli {
 
@@ -7,5 +11,21 @@ namespace levelfuse::cli {
 void installCancellationHandlers();
 /// True once SIGINT or SIGTERM arrived; long loops check it and stop cleanly.
 bool cancellationRequested();
+/// An Interrupter for the library's long loops: asks cancellationRequested().
+Interrupter cancellationInterrupter();
+/// Throws levelfuse::Interrupted if a cancellation was requested.
+void checkCancellation();
+
+/// Marks the start of a phase of a command ("loading", "solving" (the linear
+/// solution), "evolving", "measuring", "meshing", "scanning", "writing"): throws
+/// Interrupted if a cancellation is pending, then makes `phase` the current one.
+///
+/// Test hook: if the environment variable LEVELFUSE_TEST_SIGNAL_AT names this
+/// phase, the process sends itself SIGINT here, so that the phase runs with a
+/// cancellation pending; tests/cli use it to interrupt each phase
+/// deterministically.
+void enterPhase(const char* phase);
+/// The phase entered last ("starting" before any).
+std::string currentPhase();
 
 }  // namespace levelfuse::cli

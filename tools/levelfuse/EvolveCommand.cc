@@ -2,6 +2,7 @@
 
 #include "Cancellation.h"
 #include "Commands.h"
+#include "Support.h"
 
 #include <levelfuse/Version.h>
 #include <levelfuse/geometry/Shapes.h>
@@ -71,6 +72,7 @@ int runEvolve(const EvolveSettings& s) {
   if (s.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     static_cast<std::size_t>(s.threads));
+  requireOutputs({s.output}, {});
   const auto started = std::chrono::steady_clock::now();
   const GeneratedShape shape = makeShape(s.shape);
   const openvdb::Vec3d extent = shape.bounds.extents();
@@ -88,6 +90,7 @@ int runEvolve(const EvolveSettings& s) {
   double t = 0.0;
   std::size_t steps = 0;
   bool cancelled = false;
+  enterPhase("evolving");
   while (t < duration && steps < s.maxSteps) {
     if (cancellationRequested()) {
       cancelled = true;
@@ -110,7 +113,10 @@ int runEvolve(const EvolveSettings& s) {
   out->insertMeta("levelfuse_shape", openvdb::StringMetadata(s.shape));
   out->insertMeta("levelfuse_flow", openvdb::StringMetadata(s.flow));
   out->insertMeta("levelfuse_time", openvdb::DoubleMetadata(t));
-  io::writeVdb(s.output, {out});
+  enterPhase("writing");
+  io::OutputSet outputs;
+  io::writeVdb(outputs, s.output, {out});
+  commitOutputs(outputs);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   if (s.json) {
@@ -154,13 +160,15 @@ Command addEvolveCommand(CLI::App& app) {
                   "curvature: mean-curvature flow (the surface-area prior); grow/shrink: constant normal speed")
       ->check(CLI::IsMember({"curvature", "grow", "shrink"}))
       ->capture_default_str();
-  cmd->add_option("--beta", settings->beta, "Weight of the curvature flow")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--beta", settings->beta, "Weight of the curvature flow")->check(numberIn(0.0, 1e3, true))->capture_default_str();
   cmd->add_option("--speed", settings->speed, "Normal speed of grow/shrink (world units per unit time)")
-      ->check(CLI::PositiveNumber)
+      ->check(numberIn(0.0, 1e3, true))
       ->capture_default_str();
   cmd->add_option("--time", settings->time, "Simulated time to advance (default depends on shape and flow)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--max-steps", settings->maxSteps, "Stop after this many steps")->capture_default_str();
+      ->check(numberIn(0.0, 1e3));
+  cmd->add_option("--max-steps", settings->maxSteps, "Stop after this many steps")
+      ->check(CLI::Range(std::size_t(1), std::size_t(100000000)))
+      ->capture_default_str();
   cmd->add_option("-o,--output", settings->output, "Output .vdb file (written atomically)")->required();
   cmd->add_option("--threads", settings->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_flag("--json", settings->json, "Print the summary as JSON");

@@ -1,5 +1,6 @@
 // levelfuse mesh: a level set's zero set as a triangle mesh.
 
+#include "Cancellation.h"
 #include "Commands.h"
 #include "Support.h"
 
@@ -22,7 +23,9 @@ struct MeshSettings {
 };
 
 int runMesh(const MeshSettings& s) {
-  requireWritable(s.output);
+  requireOutputs({s.output}, {s.input});
+  io::requireMeshFileName(s.output);
+  enterPhase("loading");
   const openvdb::GridPtrVecPtr grids = io::readVdb(s.input);
   openvdb::FloatGrid::Ptr levelSet;
   for (const openvdb::GridBase::Ptr& base : *grids) {
@@ -36,8 +39,12 @@ int runMesh(const MeshSettings& s) {
   if (!levelSet)
     throw std::runtime_error(s.input + ": no float level set" + (s.grid.empty() ? "" : " named '" + s.grid + "'") +
                              " (see levelfuse info " + s.input + ")");
+  enterPhase("meshing");
   const TriangleMesh mesh = meshFromLevelSet(*levelSet, s.adaptivity);
-  io::writeMesh(s.output, mesh);
+  enterPhase("writing");
+  io::OutputSet outputs;
+  io::writeMesh(outputs, s.output, mesh);
+  commitOutputs(outputs);
   if (s.json) {
     std::cout << nlohmann::json{{"input", s.input}, {"grid", levelSet->getName()}, {"output", s.output},
                                 {"vertices", mesh.vertexCount()}, {"triangles", mesh.triangleCount()},
@@ -62,7 +69,7 @@ Command addMeshCommand(CLI::App& app) {
   cmd->add_option("-o,--output", s->output, "The mesh, .ply (binary) or .obj")->required();
   cmd->add_option("--grid", s->grid, "Name of the level set in the file (default: the first)");
   cmd->add_option("--adaptivity", s->adaptivity, "0: uniform triangles; up to 1: fewer where the surface is flat")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(numberIn(0.0, 1.0))
       ->capture_default_str();
   cmd->add_flag("--json", s->json, "Print the summary as JSON");
   cmd->footer("Examples:\n  levelfuse mesh bunny.vdb -o bunny.ply\n  levelfuse mesh bunny.vdb --adaptivity 0.3 -o bunny.obj");

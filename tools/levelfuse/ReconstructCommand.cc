@@ -5,6 +5,7 @@
 #include "ProgressBar.h"
 #include "Support.h"
 
+#include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/io/MeshFile.h>
@@ -56,19 +57,16 @@ int runReconstruct(ReconstructSettings s) {
   if (s.maxMemoryGiB > 0.0) io::setMemoryBudget(static_cast<std::uint64_t>(s.maxMemoryGiB * 1073741824.0));
   if (s.output.empty() && s.mesh.empty() && s.preview.empty())
     throw std::invalid_argument("nothing to write: give -o result.vdb, --mesh result.ply or --preview result.png");
-  for (const std::string* path : {&s.output, &s.mesh, &s.preview})
-    if (!path->empty()) requireWritable(*path);
-  if (!s.mesh.empty()) {
-    const std::string ext = std::filesystem::path(s.mesh).extension().string();
-    if (ext != ".ply" && ext != ".obj" && ext != ".PLY" && ext != ".OBJ")
-      throw std::invalid_argument("--mesh '" + s.mesh + "': the name must end in .ply or .obj");
-  }
-  // Every option is checked before the work starts and before anything is written.
+  // Every option and output is checked before the work starts and before anything is written.
+  requireOutputs({s.output, s.mesh, s.preview}, s.inputs);
+  if (!s.mesh.empty()) io::requireMeshFileName(s.mesh);
   io::PreviewOptions preview;
   if (!s.view.empty()) preview.toward = parseVec3(s.view);
   if (!s.up.empty()) preview.up = parseVec3(s.up);
+  s.options.minIterations = std::min(s.options.minIterations, s.options.maxIterations);
 
   // The scans.
+  enterPhase("loading");
   io::ScanLoadOptions load;
   if (!s.towardScanner.empty()) load.stanford.towardScanner = parseVec3(s.towardScanner);
   if (s.sigma > 0.0) {
@@ -77,12 +75,15 @@ int runReconstruct(ReconstructSettings s) {
   }
   load.depthScale = s.depthScale;
   load.frameStride = s.frameStride;
+  load.interrupter = cancellationInterrupter();
   std::vector<RangeMap> maps;
   std::optional<shapes::AnalyticShape> truth;
   for (const std::string& input : s.inputs) {
     for (RangeMap& m : io::loadScans(input, load)) maps.push_back(std::move(m));
     if (std::filesystem::path(input).extension() == ".json" && !truth) truth = io::loadManifestTruth(input);
   }
+  // The scan files the inputs named are inputs too.
+  requireOutputs({s.output, s.mesh, s.preview}, io::inputsRead());
   std::size_t readings = 0, points = 0;
   for (const RangeMap& m : maps) {
     readings += m.validCount();
@@ -94,20 +95,24 @@ int runReconstruct(ReconstructSettings s) {
   const ReconstructionOptions& o = reconstructor.options();
   ReconstructionResult result;
   if (s.linear) {
-    result.levelSet = reconstructor.linearSolution();
+    enterPhase("solving");
+    result.levelSet = reconstructor.linearSolution(cancellationInterrupter());
   } else {
+    enterPhase("evolving");
     ProgressBar bar(!s.quiet && !s.json);
     try {
-      result = reconstructor.run([&](const ReconstructionProgress& p) {
-        bar.update(p);
-        return !cancellationRequested();
-      });
-    } catch (const ReconstructionCancelled&) {
+      result = reconstructor.run(
+          [&](const ReconstructionProgress& p) {
+            bar.update(p);
+            return !cancellationRequested();
+          },
+          cancellationInterrupter());
+    } catch (const Interrupted&) {
       bar.finish();
-      std::cerr << "levelfuse reconstruct: interrupted; nothing written\n";
-      return kExitCancelled;
+      throw;
     }
   }
+  enterPhase("measuring");
   openvdb::FloatGrid& surface = *result.levelSet;
   surface.insertMeta("levelfuse_inputs", openvdb::StringMetadata(joined(s.inputs)));
   surface.insertMeta("levelfuse_method",
@@ -115,20 +120,20 @@ int runReconstruct(ReconstructSettings s) {
   const DataFit fit = measureDataFit(surface, maps);
   double truthRms = -1.0;
   if (truth) truthRms = rmsOver(zeroCrossings(surface), *truth);
-
-  // The outputs, each written whole or not at all.
-  if (cancellationRequested()) {
-    std::cerr << "levelfuse reconstruct: interrupted; nothing written\n";
-    return kExitCancelled;
-  }
-  if (!s.output.empty()) io::writeVdb(s.output, {result.levelSet});
-  std::size_t triangles = 0;
+  std::optional<TriangleMesh> mesh;
   if (!s.mesh.empty()) {
-    const TriangleMesh mesh = meshFromLevelSet(surface);
-    triangles = mesh.triangleCount();
-    io::writeMesh(s.mesh, mesh);
+    enterPhase("meshing");
+    mesh = meshFromLevelSet(surface);
   }
-  if (!s.preview.empty()) io::writePreviewPng(surface, s.preview, preview);
+
+  // The outputs, committed together once all are written.
+  enterPhase("writing");
+  io::OutputSet outputs;
+  if (!s.output.empty()) io::writeVdb(outputs, s.output, {result.levelSet});
+  if (mesh) io::writeMesh(outputs, s.mesh, *mesh);
+  if (!s.preview.empty()) io::writePreviewPng(outputs, surface, s.preview, preview);
+  commitOutputs(outputs);
+  const std::size_t triangles = mesh ? mesh->triangleCount() : 0;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   const std::size_t active = surface.activeVoxelCount();
@@ -214,44 +219,47 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("--mesh", s->mesh, "Write the surface as a triangle mesh (.ply or .obj)");
   cmd->add_option("--preview", s->preview, "Write a shaded picture of the surface (.png)");
   ReconstructionOptions& o = s->options;
-  cmd->add_option("--voxel-size", o.voxelSize, "Finest voxel size, world units (default: the scans' ray spacing)")
-      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--voxel-size", o.voxelSize, "Finest voxel size, world units; 0: the scans' ray spacing (default)")
+      ->check(numberIn(0.0, 1e6));
   cmd->add_option("--levels", o.levels, "Coarse-to-fine grids, each halving the voxel (default: coarsest ~64 across)")
       ->check(CLI::Range(0, 12));
   cmd->add_option("--beta", o.beta,
                   "Surface-area prior, in finest voxels: larger is smoother (default: max(0.5, sigma / voxel))")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--epsilon", o.epsilon, "Window width of a reading, world units (default: sigma, at least a voxel)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(numberIn(0.0, 1e3));
+  cmd->add_option("--epsilon", o.epsilon, "Window width of a reading, world units; 0: sigma, at least a voxel (default)")
+      ->check(numberIn(0.0, 1e6));
   cmd->add_option_function<std::string>(
          "--window", [s](const std::string& w) { s->options.window = w == "binary" ? WindowKind::kBinary : WindowKind::kGaussian; },
          "Window of a reading: gaussian (default) or binary")
       ->check(CLI::IsMember({"gaussian", "binary"}));
   cmd->add_option("--tolerance", o.tolerance, "A grid has converged below this rms speed (voxels per unit time)")
-      ->check(CLI::PositiveNumber)
+      ->check(numberIn(0.0, 1e3, true))
       ->capture_default_str();
-  cmd->add_option("--max-iterations", o.maxIterations, "Iterations per grid at most")
+  cmd->add_option("--max-iterations", o.maxIterations, "Iterations per grid at most (each grid runs min(4, this) at least)")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   cmd->add_option("--name", o.name, "Name of the output grid")->capture_default_str();
   cmd->add_flag("--linear", s->linear, "Only the linear solution (zero set of g, VRIP-style fusion), no evolution");
   cmd->add_option("--toward-scanner", s->towardScanner,
-                  "Stanford scans: direction toward the scanner in the scan frame, x,y,z (default 0,0,1)");
+                  "Stanford scans: direction toward the scanner in the scan frame, x,y,z (default 0,0,1)")
+      ->check(threeNumbers());
   cmd->add_option("--sigma", s->sigma, "Noise of a reading, world units (default: from the scans)")
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn(0.0, 1e6, true));
   cmd->add_option("--depth-scale", s->depthScale, "Depth frames: metres per 16-bit PNG unit")
-      ->check(CLI::PositiveNumber)
+      ->check(numberIn(0.0, 1.0, true))
       ->capture_default_str();
   cmd->add_option("--frame-stride", s->frameStride, "Depth frames: use every n-th frame")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  cmd->add_option("--view", s->view, "Preview: direction from the surface toward the camera, x,y,z");
-  cmd->add_option("--up", s->up, "Preview: the world direction that is up in the picture, x,y,z (default 0,1,0)");
+  cmd->add_option("--view", s->view, "Preview: direction from the surface toward the camera, x,y,z")
+      ->check(threeNumbers());
+  cmd->add_option("--up", s->up, "Preview: the world direction that is up in the picture, x,y,z (default 0,1,0)")
+      ->check(threeNumbers());
   cmd->add_option("--threads", s->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--max-memory", s->maxMemoryGiB,
                   "Memory to use at most, GiB (default: the machine's); a run that would need more stops at once "
                   "and says which voxel size fits")
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn(0.0, 1e6, true));
   cmd->add_flag("--json", s->json, "Print the summary as JSON (no progress line)");
   cmd->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
   cmd->footer(
@@ -262,7 +270,7 @@ Command addReconstructCommand(CLI::App& app) {
       "  levelfuse synth --shape torus --noise 0.2 -o torus-scans && \\\n"
       "    levelfuse reconstruct torus-scans/scans.json --preview torus.png --json\n"
       "  levelfuse reconstruct 7scenes/ --frame-stride 2 --voxel-size 0.01 -o room.vdb\n"
-      "Outputs are written whole or not at all; Ctrl-C stops between iterations and writes nothing.");
+      "Outputs are written together, whole, or not at all; Ctrl-C stops any phase and writes nothing.");
   return {cmd, [s] { return runReconstruct(*s); }};
 }
 

@@ -1,9 +1,15 @@
 #include "Support.h"
 
+#include "Cancellation.h"
+
+#include <levelfuse/io/InputError.h>
+#include <levelfuse/io/InputFile.h>
+
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
@@ -22,18 +28,47 @@ std::size_t peakResidentBytes() {
   return static_cast<std::size_t>(usage.ru_maxrss) * 1024;  // kilobytes on Linux
 }
 
-void requireWritable(const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  if (target.filename().empty()) throw std::runtime_error("cannot write '" + path + "': not a file name");
-  const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec))
-    throw std::runtime_error("cannot write '" + path + "': the folder '" + folder.string() + "' does not exist");
-  if (fs::exists(target, ec) && !fs::is_regular_file(target, ec))
-    throw std::runtime_error("cannot write '" + path + "': it exists and is not a regular file");
-  if (::access(folder.c_str(), W_OK) != 0)
-    throw std::runtime_error("cannot write '" + path + "': the folder '" + folder.string() + "' is not writable");
+CLI::Validator numberIn(double lo, double hi, bool aboveLo) {
+  const std::string range = (aboveLo ? "(" : "[") + fixed(lo, 6) + ", " + fixed(hi, 6) + "]";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        const bool inRange = aboveLo ? x > lo && x <= hi : x >= lo && x <= hi;
+        if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(x) || !inRange)
+          return io::quote(text) + " is not a number in " + range;
+        return "";
+      },
+      "in " + range);
+}
+
+CLI::Validator threeNumbers() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        try {
+          parseVec3(text);
+        } catch (const std::invalid_argument& e) {
+          return e.what();
+        }
+        return "";
+      },
+      "x,y,z");
+}
+
+void requireOutputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
+  std::vector<std::string> given;
+  for (const std::string& path : outputs)
+    if (!path.empty()) {
+      io::requireWritable(path);
+      given.push_back(path);
+    }
+  io::refuseOverwritingInputs(given, inputs);
+}
+
+void commitOutputs(io::OutputSet& outputs) {
+  io::refuseOverwritingInputs(outputs.targets(), io::inputsRead());
+  checkCancellation();
+  outputs.commit();
 }
 
 std::string withCommas(std::size_t n) {
@@ -52,23 +87,6 @@ std::string fixed(double value, int digits) {
   return s.str();
 }
 
-std::string printable(const std::string& text) {
-  static const char kHex[] = "0123456789abcdef";
-  std::string out;
-  out.reserve(text.size());
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte != 0x7f) {
-      out += c;
-    } else {
-      out += "\\x";
-      out += kHex[byte >> 4];
-      out += kHex[byte & 15];
-    }
-  }
-  return out;
-}
-
 std::string mebibytes(std::size_t bytes) { return fixed(static_cast<double>(bytes) / 1048576.0, 3) + " MiB"; }
 
 openvdb::math::Vec3d parseVec3(const std::string& text) {
@@ -84,10 +102,10 @@ openvdb::math::Vec3d parseVec3(const std::string& text) {
       used = 0;
     }
     if (used == 0 || used != item.size() || !std::isfinite(x))
-      throw std::invalid_argument("'" + text + "' is not three numbers x,y,z");
+      throw std::invalid_argument(io::quote(text) + " is not three numbers x,y,z");
     v.push_back(x);
   }
-  if (v.size() != 3) throw std::invalid_argument("'" + text + "' is not three numbers x,y,z");
+  if (v.size() != 3) throw std::invalid_argument(io::quote(text) + " is not three numbers x,y,z");
   return openvdb::math::Vec3d(v[0], v[1], v[2]);
 }
 

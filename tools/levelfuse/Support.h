@@ -1,12 +1,16 @@
 // levelfuse CLI: small things the subcommands share.
 #pragma once
 
+#include <levelfuse/io/AtomicWrite.h>
+
+#include <CLI/CLI.hpp>
 #include <openvdb/math/Vec3.h>
 #include <tbb/global_control.h>
 
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace levelfuse::cli {
 
@@ -22,17 +26,27 @@ class ThreadLimit {
 /// The process's peak resident memory so far, in bytes.
 std::size_t peakResidentBytes();
 
-/// Throws std::runtime_error naming `path` if a file cannot be created there
-/// (its folder is missing or not writable): checked before long work.
-void requireWritable(const std::string& path);
+/// A number option's check: a finite number from `lo` to `hi` (above `lo` if
+/// `aboveLo`); NaN and infinities are refused (exit 2). The description that
+/// --help prints states the range.
+CLI::Validator numberIn(double lo, double hi, bool aboveLo = false);
+
+/// A vector option's check: three finite numbers x,y,z (parseVec3).
+CLI::Validator threeNumbers();
+
+/// Before any work: throws std::runtime_error unless every non-empty path of
+/// `outputs` can be written (io::requireWritable) and none is one of `inputs`
+/// (io::refuseOverwritingInputs).
+void requireOutputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs);
+
+/// The end of a run: refuses outputs that are among the files the readers
+/// read (io::inputsRead()), stops if a cancellation is pending, then commits.
+void commitOutputs(io::OutputSet& outputs);
 
 /// "1,234,567"
 std::string withCommas(std::size_t n);
 /// A number with `digits` significant digits.
 std::string fixed(double value, int digits = 4);
-/// `text` with control characters (a file's bytes quoted in a message) as \xNN:
-/// one line, safe for a terminal.
-std::string printable(const std::string& text);
 /// "12.3 MiB"
 std::string mebibytes(std::size_t bytes);
 /// Parses "x,y,z" into a vector; throws std::invalid_argument otherwise.

@@ -1,5 +1,6 @@
 // levelfuse synth: synthetic range scans of a sphere, torus, mug or mesh.
 
+#include "Cancellation.h"
 #include "Commands.h"
 #include "Support.h"
 
@@ -68,6 +69,7 @@ int runSynth(const SynthSettings& s) {
   options.outliers = s.outliers;
   options.seed = s.seed;
   options.pinhole = s.pinhole;
+  enterPhase("scanning");
   synth::Scene scene;
   if (!s.mesh.empty()) {
     std::vector<Vec3d> points;
@@ -82,7 +84,10 @@ int runSynth(const SynthSettings& s) {
   const std::vector<RangeMap>& maps = scene.maps;
   std::size_t readings = 0;
   for (const RangeMap& m : maps) readings += m.validCount();
-  const std::string manifest = io::writeScanSet(s.output, maps, scene.truth);
+  enterPhase("writing");
+  io::OutputSet outputs;
+  const std::string manifest = io::writeScanSet(outputs, s.output, maps, scene.truth);
+  commitOutputs(outputs);
 
   if (s.json) {
     nlohmann::json j{{"shape", s.mesh.empty() ? s.shape : s.mesh},
@@ -121,10 +126,10 @@ Command addSynthCommand(CLI::App& app) {
   cmd->add_option("--noise", s->noise,
                   "Gaussian range noise as a fraction of the shape's size (sphere: diameter; torus: tube "
                   "diameter; mug: handle width; mesh: largest extent), as in the paper")
-      ->check(CLI::Range(0.0, 10.0))
+      ->check(numberIn(0.0, 10.0))
       ->capture_default_str();
   cmd->add_option("--outliers", s->outliers, "Fraction of readings replaced by uniform outliers")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(numberIn(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--seed", s->seed, "Seed of the noise")->capture_default_str();
   cmd->add_flag("--pinhole", s->pinhole, "Depth cameras instead of parallel rays");

@@ -5,11 +5,14 @@
 #include "Support.h"
 
 #include <levelfuse/Version.h>
+#include <levelfuse/core/Interrupter.h>
+#include <levelfuse/io/InputError.h>
 
 #include <openvdb/openvdb.h>
 #include <tbb/version.h>
 
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -44,10 +47,19 @@ int main(int argc, char** argv) {
   installCancellationHandlers();
   for (const Command& command : commands) {
     if (!command.app->parsed()) continue;
+    const std::string name = "levelfuse " + command.app->get_name();
     try {
       return command.run();
+    } catch (const levelfuse::Interrupted&) {
+      std::cerr << name << ": interrupted while " << currentPhase() << "; nothing written\n";
+      return kExitCancelled;
+    } catch (const std::bad_alloc&) {
+      std::cerr << name << ": error: out of memory while " << currentPhase()
+                << "; nothing written (use a larger voxel size, fewer scans, or a machine with more memory)\n";
+      return kExitFailure;
     } catch (const std::exception& e) {
-      std::cerr << "levelfuse " << command.app->get_name() << ": error: " << printable(e.what()) << "\n";
+      // Readers quote short excerpts; the cut is the last guard for a third party's message.
+      std::cerr << name << ": error: " << levelfuse::io::excerpt(e.what(), 2000) << "\n";
       return kExitFailure;
     }
   }

@@ -6,6 +6,7 @@
 // matrix, poses as a 4x4 camera-to-world matrix, both as plain text.
 #pragma once
 
+#include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <openvdb/math/Mat4.h>
@@ -32,6 +33,8 @@ DepthImage readDepthPfm(const std::string& path, bool positiveOnly = true);
 /// Writes `image` as a little-endian single-channel PFM (NaN where there is no
 /// reading), atomically.
 void writeDepthPfm(const std::string& path, const DepthImage& image);
+/// The same, as one of a run's outputs: committed with the others (AtomicWrite.h).
+void writeDepthPfm(OutputSet& outputs, const std::string& path, const DepthImage& image);
 /// A float EXR with a Z, Y, R or depth channel, in metres (if levelfuse was
 /// built with OpenEXR; otherwise InputError says so).
 DepthImage readDepthExr(const std::string& path);

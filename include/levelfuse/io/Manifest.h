@@ -31,7 +31,9 @@
 // "wall", "handle_bend", "handle_radius"}.
 #pragma once
 
+#include <levelfuse/core/Interrupter.h>
 #include <levelfuse/geometry/Shapes.h>
+#include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <optional>
@@ -42,16 +44,21 @@ namespace levelfuse::io {
 
 /// Loads every scan a manifest lists; InputError names the manifest and the
 /// entry (e.g. "scans[2]: 'pose' needs 16 numbers") or the scan file at fault.
-std::vector<RangeMap> loadManifest(const std::string& path);
+/// `interrupter` is asked before each entry and scan (Interrupted).
+std::vector<RangeMap> loadManifest(const std::string& path, const Interrupter& interrupter = {});
 
 /// The manifest's "truth", if it records one.
 std::optional<shapes::AnalyticShape> loadManifestTruth(const std::string& path);
 
 /// Writes range maps as a manifest `directory`/scans.json with one PFM per
 /// map beside it (orthographic-pfm or depth-pfm; a pinhole map's sigma is its
-/// constant sigma), and the truth if given. Files are written atomically; the
-/// directory is created if need be. Returns the manifest's path.
+/// constant sigma), and the truth if given. The files are committed together
+/// (all or none; AtomicWrite.h); the directory is created if need be. Returns
+/// the manifest's path.
 std::string writeScanSet(const std::string& directory, const std::vector<RangeMap>& maps,
+                         const std::optional<shapes::AnalyticShape>& truth = std::nullopt);
+/// The same, as outputs of a run: they appear when `outputs` is committed.
+std::string writeScanSet(OutputSet& outputs, const std::string& directory, const std::vector<RangeMap>& maps,
                          const std::optional<shapes::AnalyticShape>& truth = std::nullopt);
 
 }  // namespace levelfuse::io

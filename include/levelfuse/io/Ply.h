@@ -7,6 +7,8 @@
 // skipped with a warning.
 #pragma once
 
+#include <levelfuse/io/AtomicWrite.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -59,5 +61,8 @@ PlyData readPly(const std::string& path);
 /// little-endian PLY (or ASCII), atomically: temporary file, then rename.
 void writeMeshPly(const std::string& path, const std::vector<float>& xyz, const std::vector<std::uint32_t>& triangles,
                   bool binary = true);
+/// The same, as one of a run's outputs: committed with the others (AtomicWrite.h).
+void writeMeshPly(OutputSet& outputs, const std::string& path, const std::vector<float>& xyz,
+                  const std::vector<std::uint32_t>& triangles, bool binary = true);
 
 }  // namespace levelfuse::io

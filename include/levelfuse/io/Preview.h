@@ -1,6 +1,8 @@
 // levelfuse: a shaded picture of a level set, to look at instead of read.
 #pragma once
 
+#include <levelfuse/io/AtomicWrite.h>
+
 #include <openvdb/openvdb.h>
 
 #include <string>
@@ -21,5 +23,8 @@ struct PreviewOptions {
 /// atomically. Throws std::invalid_argument for a grid that is not a level set
 /// or has no surface, std::runtime_error naming `path` if it cannot be written.
 void writePreviewPng(const openvdb::FloatGrid& levelSet, const std::string& path, const PreviewOptions& options = {});
+/// The same, as one of a run's outputs: committed with the others (AtomicWrite.h).
+void writePreviewPng(OutputSet& outputs, const openvdb::FloatGrid& levelSet, const std::string& path,
+                     const PreviewOptions& options = {});
 
 }  // namespace levelfuse::io

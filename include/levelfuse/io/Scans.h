@@ -1,6 +1,7 @@
 // levelfuse: scans from whatever a user points at.
 #pragma once
 
+#include <levelfuse/core/Interrupter.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/scan/RangeMap.h>
@@ -15,6 +16,7 @@ struct ScanLoadOptions {
   double depthScale = 0.001;     ///< metres per unit of 16-bit depth PNGs
   DepthNoise depthNoise;         ///< sigma of depth-camera readings
   int frameStride = 1;           ///< of a folder of depth frames, every n-th
+  Interrupter interrupter;       ///< asked before each scan or frame is read (Interrupted)
 };
 
 /// Loads the scans at `path`, by what it is:

@@ -15,6 +15,7 @@
 // sample the triangles reach is lost.
 #pragma once
 
+#include <levelfuse/core/Interrupter.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <openvdb/math/Mat4.h>
@@ -56,6 +57,8 @@ struct RangeGridScan {
 RangeGridScan readRangeGridPly(const std::string& path);
 
 struct StanfordScanOptions {
+  /// Asked before each scan is read: a long load can be stopped (Interrupted).
+  Interrupter interrupter;
   /// Direction from the points toward the scanner, in the scan frame (the
   /// bunny's scanner is on the +z side; the dragon's is tilted about 27 degrees
   /// toward +x: (0.46, 0.04, 0.89)).

@@ -1,6 +1,8 @@
 // levelfuse: reading and writing .vdb files.
 #pragma once
 
+#include <levelfuse/io/AtomicWrite.h>
+
 #include <openvdb/openvdb.h>
 
 #include <string>
@@ -13,8 +15,11 @@ namespace levelfuse::io {
 /// UUID is derived from its content: the same grids give the same bytes.
 void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids,
               const openvdb::MetaMap& fileMetadata = openvdb::MetaMap());
+/// The same, as one of a run's outputs: committed with the others (AtomicWrite.h).
+void writeVdb(OutputSet& outputs, const std::string& path, const openvdb::GridCPtrVec& grids,
+              const openvdb::MetaMap& fileMetadata = openvdb::MetaMap());
 
-/// Reads every grid of a .vdb file; std::runtime_error names the file and the problem.
+/// Reads every grid of a .vdb file; InputError names the file and the problem.
 openvdb::GridPtrVecPtr readVdb(const std::string& path, openvdb::MetaMap::Ptr* fileMetadata = nullptr);
 
 }  // namespace levelfuse::io

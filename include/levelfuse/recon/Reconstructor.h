@@ -9,6 +9,7 @@
 //     to the requested voxel size: a continuation from coarse to fine.
 #pragma once
 
+#include <levelfuse/core/Interrupter.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
@@ -99,9 +100,9 @@ struct ReconstructionProgress {
 using ProgressCallback = std::function<bool(const ReconstructionProgress&)>;
 
 /// Thrown by Reconstructor::run when the progress callback asks to stop.
-class ReconstructionCancelled : public std::runtime_error {
+class ReconstructionCancelled : public Interrupted {
  public:
-  ReconstructionCancelled() : std::runtime_error("the reconstruction was cancelled") {}
+  ReconstructionCancelled() : Interrupted("the reconstruction was cancelled") {}
 };
 
 /// Thrown by Reconstructor::run when the finest grid would need more memory
@@ -150,13 +151,16 @@ class Reconstructor {
   Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options = {});
 
   /// Runs the pipeline. Throws ReconstructionCancelled if `progress` returns
-  /// false, InsufficientMemory if the finest grid would not fit.
-  ReconstructionResult run(const ProgressCallback& progress = {}) const;
+  /// false, Interrupted if `interrupter` stops the initial model (the linear
+  /// solution, before the first progress report), InsufficientMemory if the
+  /// finest grid would not fit.
+  ReconstructionResult run(const ProgressCallback& progress = {}, const Interrupter& interrupter = {}) const;
 
   /// The linear solution (the zero set of g, Eq. 17) on the finest grid
   /// alone, no evolution: VRIP-style fusion. Throws InsufficientMemory, as
-  /// run() does, if the finest grid would not fit.
-  openvdb::FloatGrid::Ptr linearSolution() const;
+  /// run() does, if the finest grid would not fit; Interrupted if
+  /// `interrupter` stops it.
+  openvdb::FloatGrid::Ptr linearSolution(const Interrupter& interrupter = {}) const;
 
   /// The options with every default resolved.
   const ReconstructionOptions& options() const { return mOptions; }
@@ -164,8 +168,9 @@ class Reconstructor {
   double voxelSize(int level) const;
   /// The data term's settings on grid `level`.
   ForceFieldOptions forceOptions(int level) const;
-  /// The data term of every scan accumulated on grid `level`.
-  DataTermGrids dataTermGrids(int level) const;
+  /// The data term of every scan accumulated on grid `level`; throws
+  /// Interrupted between scans if `interrupter` asks to stop.
+  DataTermGrids dataTermGrids(int level, const Interrupter& interrupter = {}) const;
   const std::vector<RangeMap>& maps() const { return *mMaps; }
   /// World box of the scans' readings.
   const openvdb::BBoxd& bounds() const { return mBounds; }
@@ -174,7 +179,7 @@ class Reconstructor {
   /// Throws InsufficientMemory if the coarsest grid's box would not fit.
   void requireCoarsestGridMemory() const;
   /// The linear solution on the coarsest grid, as a sparse field.
-  SparseField initialModel() const;
+  SparseField initialModel(const Interrupter& interrupter) const;
   /// Evolves `field`, of voxel size h, under the data term and the prior
   /// until it converges, settles or reaches the iteration limit (section 6).
   template <typename Field>

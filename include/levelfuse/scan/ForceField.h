@@ -9,6 +9,7 @@
 // set of g, the linear solution; it is the initial model of the evolution.
 #pragma once
 
+#include <levelfuse/core/Interrupter.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/DataWindow.h>
 #include <levelfuse/scan/RangeMap.h>
@@ -75,7 +76,8 @@ class ForceField {
   /// Accumulates g over the voxels (of size `voxelSize`, centred on multiples
   /// of it) within the window of some reading. Parallel over leaf nodes and
   /// deterministic; memory grows with the scanned surface.
-  AccumulatedField accumulate(double voxelSize) const;
+  /// `interrupter` is asked once per range map and leaf node (Interrupted).
+  AccumulatedField accumulate(double voxelSize, const Interrupter& interrupter = {}) const;
 
   /// The linear solution: the zero set of g as an OpenVDB level set (negative
   /// inside, half-width `halfWidth` voxels, GRID_LEVEL_SET), the VRIP-style
@@ -86,7 +88,8 @@ class ForceField {
   /// else outside. Surfaces no scan saw thus close along the boundary of the
   /// observed empty space. The result is rebuilt into a true narrow band.
   openvdb::FloatGrid::Ptr linearSolution(double voxelSize, double halfWidth = 3.0,
-                                         const std::string& name = "surface") const;
+                                         const std::string& name = "surface",
+                                         const Interrupter& interrupter = {}) const;
 
   const std::vector<RangeMap>& maps() const { return *mMaps; }
   const std::shared_ptr<const std::vector<RangeMap>>& sharedMaps() const { return mMaps; }

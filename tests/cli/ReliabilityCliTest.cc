@@ -1,0 +1,164 @@
+// What the CLI promises beyond bad input: outputs committed together or not at
+// all (a full disk, an output that is an input), inputs that would block,
+// cancellation in every phase, numeric options checked at parse time.
+
+#include "CliSupport.h"
+#include "support/SmallDisk.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <utility>
+#include <vector>
+
+namespace levelfuse {
+namespace {
+
+std::string contents(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+class ReliabilityCli : public Cli {
+ protected:
+  /// Small synthetic scans of a sphere: a fast run.
+  std::string scans() {
+    const CliRun run = levelfuse("synth --shape sphere --resolution 40 -o " + path("scans"));
+    EXPECT_EQ(run.exitCode, 0) << run.output;
+    return path("scans/scans.json");
+  }
+  /// Files directly in the test's folder (the scans' folder not counted).
+  std::size_t outputsInDir() const { return filesInDir() - (fs::exists(mDir / "scans") ? 1 : 0); }
+};
+
+/// LEVELFUSE_TEST_SIGNAL_AT=<phase> makes the CLI send itself SIGINT as the phase starts.
+CliRun interruptedAt(const std::string& phase, const std::string& arguments) {
+  return levelfuse(arguments, "LEVELFUSE_TEST_SIGNAL_AT=" + phase);
+}
+
+TEST_F(ReliabilityCli, SigintInEveryPhaseExits130AndWritesNothing) {
+  const std::string input = scans();
+  const std::string outputs = " -o " + path("o.vdb") + " --mesh " + path("o.ply") + " --preview " + path("o.png");
+  const std::vector<std::pair<std::string, std::string>> runs{
+      {"loading", "reconstruct --linear " + input + outputs},
+      {"solving", "reconstruct --linear " + input + outputs},
+      {"evolving", "reconstruct " + input + outputs},
+      {"measuring", "reconstruct --linear " + input + outputs},
+      {"meshing", "reconstruct --linear " + input + outputs},
+      {"writing", "reconstruct --linear " + input + outputs}};
+  for (const auto& [phase, arguments] : runs) {
+    const CliRun run = interruptedAt(phase, arguments);
+    EXPECT_EQ(run.exitCode, 130) << phase << ": " << run.output;
+    EXPECT_EQ(run.output, "levelfuse reconstruct: interrupted while " + phase + "; nothing written\n") << phase;
+    EXPECT_EQ(outputsInDir(), 0u) << phase;
+  }
+  ASSERT_EQ(levelfuse("reconstruct --linear -q " + input + " -o " + path("in.vdb")).exitCode, 0);
+  for (const std::string phase : {"loading", "meshing", "writing"}) {
+    const CliRun run = interruptedAt(phase, "mesh " + path("in.vdb") + " -o " + path("m.ply"));
+    EXPECT_EQ(run.exitCode, 130) << phase << ": " << run.output;
+    EXPECT_EQ(run.output, "levelfuse mesh: interrupted while " + phase + "; nothing written\n") << phase;
+    EXPECT_FALSE(fs::exists(path("m.ply"))) << phase;
+  }
+  for (const std::string phase : {"scanning", "writing"}) {
+    const CliRun run = interruptedAt(phase, "synth --shape torus --resolution 32 -o " + path("more"));
+    EXPECT_EQ(run.exitCode, 130) << phase << ": " << run.output;
+    EXPECT_FALSE(fs::exists(path("more/scans.json"))) << phase;
+    EXPECT_FALSE(fs::exists(path("more/scan0.pfm"))) << phase;
+  }
+}
+
+TEST_F(ReliabilityCli, AnOutputThatIsAnInputIsRefusedBeforeAnyWork) {
+  const std::string input = scans();
+  const std::string manifest = contents(input), scan = contents(path("scans/scan0.pfm"));
+  fs::create_symlink(input, path("link.vdb"));
+  fs::create_hard_link(path("scans/scan0.pfm"), path("hard.ply"));
+  for (const std::string& arguments :
+       {"reconstruct --linear " + input + " -o " + input, "reconstruct --linear " + input + " -o " + path("link.vdb"),
+        "reconstruct --linear " + input + " --mesh " + path("hard.ply"),
+        "reconstruct --linear " + input + " --preview " + path("scans/scan0.pfm")}) {
+    const CliRun run = levelfuse(arguments);
+    EXPECT_EQ(run.exitCode, 1) << arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find("it is an input of this run"), std::string::npos) << run.output;
+    EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+  }
+  EXPECT_EQ(contents(input), manifest);
+  EXPECT_EQ(contents(path("scans/scan0.pfm")), scan);
+  EXPECT_TRUE(fs::is_symlink(path("link.vdb")));
+  ASSERT_EQ(levelfuse("reconstruct --linear -q " + input + " -o " + path("in.vdb")).exitCode, 0);
+  fs::create_hard_link(path("in.vdb"), path("same.obj"));
+  const CliRun mesh = levelfuse("mesh " + path("in.vdb") + " -o " + path("same.obj"));
+  EXPECT_EQ(mesh.exitCode, 1) << mesh.output;
+  EXPECT_NE(mesh.output.find("it is an input of this run"), std::string::npos) << mesh.output;
+}
+
+TEST_F(ReliabilityCli, AFifoAsInputIsRefusedAtOnce) {
+  ASSERT_EQ(::mkfifo(path("scans.conf").c_str(), 0600), 0);
+  ASSERT_EQ(::mkfifo(path("x.vdb").c_str(), 0600), 0);
+  for (const std::string& arguments : {"reconstruct " + path("scans.conf") + " -o " + path("o.vdb"),
+                                       "info " + path("x.vdb"), "mesh " + path("x.vdb") + " -o " + path("o.ply")}) {
+    const CliRun run = levelfuse(arguments);
+    EXPECT_EQ(run.exitCode, 1) << arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find("is a FIFO (named pipe)"), std::string::npos) << run.output;
+  }
+  EXPECT_FALSE(fs::exists(path("o.vdb")));
+  EXPECT_FALSE(fs::exists(path("o.ply")));
+}
+
+TEST_F(ReliabilityCli, NumericOptionsAreCheckedAtParseTime) {
+  const std::string input = scans();
+  const std::string reconstruct = "reconstruct " + input + " -o " + path("o.vdb") + " ";
+  const std::vector<std::string> bad{
+      reconstruct + "--voxel-size nan", reconstruct + "--beta nan",       reconstruct + "--epsilon nan",
+      reconstruct + "--tolerance nan",  reconstruct + "--depth-scale nan", reconstruct + "--sigma nan",
+      reconstruct + "--max-memory nan", reconstruct + "--voxel-size inf",  reconstruct + "--beta -1",
+      reconstruct + "--tolerance 0",    reconstruct + "--depth-scale 2",   reconstruct + "--view 1,nan,0",
+      "mesh " + path("x.vdb") + " -o " + path("m.ply") + " --adaptivity nan",
+      "evolve -o " + path("e.vdb") + " --beta nan",       "evolve -o " + path("e.vdb") + " --time nan",
+      "evolve -o " + path("e.vdb") + " --speed inf",      "synth -o " + path("s") + " --noise nan",
+      "synth -o " + path("s") + " --outliers 2"};
+  for (const std::string& arguments : bad) {
+    const CliRun run = levelfuse(arguments);
+    EXPECT_EQ(run.exitCode, 2) << arguments << "\n" << run.output;
+  }
+  EXPECT_EQ(outputsInDir(), 0u);
+  const CliRun help = levelfuse("reconstruct --help");
+  for (const std::string range : {"--voxel-size FLOAT:in [0, 1e+06]", "--beta FLOAT:in [0, 1000]",
+                                  "--depth-scale FLOAT:in (0, 1]", "--tolerance FLOAT:in (0, 1000]"})
+    EXPECT_NE(help.output.find(range), std::string::npos) << range << "\n" << help.output;
+  // Iteration limits below the default minimum work: the minimum follows the maximum.
+  for (const std::string limit : {"1", "2", "3"}) {
+    const CliRun run = levelfuse("reconstruct -q " + input + " --max-iterations " + limit + " -o " + path("o.vdb"));
+    EXPECT_EQ(run.exitCode, 0) << limit << ": " << run.output;
+  }
+}
+
+/// A full disk: exit 1 naming the file, no partial file, the file that would
+/// have been replaced untouched, and no other output of the run replaced.
+TEST_F(ReliabilityCli, AFullDiskFailsTheWholeRun) {
+  test::SmallDisk disk;
+  if (!disk.mounted()) GTEST_SKIP() << disk.reason();
+  const std::string input = scans();
+  std::ofstream(disk.path("keep.vdb")) << "old";
+  std::ofstream(path("keep.vdb")) << "old";
+  disk.fill();
+  const std::size_t files = disk.fileCount();
+  CliRun run = levelfuse("reconstruct --linear " + input + " -o " + disk.path("keep.vdb"));
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("cannot write '" + disk.path("keep.vdb") + "'"), std::string::npos) << run.output;
+  EXPECT_EQ(contents(disk.path("keep.vdb")), "old");
+  EXPECT_EQ(disk.fileCount(), files);
+
+  run = levelfuse("reconstruct --linear " + input + " -o " + path("keep.vdb") + " --mesh " + disk.path("x.ply"));
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find(disk.path("x.ply")), std::string::npos) << run.output;
+  EXPECT_EQ(contents(path("keep.vdb")), "old");  // the other output was not committed
+  EXPECT_EQ(disk.fileCount(), files);
+  EXPECT_EQ(outputsInDir(), 1u);
+}
+
+}  // namespace
+}  // namespace levelfuse
