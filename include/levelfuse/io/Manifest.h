@@ -17,7 +17,10 @@
 //   }
 //
 // Paths are relative to the manifest. Formats: stanford-conf, stanford-ply,
-// depth-png, depth-pfm, depth-exr, and orthographic-pfm (a range map of
+// depth-png, depth-pfm, depth-exr (each may say "max_depth" in metres: deeper
+// readings are dropped), tum (a TUM RGB-D "folder", see TumScans.h, with
+// optional "depth_scale", "max_depth", "frame_stride" and "sigma" as for
+// depth-pfm), and orthographic-pfm (a range map of
 // parallel rays: "pixel_size", "origin" [x, y] of pixel (0, 0) and a "pose"
 // from the map's frame, whose rays run along +z, to the world). Poses are
 // camera-to-world, 16 numbers in row-major order with the translation in the
@@ -32,6 +35,7 @@
 #pragma once
 
 #include <levelfuse/geometry/Shapes.h>
+#include <levelfuse/io/Scans.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <optional>
@@ -42,7 +46,9 @@ namespace levelfuse::io {
 
 /// Loads every scan a manifest lists; InputError names the manifest and the
 /// entry (e.g. "scans[2]: 'pose' needs 16 numbers") or the scan file at fault.
-std::vector<RangeMap> loadManifest(const std::string& path);
+/// The depth scale (if not 0) and maximum depth of `defaults` apply to the
+/// depth entries that do not give their own.
+std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOptions& defaults = {});
 
 /// The manifest's "truth", if it records one.
 std::optional<shapes::AnalyticShape> loadManifestTruth(const std::string& path);
