@@ -3,7 +3,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+#include <cstdlib>
 #include <functional>
+#include <string>
 
 namespace levelfuse::cli {
 
@@ -20,6 +23,18 @@ struct Command {
   CLI::App* app;
   std::function<int()> run;
 };
+
+/// An option's value that must be a finite number greater than 0
+/// (CLI::PositiveNumber lets "inf" through).
+inline const CLI::Validator kFinitePositiveNumber(
+    [](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double value = std::strtod(text.c_str(), &end);
+      if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value) || !(value > 0.0))
+        return "'" + text + "' is not a finite number greater than 0";
+      return std::string();
+    },
+    "POSITIVE");
 
 /// Register the subcommands on `app`.
 Command addReconstructCommand(CLI::App& app);
