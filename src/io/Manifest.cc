@@ -148,7 +148,8 @@ std::vector<RangeMap> loadTumEntry(const Entry& e, const ScanLoadOptions& defaul
   if (e.has("depth_scale")) o.depthScale = e.positive("depth_scale", 0.0);
   o.maxDepth = e.positive("max_depth", defaults.maxDepth);
   const double stride = e.number("frame_stride", 1.0);
-  if (stride < 1.0 || stride > 1e6 || stride != std::floor(stride)) e.fail("'frame_stride' must be a whole number, 1 to 1000000");
+  if (stride < 1.0 || stride > 1e6 || stride != std::floor(stride))
+    e.fail("'frame_stride' must be a whole number, 1 to 1000000");
   o.frameStride = static_cast<int>(stride);
   o.depthNoise = depthNoiseOf(e);
   const std::string folder = e.folder("folder");

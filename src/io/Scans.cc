@@ -68,7 +68,8 @@ RangeMap loadDepthFrame(const std::string& image, const PinholeProjection& intri
 
 std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& options) {
   std::error_code ec;
-  if (fs::is_directory(path, ec)) return isTumFolder(path) ? loadTumFolder(path, options) : loadDepthFolder(path, options);
+  if (fs::is_directory(path, ec))
+    return isTumFolder(path) ? loadTumFolder(path, options) : loadDepthFolder(path, options);
   if (!fs::exists(path, ec)) throw InputError(path, "no such file or folder");
   std::string extension = fs::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),

@@ -10,8 +10,9 @@
 
 namespace levelfuse::io {
 
-void forEachTextRecord(const std::string& path,
-                       const std::function<void(int line, const std::string& at, std::istringstream& words)>& onRecord) {
+void forEachTextRecord(
+    const std::string& path,
+    const std::function<void(int line, const std::string& at, std::istringstream& words)>& onRecord) {
   std::ifstream in(path);
   std::error_code ec;  // the non-throwing overload: a name may be too long
   if (!in) throw InputError(path, std::filesystem::exists(path, ec) ? "cannot be opened for reading" : "no such file");

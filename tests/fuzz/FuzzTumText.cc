@@ -28,7 +28,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   fs::create_directories(poseFolder);
   fuzz::writeScratchFile("fuzzed-depth/groundtruth.txt", "# timestamp tx ty tz qx qy qz qw\n"
                                                          "1.00 0 0 0 0 0 0 1\n1.01 0.1 0 0 0 0 0.7071068 0.7071068\n");
-  fuzz::writeScratchFile("fuzzed-poses/depth.txt", "# timestamp filename\n1.000000 ../depth.png\n1.010000 ../depth.png\n");
+  fuzz::writeScratchFile("fuzzed-poses/depth.txt",
+                         "# timestamp filename\n1.000000 ../depth.png\n1.010000 ../depth.png\n");
   return 0;
 }
 

@@ -106,7 +106,9 @@ void writeSevenScenesFolder(const std::string& folder, const std::vector<CameraP
     const Vec3d x = rotate(poses[i].rotation, Vec3d(1, 0, 0)), y = rotate(poses[i].rotation, Vec3d(0, 1, 0)),
                 z = rotate(poses[i].rotation, Vec3d(0, 0, 1)), t = poses[i].position;
     std::ostringstream pose;
-    for (int r = 0; r < 3; ++r) pose << number(x[r], "%.9f") << " " << number(y[r], "%.9f") << " " << number(z[r], "%.9f") << " " << number(t[r], "%.9f") << "\n";
+    for (int r = 0; r < 3; ++r)
+      pose << number(x[r], "%.9f") << " " << number(y[r], "%.9f") << " " << number(z[r], "%.9f") << " "
+           << number(t[r], "%.9f") << "\n";
     pose << "0 0 0 1\n";
     writeText(stem + ".pose.txt", pose.str());
   }
