@@ -318,6 +318,11 @@ DepthImage readDepthImage(const std::string& path, double pngScale) {
   throw InputError(path, "unknown depth image type " + quote(ext) + " (expected .png, .pfm or .exr)");
 }
 
+void dropReadingsBeyond(DepthImage& image, double maxDepth) {
+  for (float& d : image.depth)
+    if (d > maxDepth) d = kNoReading;
+}
+
 PinholeProjection readIntrinsics(const std::string& path) {
   const std::vector<double> k = readNumbers(path, 9);
   if (k[1] != 0.0 || k[3] != 0.0 || k[6] != 0.0 || k[7] != 0.0 || k[8] != 1.0)

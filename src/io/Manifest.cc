@@ -6,6 +6,7 @@
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/TumScans.h>
 
 #include <nlohmann/json.hpp>
 
@@ -40,11 +41,16 @@ class Entry {
   }
   /// The file a key names, resolved beside the manifest; it must exist.
   std::string path(const char* key) const {
-    const fs::path p(string(key));
-    const fs::path beside = p.is_absolute() ? p : fs::path(mManifest).parent_path() / p;
-    const std::string resolved = beside.lexically_normal().string();
+    const std::string resolved = resolve(key);
     std::error_code ec;
     if (!fs::is_regular_file(resolved, ec)) fail(std::string("'") + key + "': no such file " + resolved);
+    return resolved;
+  }
+  /// The folder a key names, resolved beside the manifest; it must exist.
+  std::string folder(const char* key) const {
+    const std::string resolved = resolve(key);
+    std::error_code ec;
+    if (!fs::is_directory(resolved, ec)) fail(std::string("'") + key + "': no such folder " + resolved);
     return resolved;
   }
   /// A JSON value that must be a finite number; `name` says which.
@@ -80,6 +86,12 @@ class Entry {
   const std::string& where() const { return mWhere; }
 
  private:
+  std::string resolve(const char* key) const {
+    const fs::path p(string(key));
+    const fs::path beside = p.is_absolute() ? p : fs::path(mManifest).parent_path() / p;
+    return beside.lexically_normal().string();
+  }
+
   const std::string& mManifest;
   const json& mJson;
   std::string mWhere;
@@ -112,6 +124,40 @@ PinholeProjection intrinsicsOf(const Entry& e) {
   return p;
 }
 
+DepthNoise depthNoiseOf(const Entry& e) {
+  DepthNoise noise;
+  if (!e.has("sigma")) return noise;
+  const json& s = e["sigma"];
+  if (s.is_number()) {
+    noise.minimum = e.numberIn(s, "'sigma'");
+    noise.perSquareMetre = 0.0;
+  } else if (s.is_object()) {
+    if (s.contains("minimum")) noise.minimum = e.numberIn(s["minimum"], "'sigma.minimum'");
+    if (s.contains("per_square_metre"))
+      noise.perSquareMetre = e.numberIn(s["per_square_metre"], "'sigma.per_square_metre'");
+  } else {
+    e.fail("'sigma' must be a number or {\"minimum\", \"per_square_metre\"}");
+  }
+  if (!(noise.minimum > 0.0) || noise.perSquareMetre < 0.0) e.fail("'sigma' must be positive");
+  return noise;
+}
+
+/// A TUM RGB-D folder's entry: the folder, and optionally its depth scale,
+/// maximum depth, frame stride and noise.
+std::vector<RangeMap> loadTumEntry(const Entry& e, const ScanLoadOptions& defaults) {
+  ScanLoadOptions o = defaults;
+  if (e.has("depth_scale")) o.depthScale = e.positive("depth_scale", 0.0);
+  o.maxDepth = e.positive("max_depth", defaults.maxDepth);
+  const double stride = e.number("frame_stride", 1.0);
+  if (stride < 1.0 || stride > 1e6 || stride != std::floor(stride))
+    e.fail("'frame_stride' must be a whole number, 1 to 1000000");
+  o.frameStride = static_cast<int>(stride);
+  o.depthNoise = depthNoiseOf(e);
+  const std::string folder = e.folder("folder");
+  if (!isTumFolder(folder)) e.fail("'folder': " + folder + " holds no depth.txt: not a TUM RGB-D folder");
+  return loadTumFolder(folder, o);
+}
+
 openvdb::math::Mat4d poseOf(const Entry& e, const std::string& manifest) {
   if (e.has("pose_file")) return readPose(e.path("pose_file"));
   if (!e.has("pose")) e.fail("missing 'pose' or 'pose_file'");
@@ -136,7 +182,8 @@ json parseManifest(const std::string& path) {
 
 }  // namespace
 
-std::vector<RangeMap> loadManifest(const std::string& path, const Interrupter& interrupter) {
+std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOptions& defaults) {
+  const Interrupter& interrupter = defaults.interrupter;
   const json root = parseManifest(path);
   if (!root.is_object() || !root.contains("scans") || !root["scans"].is_array())
     throw InputError(path, "expected an object with an array 'scans'");
@@ -166,25 +213,15 @@ std::vector<RangeMap> loadManifest(const std::string& path, const Interrupter& i
                                       fs::path(file).filename().string()));
     } else if (format == "depth-png" || format == "depth-pfm" || format == "depth-exr") {
       const std::string file = e.path("file");
-      DepthImage image = format == "depth-png" ? readDepthPng(file, e.positive("depth_scale", 0.001))
+      const double defaultScale = defaults.depthScale > 0.0 ? defaults.depthScale : 0.001;
+      DepthImage image = format == "depth-png" ? readDepthPng(file, e.positive("depth_scale", defaultScale))
                          : format == "depth-pfm" ? readDepthPfm(file)
                                                  : readDepthExr(file);
-      DepthNoise noise;
-      if (e.has("sigma")) {
-        const json& s = e["sigma"];
-        if (s.is_number()) {
-          noise.minimum = e.numberIn(s, "'sigma'");
-          noise.perSquareMetre = 0.0;
-        } else if (s.is_object()) {
-          if (s.contains("minimum")) noise.minimum = e.numberIn(s["minimum"], "'sigma.minimum'");
-          if (s.contains("per_square_metre"))
-            noise.perSquareMetre = e.numberIn(s["per_square_metre"], "'sigma.per_square_metre'");
-        } else {
-          e.fail("'sigma' must be a number or {\"minimum\", \"per_square_metre\"}");
-        }
-        if (!(noise.minimum > 0.0) || noise.perSquareMetre < 0.0) e.fail("'sigma' must be positive");
-      }
-      maps.push_back(depthFrame(image, intrinsicsOf(e), poseOf(e, path), noise, fs::path(file).filename().string()));
+      dropReadingsBeyond(image, e.positive("max_depth", defaults.maxDepth));
+      maps.push_back(depthFrame(image, intrinsicsOf(e), poseOf(e, path), depthNoiseOf(e),
+                                fs::path(file).filename().string()));
+    } else if (format == "tum") {
+      for (RangeMap& m : loadTumEntry(e, defaults)) maps.push_back(std::move(m));
     } else if (format == "orthographic-pfm") {
       const std::string file = e.path("file");
       DepthImage image = readDepthPfm(file, false);
@@ -205,7 +242,7 @@ std::vector<RangeMap> loadManifest(const std::string& path, const Interrupter& i
       }
     } else {
       e.fail("unknown format " + quote(format) +
-             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr or orthographic-pfm)");
+             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum or orthographic-pfm)");
     }
     if (e.has("misses_are_empty")) {
       if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");

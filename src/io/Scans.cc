@@ -4,9 +4,11 @@
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Scans.h>
+#include <levelfuse/io/TumScans.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 
 namespace levelfuse::io {
@@ -20,7 +22,7 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 }
 
 std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOptions& options) {
-  if (options.frameStride < 1) throw InputError(folder.string(), "the frame stride must be at least 1");
+  checkDepthOptions(options, folder.string());
   std::vector<fs::path> frames;
   std::error_code ec;  // the non-throwing overloads throughout: a folder may be unreadable
   for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
@@ -44,18 +46,34 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
     const std::string stem = image.substr(0, image.size() - std::string(".depth.png").size());
     const std::string pose = stem + ".pose.txt";
     if (!fs::exists(pose, ec)) throw InputError(image, "no pose beside it (expected " + pose + ")");
-    maps.push_back(depthFrame(readDepthImage(image, options.depthScale), intrinsics, readPose(pose),
-                              options.depthNoise, frames[i].filename().string()));
+    maps.push_back(loadDepthFrame(image, intrinsics, readPose(pose), options, 0.001));
   }
   return maps;
 }
 
 }  // namespace
 
+void checkDepthOptions(const ScanLoadOptions& options, const std::string& source) {
+  if (options.frameStride < 1) throw InputError(source, "the frame stride must be at least 1");
+  if (!(options.maxDepth > 0.0)) throw InputError(source, "the maximum depth must be positive");
+  if (!(options.depthScale >= 0.0) || !std::isfinite(options.depthScale))
+    throw InputError(source, "the depth scale must be positive");
+}
+
+RangeMap loadDepthFrame(const std::string& image, const PinholeProjection& intrinsics,
+                        const openvdb::math::Mat4d& cameraToWorld, const ScanLoadOptions& options,
+                        double conventionScale) {
+  DepthImage depth = readDepthImage(image, options.depthScale > 0.0 ? options.depthScale : conventionScale);
+  dropReadingsBeyond(depth, options.maxDepth);
+  return depthFrame(depth, intrinsics, cameraToWorld, options.depthNoise, fs::path(image).filename().string());
+}
+
 std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& options) {
   requireInputFile(path, /*folderToo=*/true);
   std::error_code ec;
-  if (fs::is_directory(path, ec)) return loadDepthFolder(path, options);
+  if (fs::is_directory(path, ec))
+    return isTumFolder(path) ? loadTumFolder(path, options) : loadDepthFolder(path, options);
+  if (!fs::exists(path, ec)) throw InputError(path, "no such file or folder");
   std::string extension = fs::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -64,9 +82,9 @@ std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& 
     stanford.interrupter = options.interrupter;
     return loadStanfordScans(path, stanford);
   }
-  if (extension == ".json") return loadManifest(path, options.interrupter);
+  if (extension == ".json") return loadManifest(path, options);
   throw InputError(path, "not a kind of scan levelfuse reads: give a Stanford .conf file, a JSON manifest "
-                         "(.json) or a folder of depth frames");
+                         "(.json) or a folder of depth frames (7-Scenes or TUM RGB-D)");
 }
 
 }  // namespace levelfuse::io

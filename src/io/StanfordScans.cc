@@ -4,6 +4,7 @@
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/TextRecords.h>
 #include <levelfuse/scan/DepthRaster.h>
 
 #include <algorithm>
@@ -59,58 +60,35 @@ double finerSampleSpacing(const RangeGridScan& scan, const std::vector<Vec3d>& l
 }  // namespace
 
 Mat4d StanfordPlacement::scanToWorld() const {
-  const double x = rotation.x(), y = rotation.y(), z = rotation.z(), w = rotation.w();
-  // R of the unit quaternion (column-vector convention). p_world = R^T p + t is,
-  // with OpenVDB's row vectors, p_world = p R + t: R itself is the 3x3 block.
-  const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
-                          {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
-                          {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
-  return Mat4d(r[0][0], r[0][1], r[0][2], 0.0, r[1][0], r[1][1], r[1][2], 0.0, r[2][0], r[2][1], r[2][2], 0.0,
-               translation.x(), translation.y(), translation.z(), 1.0);
+  // The .conf's quaternion turns the world into the scan: p_world = R^T p + t,
+  // the rotation of the conjugate quaternion.
+  return rigidMotion(openvdb::math::Quatd(-rotation.x(), -rotation.y(), -rotation.z(), rotation.w()), translation);
 }
 
 std::vector<StanfordPlacement> readStanfordConf(const std::string& path) {
-  requireInputFile(path);
-  std::ifstream in(path);
-  std::error_code ec;  // the non-throwing overloads: names may be too long or unreadable
-  if (!in) throw InputError(path, "cannot be opened for reading");
   const fs::path folder = fs::path(path).parent_path();
   std::vector<StanfordPlacement> scans;
-  std::string line;
-  for (int lineNo = 1; std::getline(in, line); ++lineNo) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
+  forEachTextRecord(path, [&](int line, const std::string& at, std::istringstream& words) {
     std::string key;
-    if (!(words >> key) || key[0] == '#') continue;
-    const std::string at = "line " + std::to_string(lineNo) + ": ";
-    if (key == "camera" || key == "mesh") continue;  // viewer entries, not scans
+    words >> key;
+    if (key == "camera" || key == "mesh") return;  // viewer entries, not scans
     if (key != "bmesh") throw InputError(path, at + "unknown entry " + quote(key) + " (expected bmesh, mesh or camera)");
+    const char* const expected = "'bmesh FILE tx ty tz qi qj qk qr'";
     StanfordPlacement s;
-    s.line = lineNo;
+    s.line = line;
+    if (!(words >> s.file)) throw InputError(path, at + "expected " + expected);
     double v[7];
-    if (!(words >> s.file))
-      throw InputError(path, at + "expected 'bmesh FILE tx ty tz qi qj qk qr'");
-    for (double& x : v) {
-      std::string word;
-      if (!(words >> word)) throw InputError(path, at + "expected 'bmesh FILE tx ty tz qi qj qk qr'");
-      char* end = nullptr;
-      x = std::strtod(word.c_str(), &end);
-      if (end != word.c_str() + word.size()) throw InputError(path, at + quote(word) + " is not a number");
-      if (!std::isfinite(x)) throw InputError(path, at + quote(word) + " is not a finite number");
-    }
+    for (double& x : v) x = nextNumber(words, path, at, expected);
     std::string extra;
     if (words >> extra) throw InputError(path, at + "unexpected " + quote(extra) + " after the quaternion");
     s.translation = Vec3d(v[0], v[1], v[2]);
-    const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
-    if (norm < 1e-9) throw InputError(path, at + "the quaternion is zero: it describes no rotation");
-    if (std::fabs(norm - 1.0) > 1e-3)
-      throw InputError(path, at + "the quaternion has norm " + std::to_string(norm) + ", not 1: not a rotation");
-    s.rotation = openvdb::math::Quatd(v[3] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
+    s.rotation = unitQuaternion(v[3], v[4], v[5], v[6], path, at);
     s.path = (folder / s.file).string();
+    std::error_code ec;  // the non-throwing overload: names may be too long or unreadable
     if (!fs::is_regular_file(s.path, ec))
       throw InputError(path, at + "scan file " + quote(s.file) + " does not exist (looked for " + quote(s.path) + ")");
     scans.push_back(s);
-  }
+  });
   if (scans.empty()) throw InputError(path, "no 'bmesh' lines: the file places no scans");
   return scans;
 }

@@ -1,6 +1,6 @@
-// Every bad scan set of the corpus (tests/data/bad) given to the converter as a
-// user gives it: one line that names a file and the problem, exit code 1, and
-// no output file.
+// Every bad scan set of the corpus (tests/data/bad: .conf files, manifests and
+// folders of depth frames) given to the converter as a user gives it: one line
+// that names a file and the problem, exit code 1, and no output file.
 
 #include "CliSupport.h"
 
@@ -15,7 +15,8 @@ namespace {
 
 std::vector<std::string> badScanSets() {
   std::vector<std::string> files;
-  for (const char* kind : {"conf", "manifest"})
+  // Files for .conf and manifests; folders of depth frames for 7-Scenes and TUM RGB-D.
+  for (const char* kind : {"conf", "manifest", "7scenes", "tum"})
     for (const auto& entry : fs::directory_iterator(fs::path(LEVELFUSE_TEST_DATA_DIR) / "bad" / kind))
       files.push_back(entry.path().string());
   std::sort(files.begin(), files.end());

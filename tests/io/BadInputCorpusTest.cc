@@ -8,6 +8,7 @@
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Ply.h>
+#include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
 
 #include <gtest/gtest.h>
@@ -24,10 +25,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-enum class Reader { kPly, kRangeGrid, kStanfordConf, kManifest, kDepthPng, kDepthPfm, kDepthExr, kIntrinsics, kPose };
+enum class Reader { kPly, kRangeGrid, kStanfordConf, kManifest, kDepthPng, kDepthPfm, kDepthExr, kIntrinsics, kPose,
+                    kFolder };
 
 struct BadInput {
-  const char* file;      ///< below tests/data/bad
+  const char* file;      ///< below tests/data/bad; a folder of depth frames for kFolder
   Reader reader;
   const char* fragment;  ///< what the message must say
   const char* culprit = nullptr;  ///< the file the message names, if another one (a scan the file refers to)
@@ -153,6 +155,20 @@ const BadInput kCorpus[] = {
   {"camera/pose-scaled.txt", Reader::kPose, "the pose's rotation is not orthonormal: not a rigid motion"},
   {"camera/pose-projective.txt", Reader::kPose, "the pose's last row must be 0 0 0 1"},
   {"camera/pose-binary-garbage.txt", Reader::kPose, "is not a number"},
+  // Folders of depth frames (loadScans): the frame or file at fault is named
+  {"7scenes/frame-without-pose", Reader::kFolder, "no pose beside it (expected ", "7scenes/frame-without-pose/frame-000000.depth.png"},
+  {"7scenes/sheared-pose", Reader::kFolder, "the pose's rotation is not orthonormal: not a rigid motion", "7scenes/sheared-pose/frame-000000.pose.txt"},
+  {"7scenes/8-bit-frame", Reader::kFolder, "has 8-bit samples; a depth image needs 16 bits", "7scenes/8-bit-frame/frame-000000.depth.png"},
+  {"7scenes/truncated-frame", Reader::kFolder, "truncated PNG data (the file ends inside a chunk)", "7scenes/truncated-frame/frame-000000.depth.png"},
+  {"tum/frame-without-pose", Reader::kFolder, "no pose in groundtruth.txt within 0.02 s of the frame's time 10.500000 (the nearest, line 4, is 0.49 s away)", "tum/frame-without-pose/depth/10.500000.png"},
+  {"tum/non-unit-quaternion", Reader::kFolder, "line 3: the quaternion has norm 2.000000, not 1: not a rotation", "tum/non-unit-quaternion/groundtruth.txt"},
+  {"tum/8-bit-frame", Reader::kFolder, "has 8-bit samples; a depth image needs 16 bits", "tum/8-bit-frame/depth/10.000000.png"},
+  {"tum/truncated-frame", Reader::kFolder, "truncated PNG data (the file ends inside a chunk)", "tum/truncated-frame/depth/10.000000.png"},
+  {"tum/missing-image", Reader::kFolder, "line 2: depth image 'depth/10.000000.png' does not exist (looked for ", "tum/missing-image/depth.txt"},
+  {"tum/no-groundtruth", Reader::kFolder, "a TUM RGB-D folder (it holds depth.txt) without groundtruth.txt"},
+  {"tum/timestamp-not-a-number", Reader::kFolder, "line 2: 'ten' is not a number", "tum/timestamp-not-a-number/depth.txt"},
+  {"tum/pose-too-few-numbers", Reader::kFolder, "line 1: expected 'timestamp tx ty tz qx qy qz qw'", "tum/pose-too-few-numbers/groundtruth.txt"},
+  {"tum/no-frames", Reader::kFolder, "no frames: expected lines 'timestamp filename'", "tum/no-frames/depth.txt"},
 };
 // clang-format on
 
@@ -165,6 +181,15 @@ constexpr std::uintmax_t kMaxCorpusFileBytes = 64 << 10;
 
 std::string corpusPath(const std::string& relative) {
   return (fs::path(LEVELFUSE_TEST_DATA_DIR) / "bad" / relative).string();
+}
+
+/// The corpus files an entry stands for: the file, or every file below the folder.
+std::vector<std::string> filesOf(const std::string& path) {
+  if (!fs::is_directory(path)) return {path};
+  std::vector<std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(path))
+    if (entry.is_regular_file()) files.push_back(entry.path().string());
+  return files;
 }
 
 void read(Reader reader, const std::string& path) {
@@ -180,6 +205,7 @@ void read(Reader reader, const std::string& path) {
     case Reader::kDepthExr: readDepthExr(path); break;
     case Reader::kIntrinsics: readIntrinsics(path); break;
     case Reader::kPose: readPose(path); break;
+    case Reader::kFolder: loadScans(path); break;
   }
 }
 
@@ -188,8 +214,10 @@ class BadInputCorpus : public ::testing::TestWithParam<BadInput> {};
 TEST_P(BadInputCorpus, ThrowsAnInputErrorNamingTheFileAndTheProblem) {
   const BadInput& input = GetParam();
   const std::string path = corpusPath(input.file);
-  std::error_code ec;
-  ASSERT_LE(fs::file_size(path, ec), kMaxCorpusFileBytes) << path << (ec ? ": missing" : ": not a small file");
+  for (const std::string& file : filesOf(path)) {
+    std::error_code ec;
+    ASSERT_LE(fs::file_size(file, ec), kMaxCorpusFileBytes) << file << (ec ? ": missing" : ": not a small file");
+  }
   test::LargestAllocation largest;
   const std::string culprit = input.culprit ? corpusPath(input.culprit) : path;
   test::expectInputError([&] { read(input.reader, path); }, culprit, input.fragment);
@@ -213,7 +241,13 @@ TEST(BadInputCorpusProbe, SeesTheLargestAllocation) {
 
 TEST(BadInputCorpusListing, EveryFileInTheFolderIsListed) {
   std::set<std::string> listed(std::begin(kSupportFiles), std::end(kSupportFiles));
-  for (const BadInput& input : kCorpus) EXPECT_TRUE(listed.insert(input.file).second) << input.file << " is listed twice";
+  for (const BadInput& input : kCorpus) {
+    EXPECT_TRUE(listed.insert(input.file).second) << input.file << " is listed twice";
+    if (input.reader != Reader::kFolder) continue;
+    listed.erase(input.file);  // a folder stands for its files
+    for (const std::string& file : filesOf(corpusPath(input.file)))
+      listed.insert(fs::relative(file, corpusPath("")).generic_string());
+  }
   std::set<std::string> present;
   for (const auto& entry : fs::recursive_directory_iterator(corpusPath("")))
     if (entry.is_regular_file()) present.insert(fs::relative(entry.path(), corpusPath("")).generic_string());

@@ -3,7 +3,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+#include <cstdlib>
 #include <functional>
+#include <string>
 
 namespace levelfuse::cli {
 

@@ -36,7 +36,8 @@ struct ReconstructSettings {
   bool linear = false;
   std::string towardScanner;
   double sigma = 0.0;
-  double depthScale = 0.001;
+  double depthScale = 0.0;  // the convention's
+  double maxDepth = 0.0;    // none
   int frameStride = 1;
   std::string view, up;
   int threads = 0;
@@ -74,6 +75,7 @@ int runReconstruct(ReconstructSettings s) {
     load.depthNoise = io::DepthNoise{s.sigma, 0.0};
   }
   load.depthScale = s.depthScale;
+  if (s.maxDepth > 0.0) load.maxDepth = s.maxDepth;
   load.frameStride = s.frameStride;
   load.interrupter = cancellationInterrupter();
   std::vector<RangeMap> maps;
@@ -212,7 +214,8 @@ Command addReconstructCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "reconstruct", "Reconstruct a surface from registered range scans (the MAP level-set method of Whitaker 1998)");
   cmd->add_option("inputs", s->inputs,
-                  "Scans: a Stanford .conf file, a JSON manifest, or a folder of depth frames (7-Scenes layout)")
+                  "Scans: a Stanford .conf file, a JSON manifest, or a folder of depth frames (7-Scenes or TUM RGB-D "
+                  "layout)")
       ->required()
       ->check(CLI::ExistingPath);
   cmd->add_option("-o,--output", s->output, "Write the surface as an OpenVDB level set (.vdb)");
@@ -245,9 +248,11 @@ Command addReconstructCommand(CLI::App& app) {
       ->check(threeNumbers());
   cmd->add_option("--sigma", s->sigma, "Noise of a reading, world units (default: from the scans)")
       ->check(numberIn(0.0, 1e6, true));
-  cmd->add_option("--depth-scale", s->depthScale, "Depth frames: metres per 16-bit PNG unit")
-      ->check(numberIn(0.0, 1.0, true))
-      ->capture_default_str();
+  cmd->add_option("--depth-scale", s->depthScale,
+                  "Depth frames: metres per 16-bit PNG unit (default: 0.001; TUM RGB-D folders 0.0002)")
+      ->check(numberIn(0.0, 1.0, true));
+  cmd->add_option("--max-depth", s->maxDepth, "Depth frames: drop readings deeper than this, metres (default: none)")
+      ->check(numberIn(0.0, 1e6, true));
   cmd->add_option("--frame-stride", s->frameStride, "Depth frames: use every n-th frame")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
@@ -270,6 +275,7 @@ Command addReconstructCommand(CLI::App& app) {
       "  levelfuse synth --shape torus --noise 0.2 -o torus-scans && \\\n"
       "    levelfuse reconstruct torus-scans/scans.json --preview torus.png --json\n"
       "  levelfuse reconstruct 7scenes/ --frame-stride 2 --voxel-size 0.01 -o room.vdb\n"
+      "  levelfuse reconstruct rgbd_dataset_freiburg1_xyz/ --max-depth 3 --voxel-size 0.01 --mesh desk.ply\n"
       "Outputs are written together, whole, or not at all; Ctrl-C stops any phase and writes nothing.");
   return {cmd, [s] { return runReconstruct(*s); }};
 }

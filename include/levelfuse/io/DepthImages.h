@@ -41,6 +41,10 @@ DepthImage readDepthExr(const std::string& path);
 /// Any of the above, by file extension (.png, .pfm, .exr).
 DepthImage readDepthImage(const std::string& path, double pngScale = 0.001);
 
+/// Drops the readings deeper than `maxDepth` (metres along the optical axis):
+/// far readings of depth cameras are the noisiest.
+void dropReadingsBeyond(DepthImage& image, double maxDepth);
+
 /// A 3x3 intrinsics matrix as text: fx 0 cx / 0 fy cy / 0 0 1.
 PinholeProjection readIntrinsics(const std::string& path);
 /// A 4x4 camera-to-world matrix as text (column-vector convention, translation

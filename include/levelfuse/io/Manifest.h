@@ -17,7 +17,10 @@
 //   }
 //
 // Paths are relative to the manifest. Formats: stanford-conf, stanford-ply,
-// depth-png, depth-pfm, depth-exr, and orthographic-pfm (a range map of
+// depth-png, depth-pfm, depth-exr (each may say "max_depth" in metres: deeper
+// readings are dropped), tum (a TUM RGB-D "folder", see TumScans.h, with
+// optional "depth_scale", "max_depth", "frame_stride" and "sigma" as for
+// depth-pfm), and orthographic-pfm (a range map of
 // parallel rays: "pixel_size", "origin" [x, y] of pixel (0, 0) and a "pose"
 // from the map's frame, whose rays run along +z, to the world). Poses are
 // camera-to-world, 16 numbers in row-major order with the translation in the
@@ -34,6 +37,7 @@
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/io/AtomicWrite.h>
+#include <levelfuse/io/Scans.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <optional>
@@ -44,8 +48,10 @@ namespace levelfuse::io {
 
 /// Loads every scan a manifest lists; InputError names the manifest and the
 /// entry (e.g. "scans[2]: 'pose' needs 16 numbers") or the scan file at fault.
-/// `interrupter` is asked before each entry and scan (Interrupted).
-std::vector<RangeMap> loadManifest(const std::string& path, const Interrupter& interrupter = {});
+/// The depth scale (if not 0) and maximum depth of `defaults` apply to the
+/// depth entries that do not give their own; its interrupter is asked before
+/// each entry and scan (Interrupted).
+std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOptions& defaults = {});
 
 /// The manifest's "truth", if it records one.
 std::optional<shapes::AnalyticShape> loadManifestTruth(const std::string& path);

@@ -6,6 +6,7 @@
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/scan/RangeMap.h>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -13,19 +14,39 @@ namespace levelfuse::io {
 
 struct ScanLoadOptions {
   StanfordScanOptions stanford;  ///< for .conf files: the scanner's direction, sigma, pixel size
-  double depthScale = 0.001;     ///< metres per unit of 16-bit depth PNGs
+  /// Metres per unit of 16-bit depth PNGs; 0 takes the convention's: 0.001
+  /// (millimetres: 7-Scenes, manifests), 1/5000 for TUM RGB-D folders.
+  double depthScale = 0.0;
   DepthNoise depthNoise;         ///< sigma of depth-camera readings
   int frameStride = 1;           ///< of a folder of depth frames, every n-th
   Interrupter interrupter;       ///< asked before each scan or frame is read (Interrupted)
+  /// Depth readings deeper than this (metres) are dropped; positive.
+  double maxDepth = std::numeric_limits<double>::infinity();
+  /// TUM RGB-D folders: a frame takes the pose of the nearest timestamp, which
+  /// must lie within this many seconds of the frame's.
+  double poseTimeTolerance = 0.02;
 };
 
 /// Loads the scans at `path`, by what it is:
 ///  - a Stanford `.conf` file and the range-grid PLY scans it places;
 ///  - a JSON manifest (`.json`, see Manifest.h);
+///  - a folder of depth frames in the TUM RGB-D layout: `depth.txt` and
+///    `groundtruth.txt` (see TumScans.h);
 ///  - a folder of depth frames in the 7-Scenes layout: `*.depth.png` (or
 ///    `.pfm`, `.exr`) images, each with a `*.pose.txt` camera-to-world pose
 ///    beside it, and one `camera-intrinsics.txt`.
 /// Throws InputError naming the file and the problem.
 std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& options = {});
+
+/// One depth frame (a 16-bit PNG, PFM or EXR) as a pinhole range map, with
+/// the options' depth scale (`conventionScale` if it is 0), maximum depth and
+/// noise; named after the image's file name.
+RangeMap loadDepthFrame(const std::string& image, const PinholeProjection& intrinsics,
+                        const openvdb::math::Mat4d& cameraToWorld, const ScanLoadOptions& options,
+                        double conventionScale);
+
+/// Throws InputError naming `source` if the options' frame stride, maximum
+/// depth or depth scale are out of range.
+void checkDepthOptions(const ScanLoadOptions& options, const std::string& source);
 
 }  // namespace levelfuse::io

@@ -1,0 +1,122 @@
+// levelfuse: TUM RGB-D folders.
+
+#include <levelfuse/io/InputError.h>
+#include <levelfuse/io/TextRecords.h>
+#include <levelfuse/io/TumScans.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace levelfuse::io {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Tracked poses are written with four or five decimals: their quaternions
+/// are unit to a few parts in ten thousand.
+constexpr double kQuaternionTolerance = 1e-2;
+
+void refuseMore(std::istringstream& words, const std::string& path, const std::string& at, const char* after) {
+  std::string extra;
+  if (words >> extra) throw InputError(path, at + "unexpected '" + extra + "' after the " + after);
+}
+
+/// The Kinects of the benchmark, by the name its sequences carry (the depth
+/// images are registered to the colour camera, whose intrinsics they take).
+PinholeProjection kinectOfSequence(const std::string& name) {
+  if (name.find("freiburg2") != std::string::npos) return PinholeProjection{520.9, 521.0, 325.1, 249.7};
+  if (name.find("freiburg3") != std::string::npos) return PinholeProjection{535.4, 539.2, 320.1, 247.6};
+  return PinholeProjection{517.3, 516.5, 318.6, 255.3};  // Freiburg 1
+}
+
+/// A time as the benchmark writes it (microseconds), or a duration briefly.
+std::string seconds(double t, bool isTime) {
+  char text[64];
+  std::snprintf(text, sizeof(text), isTime ? "%.6f" : "%g", t);
+  return text;
+}
+
+}  // namespace
+
+std::vector<TumFrame> readTumDepthList(const std::string& path) {
+  std::vector<TumFrame> frames;
+  forEachTextRecord(path, [&](int line, const std::string& at, std::istringstream& words) {
+    TumFrame f;
+    f.line = line;
+    f.time = nextNumber(words, path, at, "'timestamp filename'");
+    if (!(words >> f.file)) throw InputError(path, at + "expected 'timestamp filename'");
+    refuseMore(words, path, at, "file name");
+    frames.push_back(f);
+  });
+  if (frames.empty()) throw InputError(path, "no frames: expected lines 'timestamp filename'");
+  return frames;
+}
+
+std::vector<TumPose> readTumTrajectory(const std::string& path) {
+  std::vector<TumPose> poses;
+  forEachTextRecord(path, [&](int line, const std::string& at, std::istringstream& words) {
+    double v[8];
+    for (double& x : v) x = nextNumber(words, path, at, "'timestamp tx ty tz qx qy qz qw'");
+    refuseMore(words, path, at, "quaternion");
+    const openvdb::math::Quatd q = unitQuaternion(v[4], v[5], v[6], v[7], path, at, kQuaternionTolerance);
+    poses.push_back(TumPose{v[0], rigidMotion(q, openvdb::Vec3d(v[1], v[2], v[3])), line});
+  });
+  if (poses.empty()) throw InputError(path, "no poses: expected lines 'timestamp tx ty tz qx qy qz qw'");
+  std::stable_sort(poses.begin(), poses.end(), [](const TumPose& a, const TumPose& b) { return a.time < b.time; });
+  return poses;
+}
+
+const TumPose& nearestPose(const std::vector<TumPose>& poses, double time) {
+  const auto after = std::lower_bound(poses.begin(), poses.end(), time,
+                                      [](const TumPose& p, double t) { return p.time < t; });
+  if (after == poses.begin()) return *after;
+  if (after == poses.end()) return poses.back();
+  return time - std::prev(after)->time <= after->time - time ? *std::prev(after) : *after;
+}
+
+bool isTumFolder(const std::string& folder) {
+  std::error_code ec;
+  return fs::is_regular_file(fs::path(folder) / "depth.txt", ec);
+}
+
+PinholeProjection tumIntrinsics(const std::string& folder) {
+  const fs::path file = fs::path(folder) / "camera-intrinsics.txt";
+  std::error_code ec;
+  if (fs::exists(file, ec)) return readIntrinsics(file.string());
+  fs::path name = fs::absolute(folder, ec).lexically_normal();
+  if (name.filename().empty()) name = name.parent_path();  // a trailing '/'
+  return kinectOfSequence(name.filename().string());
+}
+
+std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOptions& options) {
+  checkDepthOptions(options, folder);
+  const fs::path root(folder);
+  const std::string list = (root / "depth.txt").string(), trajectory = (root / "groundtruth.txt").string();
+  std::error_code ec;
+  if (!fs::is_regular_file(trajectory, ec))
+    throw InputError(folder, "a TUM RGB-D folder (it holds depth.txt) without groundtruth.txt, the camera poses");
+  const std::vector<TumFrame> frames = readTumDepthList(list);
+  const std::vector<TumPose> poses = readTumTrajectory(trajectory);
+  const PinholeProjection intrinsics = tumIntrinsics(folder);
+  std::vector<RangeMap> maps;
+  for (std::size_t i = 0; i < frames.size(); i += static_cast<std::size_t>(options.frameStride)) {
+    const TumFrame& frame = frames[i];
+    const std::string image = (root / frame.file).lexically_normal().string();
+    if (!fs::is_regular_file(image, ec))
+      throw InputError(list, "line " + std::to_string(frame.line) + ": depth image '" + frame.file +
+                                 "' does not exist (looked for " + image + ")");
+    const TumPose& pose = nearestPose(poses, frame.time);
+    const double gap = std::fabs(pose.time - frame.time);
+    if (!(gap <= options.poseTimeTolerance))
+      throw InputError(image, "no pose in groundtruth.txt within " + seconds(options.poseTimeTolerance, false) +
+                                  " s of the frame's time " + seconds(frame.time, true) + " (the nearest, line " +
+                                  std::to_string(pose.line) + ", is " + seconds(gap, false) + " s away)");
+    maps.push_back(loadDepthFrame(image, intrinsics, pose.cameraToWorld, options, 1.0 / kTumDepthUnitsPerMetre));
+  }
+  return maps;
+}
+
+}  // namespace levelfuse::io
