@@ -2,6 +2,8 @@
 
 #include <levelfuse/levelset/ZeroCrossings.h>
 
+#include <benchmark/benchmark.h>
+
 #include <malloc.h>
 #include <sys/resource.h>
 
@@ -32,11 +34,29 @@ void resetPeakResident() {
   if (clearRefs) clearRefs << "5";
 }
 
+double processCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
 std::size_t iterationsFor(int radius) {
   if (radius <= 25) return 40;
   if (radius <= 50) return 30;
   if (radius <= 100) return 20;
   return 10;
+}
+
+int runBenchmarks(int argc, char** argv, void (*registerAll)()) {
+  openvdb::initialize();
+  registerAll();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::AddCustomContext("levelfuse_threads_default", std::to_string(kDefaultThreads));
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
 }
 
 }  // namespace levelfuse::bench

@@ -1,9 +1,14 @@
 // Helpers shared by levelfuse's benchmarks.
 #pragma once
 
+#include "peers/PeerMesh.h"
+
+#include <levelfuse/levelset/Mesh.h>
+
 #include <openvdb/openvdb.h>
 
 #include <cstddef>
+#include <utility>
 
 namespace levelfuse::bench {
 
@@ -28,8 +33,24 @@ double peakResidentMegabytes();
 /// (another system), one benchmark per process reports its own peak.
 void resetPeakResident();
 
+/// CPU time the process has used so far, all its threads, user and system, in
+/// seconds: what a run costs when the machine is shared and its real time is not its own.
+double processCpuSeconds();
+
 /// Iterations timed per repetition for a sphere of radius R: enough to measure,
 /// few enough that the sphere changes little.
 std::size_t iterationsFor(int radius);
+
+/// The main function of a benchmark program: OpenVDB initialised, the
+/// benchmarks registered by `registerAll`, Google Benchmark run on the command line.
+int runBenchmarks(int argc, char** argv, void (*registerAll)());
+
+/// A peer's mesh as levelfuse's, to be measured with levelfuse's rulers.
+inline TriangleMesh toTriangleMesh(peers::PeerMesh mesh) {
+  TriangleMesh out;
+  out.xyz = std::move(mesh.xyz);
+  out.triangles = std::move(mesh.triangles);
+  return out;
+}
 
 }  // namespace levelfuse::bench

@@ -74,12 +74,4 @@ void registerAll() {
 }  // namespace
 }  // namespace levelfuse::bench
 
-int main(int argc, char** argv) {
-  openvdb::initialize();
-  levelfuse::bench::registerAll();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return levelfuse::bench::runBenchmarks(argc, argv, levelfuse::bench::registerAll); }

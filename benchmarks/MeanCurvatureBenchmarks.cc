@@ -160,13 +160,4 @@ void registerAll() {
 }  // namespace
 }  // namespace levelfuse::bench
 
-int main(int argc, char** argv) {
-  openvdb::initialize();
-  levelfuse::bench::registerAll();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::AddCustomContext("levelfuse_threads_default", std::to_string(levelfuse::bench::kDefaultThreads));
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return levelfuse::bench::runBenchmarks(argc, argv, levelfuse::bench::registerAll); }

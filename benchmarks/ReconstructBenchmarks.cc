@@ -131,11 +131,7 @@ TriangleMesh poissonBunny(int depth, int threads, int leftOut = -1) {
     for (int i = 0; i < 16; ++i) scan.scanToWorld[i] = toWorld(i / 4, i % 4);
     scans.push_back(std::move(scan));
   }
-  peers::PoissonMesh result = peers::poissonReconstruct(scans, depth, threads);
-  TriangleMesh mesh;
-  mesh.xyz = std::move(result.xyz);
-  mesh.triangles = std::move(result.triangles);
-  return mesh;
+  return toTriangleMesh(peers::poissonReconstruct(scans, depth, threads));
 }
 
 void poissonRecon(benchmark::State& state, int depth, int threads) {
@@ -245,12 +241,4 @@ void registerAll() {
 }  // namespace
 }  // namespace levelfuse::bench
 
-int main(int argc, char** argv) {
-  openvdb::initialize();
-  levelfuse::bench::registerAll();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return levelfuse::bench::runBenchmarks(argc, argv, levelfuse::bench::registerAll); }

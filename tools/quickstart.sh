@@ -54,14 +54,16 @@ case "$mode" in
     (cd "$build" && ctest --output-on-failure -j "$jobs")
     ;;
   bench)
-    cmake --build "$build" -j "$jobs" --target levelset_benchmarks scan_benchmarks recon_benchmarks
+    cmake --build "$build" -j "$jobs" --target levelset_benchmarks scan_benchmarks recon_benchmarks depth_benchmarks
     echo "== running the benchmarks (this takes a while)"
     ITK_GLOBAL_DEFAULT_THREADER=Platform "$build/benchmarks/levelset_benchmarks" \
       --benchmark_format=json --benchmark_out="$root/out/levelset_benchmarks.json" --benchmark_out_format=json
     # One process per benchmark, so that each reports its own peak memory.
-    for program in scan_benchmarks recon_benchmarks; do
+    # Open3D's OpenMP threads wait passively: spinning on a shared machine makes its many small
+    # parallel loops 15x slower (docs/BENCHMARKS.md, depth video).
+    for program in scan_benchmarks recon_benchmarks depth_benchmarks; do
       for name in $("$build/benchmarks/$program" --benchmark_list_tests); do
-        "$build/benchmarks/$program" --benchmark_filter="^$name\$" --benchmark_format=json \
+        OMP_WAIT_POLICY=passive "$build/benchmarks/$program" --benchmark_filter="^$name\$" --benchmark_format=json \
           --benchmark_out="$root/out/$program-${name//\//_}.json" --benchmark_out_format=json
       done
     done

@@ -2,13 +2,14 @@
 
 #include "peers/PoissonRecon.h"
 
+#include "peers/Open3DMesh.h"
+
 #include <open3d/geometry/KDTreeSearchParam.h>
 #include <open3d/geometry/PointCloud.h>
-#include <open3d/geometry/TriangleMesh.h>
 
 namespace levelfuse::peers {
 
-PoissonMesh poissonReconstruct(const std::vector<PoissonScan>& scans, int depth, int threads) {
+PeerMesh poissonReconstruct(const std::vector<PoissonScan>& scans, int depth, int threads) {
   open3d::geometry::PointCloud all;
   for (const PoissonScan& scan : scans) {
     open3d::geometry::PointCloud cloud;
@@ -30,15 +31,7 @@ PoissonMesh poissonReconstruct(const std::vector<PoissonScan>& scans, int depth,
   }
   const auto reconstructed = open3d::geometry::TriangleMesh::CreateFromPointCloudPoisson(
       all, static_cast<std::size_t>(depth), 0.0f, 1.1f, false, threads);
-  const open3d::geometry::TriangleMesh& mesh = *std::get<0>(reconstructed);
-  PoissonMesh out;
-  out.xyz.reserve(3 * mesh.vertices_.size());
-  for (const Eigen::Vector3d& v : mesh.vertices_)
-    for (int k = 0; k < 3; ++k) out.xyz.push_back(static_cast<float>(v[k]));
-  out.triangles.reserve(3 * mesh.triangles_.size());
-  for (const Eigen::Vector3i& t : mesh.triangles_)
-    for (int k = 0; k < 3; ++k) out.triangles.push_back(static_cast<std::uint32_t>(t[k]));
-  return out;
+  return fromOpen3D(*std::get<0>(reconstructed));
 }
 
 }  // namespace levelfuse::peers

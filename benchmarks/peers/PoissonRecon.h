@@ -4,8 +4,9 @@
 // one translation unit.
 #pragma once
 
+#include "peers/PeerMesh.h"
+
 #include <array>
-#include <cstdint>
 #include <vector>
 
 namespace levelfuse::peers {
@@ -18,15 +19,10 @@ struct PoissonScan {
   std::array<double, 16> scanToWorld{};  ///< row-major, points as row vectors: p_world = p * M
 };
 
-struct PoissonMesh {
-  std::vector<float> xyz;                 ///< world, three per vertex
-  std::vector<std::uint32_t> triangles;   ///< three vertex indices each
-};
-
 /// Normals estimated per scan from each point's 12 nearest neighbours and
 /// turned toward its scanner, every scan placed in the world, then Poisson
 /// reconstruction at octree `depth` (9: about 0.3 mm cells across the bunny)
 /// on `threads` threads.
-PoissonMesh poissonReconstruct(const std::vector<PoissonScan>& scans, int depth, int threads);
+PeerMesh poissonReconstruct(const std::vector<PoissonScan>& scans, int depth, int threads);
 
 }  // namespace levelfuse::peers

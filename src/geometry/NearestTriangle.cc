@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 namespace levelfuse {
 
@@ -16,10 +17,44 @@ namespace {
 using openvdb::Coord;
 using openvdb::Vec3d;
 
-/// Rings of cells a query visits before it measures every triangle.
+/// Rings of cells a query visits before it searches the tree of cells.
 constexpr int kMaxRing = 8;
 /// A triangle whose bounding box spans more cells than this is not binned.
 constexpr long kMaxCellsPerTriangle = 512;
+
+/// Distance from `p` to the box of the index cells `box` (inclusive) of size `cell`.
+double boxDistance(const Vec3d& p, const openvdb::CoordBBox& box, double cell) {
+  double squared = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = box.min()[k] * cell, hi = (box.max()[k] + 1.0) * cell;
+    const double d = p[k] < lo ? lo - p[k] : (p[k] > hi ? p[k] - hi : 0.0);
+    squared += d * d;
+  }
+  return std::sqrt(squared);
+}
+
+/// Branch and bound through the tree of cells: children in order of their
+/// distance from `p`, none visited that lies no nearer than `best`. A
+/// triangle is binned in every cell its bounding box meets, so its nearest
+/// point to `p` lies in one of its own cells: skipping the far cells is exact.
+template <typename NodeT, typename MeasureCell>
+void nearestInNode(const NodeT& node, const Vec3d& p, double cell, double& best, const MeasureCell& measureCell) {
+  if constexpr (NodeT::LEVEL == 0) {
+    for (auto it = node.cbeginValueOn(); it; ++it)
+      if (boxDistance(p, openvdb::CoordBBox(it.getCoord(), it.getCoord()), cell) < best) measureCell(*it);
+  } else {
+    using ChildT = typename NodeT::ChildNodeType;
+    std::vector<std::pair<double, const ChildT*>> children;
+    for (auto it = node.cbeginChildOn(); it; ++it)
+      children.emplace_back(boxDistance(p, it->getNodeBoundingBox(), cell), &*it);
+    std::sort(children.begin(), children.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [distance, child] : children) {
+      if (distance >= best) break;
+      nearestInNode(*child, p, cell, best, measureCell);
+    }
+  }
+}
 
 bool coordLess(const std::pair<Coord, std::uint32_t>& a, const std::pair<Coord, std::uint32_t>& b) {
   if (a.first != b.first) return a.first < b.first;
@@ -111,6 +146,9 @@ NearestTriangle::NearestTriangle(const std::vector<float>& xyz, const std::vecto
 double NearestTriangle::distance(const Vec3d& p) const {
   double best = std::numeric_limits<double>::infinity();
   for (std::uint32_t t : mOversized) best = std::min(best, triangleDistance(p, t));
+  const auto measureCell = [&](const openvdb::Vec2i& range) {
+    for (int i = range[0]; i < range[1]; ++i) best = std::min(best, triangleDistance(p, mBinned[i]));
+  };
   openvdb::tree::ValueAccessor<const openvdb::Vec2ITree> cells(mCells);
   const Vec3d inCells = p / mCellSize;
   const bool addressable = std::fabs(inCells.x()) < 1e9 && std::fabs(inCells.y()) < 1e9 && std::fabs(inCells.z()) < 1e9;
@@ -121,14 +159,19 @@ double NearestTriangle::distance(const Vec3d& p) const {
         const bool face = std::abs(x) == ring || std::abs(y) == ring;
         // Cells of the ring only: all of z on its faces, the two caps inside.
         for (int z = -ring; z <= ring; z += face || ring == 0 ? 1 : 2 * ring) {
+          const Coord at = centre.offsetBy(x, y, z);
           openvdb::Vec2i range;
-          if (!cells.probeValue(centre.offsetBy(x, y, z), range)) continue;
-          for (int i = range[0]; i < range[1]; ++i) best = std::min(best, triangleDistance(p, mBinned[i]));
+          if (cells.probeValue(at, range) && boxDistance(p, openvdb::CoordBBox(at, at), mCellSize) < best)
+            measureCell(range);
         }
       }
     // Every triangle not yet seen lies in cells beyond this ring, at least
     // `ring` cells from p's own.
     if (best <= ring * mCellSize) return best;
+  }
+  if (addressable) {
+    nearestInNode(mCells.root(), p, mCellSize, best, measureCell);
+    return best;
   }
   const std::uint32_t count = static_cast<std::uint32_t>(mTriangles.size() / 3);
   for (std::uint32_t t = 0; t < count; ++t) best = std::min(best, triangleDistance(p, t));

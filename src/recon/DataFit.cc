@@ -126,7 +126,9 @@ DataFit measureDataFit(const TriangleMesh& mesh, const std::vector<openvdb::Vec3
   parallelFor(points.size(), 4096, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) distance[i] = nearest.distance(points[i]);
   });
-  return summarise(std::move(distance), nullptr, 0.0);
+  return summariseDistances(std::move(distance));
 }
+
+DataFit summariseDistances(std::vector<double> distances) { return summarise(std::move(distances), nullptr, 0.0); }
 
 }  // namespace levelfuse

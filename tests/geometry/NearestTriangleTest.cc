@@ -63,6 +63,14 @@ TEST(NearestTriangle, AgreesWithEveryTriangleMeasured) {
     const Vec3d p = Vec3d(0.1) + direction * radius(random);
     EXPECT_EQ(nearest.distance(p), bruteForce(p)) << p;
   }
+  // Beyond the rings of cells a query visits (8 cells, about 0.4 here): the tree of cells.
+  std::uniform_real_distribution<double> far(1.5, 60.0);
+  for (int i = 0; i < 100; ++i) {
+    Vec3d direction(normal(random), normal(random), normal(random));
+    direction.normalize();
+    const Vec3d p = Vec3d(0.1) + direction * far(random);
+    EXPECT_EQ(nearest.distance(p), bruteForce(p)) << p;
+  }
   // Far beyond the cells a query visits, and beyond any cell address.
   for (const Vec3d& p : {Vec3d(40.0, -3.0, 2.0), Vec3d(1e12, 0.0, 0.0)}) EXPECT_EQ(nearest.distance(p), bruteForce(p)) << p;
 }

@@ -3,8 +3,10 @@
 // The triangles are binned into cubic cells held in a sparse OpenVDB tree, so
 // memory grows with the surface, never with its bounding box. A query visits
 // rings of cells around its point until no unvisited cell can hold a nearer
-// triangle; a point far from every cell (a stray scan point) is measured
-// against all triangles. Queries are read-only and may run in parallel.
+// triangle; a point farther out (a stray scan point, a part of a scene the
+// mesh lost) descends the tree of cells instead, nearest nodes first, skipping
+// every node no nearer than the best triangle found. Queries are read-only
+// and may run in parallel.
 #pragma once
 
 #include <openvdb/openvdb.h>

@@ -39,4 +39,8 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<ope
 /// for a mesh without triangles.
 DataFit measureDataFit(const TriangleMesh& mesh, const std::vector<openvdb::Vec3d>& points);
 
+/// The summary of any distances (world units): count, mean, rms, median, p90
+/// and p99; `withinVoxel` and `beyondBand` stay 0.
+DataFit summariseDistances(std::vector<double> distances);
+
 }  // namespace levelfuse

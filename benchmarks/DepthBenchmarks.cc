@@ -1,0 +1,206 @@
+// Depth video: the 7-Scenes sequence in ../shared/data/7scenes-seq (500
+// frames, every second frame of the recording, 640x480 Kinect depth in
+// millimetres), fused at 10 mm and 5 mm voxels from 50 frames (every 10th:
+// positions 0, 10, ..., 490) and from all 500, with 2 threads.
+//
+//   BM_FuseDepthFrames/<voxel mm>/<frames>   levelfuse end to end, frames on disk
+//                                            to mesh: io::loadScans, Reconstructor::run
+//                                            (the MAP estimate), meshFromLevelSet
+//   BM_LinearDepthFrames/<voxel mm>/<frames> the same with Reconstructor::linearSolution
+//                                            (the zero set of g, Eq. 17) for the surface
+//   BM_Open3DTSDF/<voxel mm>/<frames>        Open3D 0.16's ScalableTSDFVolume (when
+//                                            Open3D is found): its own PNG reader,
+//                                            sdf_trunc 4 voxels, depth_trunc 4 m, no
+//                                            colour, integrate + extract_triangle_mesh
+//
+// Counters: seconds (the timed loop, as the real time), cpu_seconds (the CPU
+// time of all the process's threads in it: a measure that holds on a shared
+// machine, where the real time is not the run's own), peak_rss_mb (the
+// process's peak resident memory, reset before the timed loop: run one
+// benchmark per process, as tools/quickstart.sh bench does), triangles, and
+// the accuracy of the mesh on held-out frames (measureHeldOutFrames):
+//
+//   held-out frames  the 50 at positions 5, 15, ..., 495 of the sequence
+//                    (frame-000010, frame-000030, ..., frame-000990), every 2nd
+//                    pixel in each direction (about 3.4 million points);
+//                    the 50-frame runs never see them.
+//   heldout_mean_mm, heldout_median_mm, heldout_p90_mm, heldout_within_1cm,
+//   heldout_within_2cm, heldout_within_5cm, heldout_points
+//
+// The 500-frame runs use every frame, the held-out ones included: there the
+// same ruler measures how well the surface fits frames it was built from, and
+// its counters are named seen_* instead of heldout_*.
+//
+// Open3D runs its loops with OpenMP: on a shared machine set
+// OMP_WAIT_POLICY=passive (tools/quickstart.sh does), or its spinning threads
+// make it many times slower than it is. levelfuse runs on 2 TBB threads.
+//
+// Run with --benchmark_format=json; skipped with a message without the data.
+
+#include "BenchmarkSupport.h"
+
+#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/Scans.h>
+#include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/recon/HeldOutFrames.h>
+#include <levelfuse/recon/Reconstructor.h>
+
+#if defined(LEVELFUSE_HAVE_OPEN3D)
+#include "peers/Open3DTSDF.h"
+#endif
+
+#include <tbb/global_control.h>
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace levelfuse::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kSequence = std::string(LEVELFUSE_SHARED_DATA_DIR) + "/7scenes-seq";
+constexpr std::size_t kSequenceFrames = 500;
+constexpr int kHeldOutEvery = 10, kHeldOutOffset = 5;  ///< positions 5, 15, ..., 495
+constexpr int kHeldOutPixelStride = 2;
+
+/// The sequence's frames, sorted: their paths without ".depth.png".
+std::vector<std::string> frameStems() {
+  std::vector<std::string> stems;
+  const std::string suffix = ".depth.png";
+  for (const fs::directory_entry& entry : fs::directory_iterator(kSequence)) {
+    const std::string path = entry.path().string();
+    if (path.size() > suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0)
+      stems.push_back(path.substr(0, path.size() - suffix.size()));
+  }
+  std::sort(stems.begin(), stems.end());
+  return stems;
+}
+
+/// Every `stride`-th frame from the first, as loadScans' frame stride takes them.
+int strideFor(int frames) { return static_cast<int>(kSequenceFrames) / frames; }
+
+/// True if the frames built from include some of the held-out ones.
+bool seesHeldOutFrames(int frames) {
+  for (const std::size_t i : splitFrames(kSequenceFrames, kHeldOutEvery, kHeldOutOffset).heldOut)
+    if (i % static_cast<std::size_t>(strideFor(frames)) == 0) return true;
+  return false;
+}
+
+bool sequencePresent(benchmark::State& state) {
+  if (fs::exists(kSequence) && frameStems().size() == kSequenceFrames) return true;
+  state.SkipWithError("../shared/data/7scenes-seq (500 depth frames) is absent");
+  return false;
+}
+
+/// levelfuse from frames on disk to a mesh: the MAP estimate, or the linear
+/// solution it starts from. One function, so that a faster engine can take
+/// its place.
+TriangleMesh fuseDepthFrames(int frameStride, double voxel, bool linearOnly) {
+  io::ScanLoadOptions load;
+  load.frameStride = frameStride;
+  ReconstructionOptions options;
+  options.voxelSize = voxel;
+  const Reconstructor reconstructor(io::loadScans(kSequence, load), options);
+  return meshFromLevelSet(linearOnly ? *reconstructor.linearSolution() : *reconstructor.run().levelSet);
+}
+
+/// The held-out frames as levelfuse reads them.
+std::vector<RangeMap> heldOutFrames() {
+  const std::vector<std::string> stems = frameStems();
+  const PinholeProjection intrinsics = io::readIntrinsics(kSequence + "/camera-intrinsics.txt");
+  std::vector<RangeMap> frames;
+  for (const std::size_t i : splitFrames(stems.size(), kHeldOutEvery, kHeldOutOffset).heldOut)
+    frames.push_back(io::depthFrame(io::readDepthPng(stems[i] + ".depth.png"), intrinsics,
+                                    io::readPose(stems[i] + ".pose.txt"), io::DepthNoise(), stems[i]));
+  return frames;
+}
+
+/// Time, memory and accuracy of the mesh `make()` returns.
+template <typename Make>
+void measure(benchmark::State& state, int frames, const Make& make) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(kDefaultThreads));
+  TriangleMesh mesh;
+  resetPeakResident();
+  const double cpuStart = processCpuSeconds();
+  const auto start = std::chrono::steady_clock::now();
+  for (auto _ : state) mesh = make();
+  state.counters["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  state.counters["cpu_seconds"] = processCpuSeconds() - cpuStart;
+  state.counters["peak_rss_mb"] = peakResidentMegabytes();
+  state.counters["frames"] = frames;
+  state.counters["triangles"] = static_cast<double>(mesh.triangleCount());
+  HeldOutOptions options;
+  options.stride = kHeldOutPixelStride;
+  const HeldOutAccuracy accuracy = measureHeldOutFrames(mesh, heldOutFrames(), options);
+  const std::string prefix = seesHeldOutFrames(frames) ? "seen_" : "heldout_";
+  state.counters[prefix + "points"] = static_cast<double>(accuracy.distances.readings);
+  state.counters[prefix + "mean_mm"] = 1000.0 * accuracy.distances.mean;
+  state.counters[prefix + "median_mm"] = 1000.0 * accuracy.distances.median;
+  state.counters[prefix + "p90_mm"] = 1000.0 * accuracy.distances.p90;
+  state.counters[prefix + "within_1cm"] = accuracy.within[0];
+  state.counters[prefix + "within_2cm"] = accuracy.within[1];
+  state.counters[prefix + "within_5cm"] = accuracy.within[2];
+}
+
+void levelfuseDepth(benchmark::State& state, int voxelMillimetres, int frames, bool linearOnly) {
+  if (!sequencePresent(state)) return;
+  measure(state, frames, [&] { return fuseDepthFrames(strideFor(frames), 0.001 * voxelMillimetres, linearOnly); });
+}
+
+#if defined(LEVELFUSE_HAVE_OPEN3D)
+/// Open3D from frames on disk to a mesh: the poses and intrinsics read with
+/// levelfuse's readers (plain text), the PNGs with Open3D's.
+TriangleMesh open3dDepthFrames(int frameStride, double voxel) {
+  const std::vector<std::string> stems = frameStems();
+  std::vector<peers::DepthFrameFile> files;
+  for (std::size_t i = 0; i < stems.size(); i += static_cast<std::size_t>(frameStride)) {
+    peers::DepthFrameFile file;
+    file.depthPng = stems[i] + ".depth.png";
+    const openvdb::math::Mat4d pose = io::readPose(stems[i] + ".pose.txt");
+    for (int k = 0; k < 16; ++k) file.cameraToWorld[k] = pose(k / 4, k % 4);
+    files.push_back(file);
+  }
+  const PinholeProjection p = io::readIntrinsics(kSequence + "/camera-intrinsics.txt");
+  peers::DepthCamera camera;
+  camera.fx = p.fx;
+  camera.fy = p.fy;
+  camera.cx = p.cx;
+  camera.cy = p.cy;
+  peers::TsdfSettings settings;
+  settings.voxel = voxel;
+  settings.truncation = 4.0 * voxel;
+  return toTriangleMesh(peers::open3dTsdf(files, camera, settings));
+}
+
+void open3dDepth(benchmark::State& state, int voxelMillimetres, int frames) {
+  if (!sequencePresent(state)) return;
+  measure(state, frames, [&] { return open3dDepthFrames(strideFor(frames), 0.001 * voxelMillimetres); });
+}
+#endif
+
+void registerAll() {
+  for (const int millimetres : {10, 5})
+    for (const int frames : {50, 500}) {
+      const std::string suffix = "/" + std::to_string(millimetres) + "/" + std::to_string(frames);
+#if defined(LEVELFUSE_HAVE_OPEN3D)
+      benchmark::RegisterBenchmark(("BM_Open3DTSDF" + suffix).c_str(), open3dDepth, millimetres, frames)
+          ->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
+#endif
+      benchmark::RegisterBenchmark(("BM_FuseDepthFrames" + suffix).c_str(), levelfuseDepth, millimetres, frames, false)
+          ->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
+      benchmark::RegisterBenchmark(("BM_LinearDepthFrames" + suffix).c_str(), levelfuseDepth, millimetres, frames,
+                                   true)
+          ->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
+    }
+}
+
+}  // namespace
+}  // namespace levelfuse::bench
+
+int main(int argc, char** argv) { return levelfuse::bench::runBenchmarks(argc, argv, levelfuse::bench::registerAll); }
