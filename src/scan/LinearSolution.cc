@@ -24,17 +24,22 @@ using openvdb::Vec3d;
 using LeafT = openvdb::FloatTree::LeafNodeType;
 
 /// Space carving: outside if some line of sight saw x as empty; inside if
-/// more than half of all the range maps see x behind their readings; else
-/// outside. (A point one range map sees behind a grazing surface, while the
-/// others cannot tell or do not reach it, is not taken for solid.)
+/// more than half of the range maps that speak for x see it behind their
+/// readings; else outside. (A point one range map sees behind a grazing
+/// surface, while the others cannot tell, is not taken for solid.) A scan of
+/// parallel rays frames an object and speaks for every point; a depth frame
+/// is a window onto a scene that goes on beyond it, and speaks only for the
+/// points its lines of sight pass: behind a room's wall, which few of the
+/// room's frames see, is solid, not a sheet as thin as the window's reach.
 bool carvedInside(const std::vector<RangeMap>& maps, const Vec3d& x, double margin) {
-  std::size_t behind = 0;
+  std::size_t behind = 0, speaking = 0;
   for (const RangeMap& m : maps) {
     const RangeMap::Sight s = m.sight(x, margin);
     if (s == RangeMap::Sight::kEmpty) return false;
     behind += s == RangeMap::Sight::kBehind;
+    speaking += s != RangeMap::Sight::kOutside || m.kind() != RangeMap::Kind::kPinhole;
   }
-  return 2 * behind > maps.size();
+  return 2 * behind > speaking;
 }
 
 /// The origin (in voxels) of the leaf-sized block `b`: scaled, not shifted, as

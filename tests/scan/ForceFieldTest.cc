@@ -203,5 +203,28 @@ TEST(ForceField, RejectsUnusableOptions) {
   EXPECT_THROW(field.accumulate(0.0), std::invalid_argument);
 }
 
+TEST(ForceField, BehindAWallOnlySomeDepthFramesSeeIsSolid) {
+  // Two depth frames from the origin, one at a wall at z = 1 and one turned
+  // away, at a wall at z = -1: like a room's frames, each sees its own wall.
+  const PinholeProjection camera{58.5, 58.5, 32.0, 24.0};
+  const std::vector<float> wall(64 * 48, 1.0f);
+  openvdb::math::Mat4d turned = openvdb::math::Mat4d::identity();
+  turned.setToRotation(openvdb::math::Y_AXIS, M_PI);
+  std::vector<RangeMap> maps{RangeMap::pinhole(64, 48, wall, camera, openvdb::math::Mat4d::identity(), 0.002),
+                             RangeMap::pinhole(64, 48, wall, camera, turned, 0.002)};
+  ForceFieldOptions options;
+  options.epsilon = 0.01;
+  const ForceField field(maps, options);
+  const openvdb::FloatGrid::Ptr solution = field.linearSolution(0.01);
+  const auto value = [&](double z) { return solution->tree().getValue(solution->transform().worldToIndexCellCentered(Vec3d(0, 0, z))); };
+  // Behind each wall, beyond the window's reach (3 cm), the one frame that
+  // sees there speaks for it: solid, not a sheet three voxels thick.
+  EXPECT_LT(value(1.06), 0.0f);
+  EXPECT_LT(value(-1.06), 0.0f);
+  // In front of the walls, seen empty.
+  EXPECT_GT(value(0.9), 0.0f);
+  EXPECT_GT(value(-0.9), 0.0f);
+}
+
 }  // namespace
 }  // namespace levelfuse
