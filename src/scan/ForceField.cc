@@ -129,12 +129,12 @@ AccumulatedField ForceField::accumulate(double voxelSize, const Interrupter& int
 
   // 1. Which leaf nodes each range map's windows reach.
   std::vector<std::vector<Coord>> touched(mMaps->size());
+  const ParallelInterrupt interrupt(interrupter);
   parallelFor(mMaps->size(), 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t j = begin; j < end; ++j) {
-      checkInterrupter(interrupter);
+    for (std::size_t j = begin; j < end && !interrupt.stop(); ++j)
       touched[j] = detail::leavesReached((*mMaps)[j], voxelSize, reach);
-    }
   });
+  interrupt.throwIfStopped();
 
   // 2. The union, with the range maps reaching each leaf in map order.
   std::vector<std::pair<Coord, std::uint32_t>> pairs;
@@ -157,8 +157,7 @@ AccumulatedField ForceField::accumulate(double voxelSize, const Interrupter& int
   const double sigmaX2 = mOptions.positionVariance;
   parallelFor(leafCount, mOptions.grainSize, [&](std::size_t begin, std::size_t end) {
     std::vector<double> gSum(LeafT::SIZE), wSum(LeafT::SIZE);
-    for (std::size_t l = begin; l < end; ++l) {
-      checkInterrupter(interrupter);
+    for (std::size_t l = begin; l < end && !interrupt.stop(); ++l) {
       const Coord origin = pairs[firstPair[l]].first;
       std::fill(gSum.begin(), gSum.end(), 0.0);
       std::fill(wSum.begin(), wSum.end(), 0.0);
@@ -200,6 +199,8 @@ AccumulatedField ForceField::accumulate(double voxelSize, const Interrupter& int
       }
     }
   });
+
+  interrupt.throwIfStopped();
 
   AccumulatedField out;
   out.g = openvdb::FloatGrid::create(0.0f);

@@ -1,6 +1,7 @@
 // levelfuse: stopping long work from outside (a signal, a user, a deadline).
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -21,5 +22,30 @@ class Interrupted : public std::runtime_error {
 inline void checkInterrupter(const Interrupter& interrupter) {
   if (interrupter && interrupter()) throw Interrupted();
 }
+
+/// An interrupter asked from the tasks of a parallel loop. Once it says stop,
+/// the remaining tasks skip their work, and the loop's caller throws after the
+/// loop (throwIfStopped). A task must not throw itself: that cancels TBB's task
+/// group, and with it the parallel loops OpenVDB runs inside the other tasks'
+/// work (a tree's destructor frees its nodes in one), leaking what they hold.
+class ParallelInterrupt {
+ public:
+  explicit ParallelInterrupt(const Interrupter& interrupter) : mInterrupter(interrupter) {}
+  /// True once the interrupter has asked to stop.
+  bool stop() const {
+    if (mStopped.load(std::memory_order_relaxed)) return true;
+    if (!mInterrupter || !mInterrupter()) return false;
+    mStopped.store(true, std::memory_order_relaxed);
+    return true;
+  }
+  /// Throws Interrupted if some task was told to stop.
+  void throwIfStopped() const {
+    if (mStopped.load()) throw Interrupted();
+  }
+
+ private:
+  const Interrupter& mInterrupter;
+  mutable std::atomic<bool> mStopped{false};
+};
 
 }  // namespace levelfuse
