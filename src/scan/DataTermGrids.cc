@@ -168,8 +168,7 @@ void DataTermGrids::integrate(const RangeMap& map) {
     }
 
   for (std::size_t e : evaluations) mEvaluations += e;
-  const double spacing = map.maxRaySpacing();
-  mMapWeights.push_back(1.0 / (spacing * spacing) / (map.sigma() * map.sigma() + mPositionVariance));
+  mMapWeights.push_back(detail::typicalReadingWeight(map, mPositionVariance));
 }
 
 double DataTermGrids::typicalWeight() const { return mMapWeights.empty() ? 1.0 : median(mMapWeights); }

@@ -45,10 +45,7 @@ ForceField::ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const 
   // A typical reading's c gamma: the median over maps of gamma c at their
   // readings, for a surface square to the line of sight (|grad D| = 1, Eq. 38).
   std::vector<double> weights;
-  for (const RangeMap& m : *mMaps) {
-    const double spacing = m.maxRaySpacing();
-    weights.push_back(1.0 / (spacing * spacing) / (m.sigma() * m.sigma() + mOptions.positionVariance));
-  }
+  for (const RangeMap& m : *mMaps) weights.push_back(detail::typicalReadingWeight(m, mOptions.positionVariance));
   std::nth_element(weights.begin(), weights.begin() + weights.size() / 2, weights.end());
   mTypicalWeight = weights[weights.size() / 2];
   // Where each map's windows reach, and its line of sight if it is one.
