@@ -192,7 +192,7 @@ void mapFromPoisson(benchmark::State& state, double voxelSize, double beta) {
   const ForceField force(std::make_shared<const std::vector<RangeMap>>(reconstructor.maps()),
                          reconstructor.forceOptions(finest));
   DataSpeed<ForceField> speed;
-  speed.force = DataForce<ForceField>{&force, force.typicalWeight()};
+  speed.force = DataForce<ForceField>{&force};
   speed.beta = reconstructor.options().beta * voxelSize * voxelSize;
   speed.sampling = ForceSampling::kSubcell;
   openvdb::FloatGrid::Ptr evolved;

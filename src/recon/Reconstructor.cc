@@ -22,7 +22,7 @@ using Clock = std::chrono::steady_clock;
 
 /// The largest mean change, over the leaf nodes of `now` holding at least
 /// eight points of the active set (|psi| <= dx / 2) that the data support (at
-/// the first, the weight of at least one typical reading), of those points'
+/// the first, at least one reading's window), of those points'
 /// values since `before` (world units). Surfaces no scan saw move under the
 /// prior alone toward a minimal surface, slowly and for long: they are not
 /// waited for.
@@ -42,7 +42,7 @@ double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid
       sum += *it - old.getValue(it.getCoord());
       ++points;
     }
-    if (points >= 8 && data.weight(now.indexToWorld(first)) >= data.typicalWeight()) drift[i] = std::fabs(sum) / points;
+    if (points >= 8 && data.readings(now.indexToWorld(first)) >= 1.0) drift[i] = std::fabs(sum) / points;
   });
   return drift.empty() ? 0.0 : *std::max_element(drift.begin(), drift.end());
 }
@@ -166,7 +166,7 @@ template <typename Field>
 LevelReport Reconstructor::evolveLevel(SparseField& field, const Field& data, double h, ReconstructionProgress& state,
                                        const std::function<void()>& report) const {
   DataSpeed<Field> speed;
-  speed.force = DataForce<Field>{&data, data.typicalWeight()};
+  speed.force = DataForce<Field>{&data};
   const double finest = mOptions.voxelSize;
   speed.beta = mOptions.beta * finest * finest;  // beta in voxels of the finest grid
   speed.sampling = ForceSampling::kSubcell;      // Eqs. 34-36

@@ -27,7 +27,7 @@ constexpr int kLeafDim = static_cast<int>(FloatLeaf::DIM);
 struct VoxelTerm {
   std::uint16_t offset;  ///< within the leaf
   std::uint8_t bin;
-  float g, weight;
+  float g, weight, window;
   Vec3f gradient;  ///< weight * grad D, world
   Vec3f sight;     ///< weight * the line of sight, world
 };
@@ -38,6 +38,8 @@ struct BinLeaves {
   FloatLeaf* weight = nullptr;
   VectorLeaf* gradient = nullptr;
   VectorLeaf* sight = nullptr;  ///< holds the leaf's S_b at `sightOffset`
+  FloatLeaf* leafWeight = nullptr;
+  FloatLeaf* leafWindows = nullptr;
   openvdb::Index sightOffset = 0;
 };
 
@@ -56,11 +58,6 @@ Coord leafBlock(const Coord& ijk) {
   return Coord(ijk.x() >> FloatLeaf::LOG2DIM, ijk.y() >> FloatLeaf::LOG2DIM, ijk.z() >> FloatLeaf::LOG2DIM);
 }
 
-double median(std::vector<double> values) {
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
-
 }  // namespace
 
 DataTermGrids::DataTermGrids(double voxelSize, const DataWindow& window, double positionVariance, std::size_t grainSize)
@@ -74,6 +71,8 @@ DataTermGrids::DataTermGrids(double voxelSize, const DataWindow& window, double 
     bin.weight = emptyGrid<openvdb::FloatGrid>(voxelSize, "weight");
     bin.gradient = emptyGrid<openvdb::Vec3fGrid>(voxelSize, "gradient");
     bin.sight = emptyGrid<openvdb::Vec3fGrid>(voxelSize * kLeafDim, "sight");
+    bin.leafWeight = emptyGrid<openvdb::FloatGrid>(voxelSize * kLeafDim, "leaf_weight");
+    bin.leafWindows = emptyGrid<openvdb::FloatGrid>(voxelSize * kLeafDim, "leaf_windows");
   }
   mBinMask = emptyGrid<openvdb::Int32Grid>(voxelSize, "sight_bins");
 }
@@ -113,7 +112,7 @@ void DataTermGrids::integrate(const RangeMap& map) {
             const int bin = parallel ? parallelBin : sightBin(sight);
             out.push_back(VoxelTerm{static_cast<std::uint16_t>(row + k), static_cast<std::uint8_t>(bin),
                                     static_cast<float>(weight * s.D),  // Eq. 17
-                                    static_cast<float>(weight), Vec3f(toWorld.transform3x3(s.gradD) * weight),
+                                    static_cast<float>(weight), static_cast<float>(w), Vec3f(toWorld.transform3x3(s.gradD) * weight),
                                     Vec3f(sight * weight)});
           }
         }
@@ -137,6 +136,8 @@ void DataTermGrids::integrate(const RangeMap& map) {
         target.gradient = bin.gradient->tree().touchLeaf(leaves[l]);
         const Coord block = leafBlock(leaves[l]);
         target.sight = bin.sight->tree().touchLeaf(block);
+        target.leafWeight = bin.leafWeight->tree().touchLeaf(block);
+        target.leafWindows = bin.leafWindows->tree().touchLeaf(block);
         target.sightOffset = VectorLeaf::coordToOffset(block);
       }
     }
@@ -144,6 +145,7 @@ void DataTermGrids::integrate(const RangeMap& map) {
 
   // 3. The terms added in, each leaf by one task: deterministic.
   std::vector<std::array<Vec3f, kSightBins>> sights(leaves.size());
+  std::vector<std::array<openvdb::Vec2d, kSightBins>> leafSums(leaves.size());
   parallelFor(leaves.size(), mGrainSize, [&](std::size_t begin, std::size_t end) {
     for (std::size_t l = begin; l < end; ++l) {
       for (const VoxelTerm& t : terms[l]) {
@@ -155,7 +157,11 @@ void DataTermGrids::integrate(const RangeMap& map) {
         maskLeaves[l]->setValueOn(o, maskLeaves[l]->getValue(o) | (1 << t.bin));
       }
       sights[l].fill(Vec3f(0.0f));
-      for (const VoxelTerm& t : terms[l]) sights[l][t.bin] += t.sight;
+      leafSums[l].fill(openvdb::Vec2d(0.0));
+      for (const VoxelTerm& t : terms[l]) {
+        sights[l][t.bin] += t.sight;
+        leafSums[l][t.bin] += openvdb::Vec2d(t.weight, t.window);
+      }
     }
   });
 
@@ -165,13 +171,14 @@ void DataTermGrids::integrate(const RangeMap& map) {
       const BinLeaves& target = targets[l][b];
       if (!target.sight) continue;
       target.sight->setValueOn(target.sightOffset, target.sight->getValue(target.sightOffset) + sights[l][b]);
+      const openvdb::Index o = target.sightOffset;
+      target.leafWeight->setValueOn(o, static_cast<float>(target.leafWeight->getValue(o) + leafSums[l][b][0]));
+      target.leafWindows->setValueOn(o, static_cast<float>(target.leafWindows->getValue(o) + leafSums[l][b][1]));
     }
 
   for (std::size_t e : evaluations) mEvaluations += e;
-  mMapWeights.push_back(detail::typicalReadingWeight(map, mPositionVariance));
+  ++mMapCount;
 }
-
-double DataTermGrids::typicalWeight() const { return mMapWeights.empty() ? 1.0 : median(mMapWeights); }
 
 namespace {
 
@@ -181,6 +188,12 @@ struct Corners {
   double t[8];
   Vec3d offset[8];  ///< x - p_k, world
 };
+
+/// N_b = W_b / R_b, R_b = leafWeight / leafWindows: the weight of one reading
+/// near x, from the sums over the leaves around it.
+double readingsOf(double weight, double leafWeight, double leafWindows) {
+  return leafWeight > 0.0 ? weight * leafWindows / leafWeight : 0.0;
+}
 
 Corners cornersAround(const Vec3d& x, double h) {
   Corners c;
@@ -209,28 +222,41 @@ DataTerms DataTermGrids::facingTerms(const Vec3d& x, const Vec3d& normal) const 
     const Bin& bin = mBins[static_cast<std::size_t>(b)];
     openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> g(bin.g->tree()), w(bin.weight->tree());
     openvdb::tree::ValueAccessor<const openvdb::Vec3fTree, false> grad(bin.gradient->tree()), sight(bin.sight->tree());
-    double G = 0.0, W = 0.0;
+    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> lw(bin.leafWeight->tree()), ln(bin.leafWindows->tree());
+    double G = 0.0, W = 0.0, leafW = 0.0, leafN = 0.0;
     Vec3d S(0.0);
     for (int k = 0; k < 8; ++k) {
       if (!(masks[k] & (1 << b)) || c.t[k] == 0.0) continue;
       G += c.t[k] * (g.getValue(c.ijk[k]) + Vec3d(grad.getValue(c.ijk[k])).dot(c.offset[k]));  // carried to x
       W += c.t[k] * w.getValue(c.ijk[k]);
       S += c.t[k] * Vec3d(sight.getValue(leafBlock(c.ijk[k])));
+      leafW += c.t[k] * lw.getValue(leafBlock(c.ijk[k]));
+      leafN += c.t[k] * ln.getValue(leafBlock(c.ijk[k]));
     }
     if (!(S.dot(normal) < 0.0)) continue;  // Eq. 37, per bin
-    sum.g += G;
-    sum.weight += W;
+    sum += DataTerms{G, W, readingsOf(W, leafW, leafN)};
   }
   return sum;
 }
 
-double DataTermGrids::weight(const Vec3d& x) const {
+double DataTermGrids::weight(const Vec3d& x) const { return allTerms(x).weight; }
+
+double DataTermGrids::readings(const Vec3d& x) const { return allTerms(x).readings; }
+
+DataTerms DataTermGrids::allTerms(const Vec3d& x) const {
   const Corners c = cornersAround(x, mVoxelSize);
-  double sum = 0.0;
+  DataTerms sum;
   for (const Bin& bin : mBins) {
     if (bin.weight->tree().leafCount() == 0) continue;
-    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> w(bin.weight->tree());
-    for (int k = 0; k < 8; ++k) sum += c.t[k] * w.getValue(c.ijk[k]);
+    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> w(bin.weight->tree()), lw(bin.leafWeight->tree()),
+        ln(bin.leafWindows->tree());
+    double W = 0.0, leafW = 0.0, leafN = 0.0;
+    for (int k = 0; k < 8; ++k) {
+      W += c.t[k] * w.getValue(c.ijk[k]);
+      leafW += c.t[k] * lw.getValue(leafBlock(c.ijk[k]));
+      leafN += c.t[k] * ln.getValue(leafBlock(c.ijk[k]));
+    }
+    sum += DataTerms{0.0, W, readingsOf(W, leafW, leafN)};
   }
   return sum;
 }
@@ -269,7 +295,7 @@ std::size_t DataTermGrids::memoryBytes() const {
   std::size_t bytes = static_cast<std::size_t>(mBinMask->memUsage());
   for (const Bin& bin : mBins)
     bytes += static_cast<std::size_t>(bin.g->memUsage() + bin.weight->memUsage() + bin.gradient->memUsage() +
-                                      bin.sight->memUsage());
+                                      bin.sight->memUsage() + bin.leafWeight->memUsage() + bin.leafWindows->memUsage());
   return bytes;
 }
 

@@ -42,12 +42,6 @@ ForceField::ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const 
     : mMaps(std::move(maps)), mOptions(options), mWindow(options.dataWindow()) {
   if (!mMaps || mMaps->empty()) throw std::invalid_argument("ForceField: no range maps");
   if (!(mOptions.positionVariance >= 0.0)) throw std::invalid_argument("ForceField: negative position variance");
-  // A typical reading's c gamma: the median over maps of gamma c at their
-  // readings, for a surface square to the line of sight (|grad D| = 1, Eq. 38).
-  std::vector<double> weights;
-  for (const RangeMap& m : *mMaps) weights.push_back(detail::typicalReadingWeight(m, mOptions.positionVariance));
-  std::nth_element(weights.begin(), weights.begin() + weights.size() / 2, weights.end());
-  mTypicalWeight = weights[weights.size() / 2];
   // Where each map's windows reach, and its line of sight if it is one.
   const double reach = mWindow.reach();
   for (const RangeMap& m : *mMaps) {
@@ -62,31 +56,31 @@ ForceField::ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const 
   }
 }
 
-bool ForceField::term(std::size_t j, const Vec3d& x, double& gTerm, double& wTerm, Vec3d* lineOfSight) const {
+bool ForceField::term(std::size_t j, const Vec3d& x, DataTerms& t, Vec3d* lineOfSight) const {
   RangeSample s;
   if (!(*mMaps)[j].sample(x, s)) return false;
   const double w = mWindow(s.D);
   if (w == 0.0) return false;
   const double c = 1.0 / (s.sigma * s.sigma + s.gradD.lengthSqr() * mOptions.positionVariance);  // Eq. 38
-  wTerm = c * w * s.gamma;
-  gTerm = wTerm * s.D;  // Eq. 17
+  t.weight = c * w * s.gamma;
+  t.g = t.weight * s.D;  // Eq. 17
+  t.readings = w;
   if (lineOfSight) *lineOfSight = s.lineOfSight;
   return true;
 }
 
-double ForceField::g(const Vec3d& x) const {
-  double sum = 0.0, gt, wt;
+DataTerms ForceField::allTerms(const Vec3d& x) const {
+  DataTerms sum, t;
   for (std::size_t j = 0; j < mMaps->size(); ++j)
-    if (term(j, x, gt, wt, nullptr)) sum += gt;
+    if (term(j, x, t, nullptr)) sum += t;
   return sum;
 }
 
-double ForceField::weight(const Vec3d& x) const {
-  double sum = 0.0, gt, wt;
-  for (std::size_t j = 0; j < mMaps->size(); ++j)
-    if (term(j, x, gt, wt, nullptr)) sum += wt;
-  return sum;
-}
+double ForceField::g(const Vec3d& x) const { return allTerms(x).g; }
+
+double ForceField::weight(const Vec3d& x) const { return allTerms(x).weight; }
+
+double ForceField::readings(const Vec3d& x) const { return allTerms(x).readings; }
 
 double ForceField::facing(const Vec3d& x, const Vec3d& normal) const { return facingTerms(x, normal).g; }
 
@@ -106,14 +100,12 @@ ForceField::Terms ForceField::facingTerms(const Vec3d& x, const Vec3d& normal) c
       const double weight = detail::readingWeight(w, s, mOptions.positionVariance);  // Eq. 38
       sum.weight += weight;
       sum.g += weight * s.D;  // Eq. 17
+      sum.readings += w;
       continue;
     }
-    double gt, wt;
+    DataTerms t;
     Vec3d los;
-    if (term(j, x, gt, wt, &los) && los.dot(normal) < 0.0) {  // Eq. 37
-      sum.g += gt;
-      sum.weight += wt;
-    }
+    if (term(j, x, t, &los) && los.dot(normal) < 0.0) sum += t;  // Eq. 37
   }
   return sum;
 }

@@ -12,11 +12,4 @@ inline double readingWeight(double window, const RangeMap::LocalSample& s, doubl
   return window * s.gamma / (s.sigma * s.sigma + s.gradDSquared * positionVariance);
 }
 
-/// The weight c gamma of one typical reading of `map`: at its widest ray
-/// spacing, for a surface square to the line of sight (|grad D| = 1, Eq. 38).
-inline double typicalReadingWeight(const RangeMap& map, double positionVariance) {
-  const double spacing = map.maxRaySpacing();
-  return 1.0 / (spacing * spacing) / (map.sigma() * map.sigma() + positionVariance);
-}
-
 }  // namespace levelfuse::detail

@@ -4,6 +4,7 @@
 #include "support/TestSupport.h"
 
 #include <levelfuse/geometry/Shapes.h>
+#include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/SightBins.h>
@@ -103,11 +104,11 @@ TEST(DataTermGrids, TorusForceMatchesThePerMapTerm) {
   const ForceFieldOptions options = optionsFor(voxel, voxel);
   const ForceField exact(maps, options);
   const DataTermGrids grids = gridsOf(maps, voxel, options);
-  const double unit = exact.typicalWeight();
-  EXPECT_DOUBLE_EQ(grids.typicalWeight(), unit);
+  const DataForce<ForceField> exactForce{&exact};
+  const DataForce<DataTermGrids> gridForce{&grids};
   std::mt19937 random(11);
   std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI), offset(-0.5 * voxel, 0.5 * voxel);
-  double sumError = 0.0;
+  double sumError = 0.0, sumReadingsError = 0.0;
   std::vector<double> errors;
   int compared = 0, disagree = 0;
   for (int i = 0; i < 2000; ++i) {
@@ -117,8 +118,9 @@ TEST(DataTermGrids, TorusForceMatchesThePerMapTerm) {
     const DataTerms want = exact.facingTerms(x, n), got = grids.facingTerms(x, n);
     if ((want.weight > 0.0) != (got.weight > 0.0)) ++disagree;
     if (!(want.weight > 0.0)) continue;
-    const double fWant = want.g / std::max(want.weight, unit), fGot = got.g / std::max(got.weight, unit);
+    const double fWant = exactForce(x, n), fGot = gridForce(x, n);
     sumError += std::fabs(fGot - fWant);
+    sumReadingsError += std::fabs(std::min(1.0, got.readings) - std::min(1.0, want.readings));
     errors.push_back(std::fabs(fGot - fWant) / voxel);
     ++compared;
   }
@@ -130,6 +132,9 @@ TEST(DataTermGrids, TorusForceMatchesThePerMapTerm) {
   // terms along grad D the median would be 0.13 voxels.
   std::sort(errors.begin(), errors.end());
   EXPECT_LT(sumError / compared, 0.04 * voxel);
+  // The readings that reach x, from one reading's weight per leaf, where they
+  // act: the fading min(1, N) of the force.
+  EXPECT_LT(sumReadingsError / compared, 0.05) << sumReadingsError / compared;
   EXPECT_LT(errors[errors.size() / 2], 0.03);
   EXPECT_LT(errors[errors.size() * 99 / 100], 0.2);
 }

@@ -4,13 +4,21 @@
 //
 // with the data force F the facing-checked data term g~ (Eq. 37) sampled at
 // the subcell position x^ (Eqs. 34-36) and turned into an outward normal speed
-// in world units: F = g~ / max(W~, W1), W~ the weight of the facing terms and
-// W1 a single typical reading's weight c gamma. Where a single reading or less
-// supports the surface, F is the MAP force itself, scaled to length units
-// (weak data: the prior dominates there, as the paper intends); where several
-// readings overlap, F is their weighted mean distance, so the prior's weight
-// means the same whatever the number of overlapping scans, and an explicit
-// step of up to one time unit relaxes the data term without overshooting.
+// in world units,
+//
+//   F = (g~ / W~) min(1, N~),
+//
+// W~ the weight of the facing terms (sum c w gamma) and N~ the number of
+// readings among them (sum w). Where one reading or more reaches x^, F is the
+// readings' weighted mean distance along their lines of sight, so the prior's
+// weight means the same whatever the number of readings, their depth and their
+// noise, and an explicit step of up to one time unit relaxes the data term
+// without overshooting; where less than one reading's window reaches, F fades
+// with N~ (weak data: the prior governs there, as the paper intends). What one
+// reading weighs is taken where the readings are: a depth camera's readings
+// weigh c gamma ~ 1 / (z^2 sigma(z)^2), a thousand times less at 3 m than at
+// 1 m, and one weight for all of them made the far half of a room's data
+// term too weak to hold against the prior (docs/RECONSTRUCTION.md).
 #pragma once
 
 #include <levelfuse/levelset/SparseField.h>
@@ -29,11 +37,11 @@ namespace levelfuse {
 template <typename Field>
 struct DataForce {
   const Field* field = nullptr;
-  double unitWeight = 1.0;  ///< W1: a single typical reading's weight (Field::typicalWeight)
 
   double operator()(const openvdb::Vec3d& x, const openvdb::Vec3d& n) const {
     const DataTerms t = field->facingTerms(x, n);  // Eq. 37
-    return t.g / std::max(t.weight, unitWeight);
+    if (!(t.weight > 0.0)) return 0.0;
+    return t.g / t.weight * std::min(1.0, t.readings);
   }
   /// At most 1 per unit time: F is at most a weighted mean of distances along
   /// lines of sight, which change by at most the distance the surface moves.

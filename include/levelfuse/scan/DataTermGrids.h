@@ -14,14 +14,21 @@
 //   S_b(leaf) = sum over the leaf's voxels and the maps j of c_j w_j gamma_j n_j
 //
 // (lines of sight turn slowly in space: a leaf of a 1 cm grid 2 m from a camera
-// spans 2.3 degrees of its rays). At a point x and an outward normal N the
+// spans 2.3 degrees of its rays), and the sums of the weights and of the
+// windows, whose ratio is the weight R_b of one reading there:
+//
+//   R_b(leaf) = sum c_j w_j gamma_j / sum w_j     (over the leaf's voxels and the maps)
+//
+// (a reading's weight changes slowly too: with its depth, as 1 / (z^2 sigma(z)^2)
+// for a depth camera). At a point x and an outward normal N the
 // facing-checked term g~ (Eq. 37) is the sum over the bins whose mean line of
 // sight faces the surface (S_b . N < 0), each bin's terms taken from the
 // eight voxels around x, each voxel's term carried to x along its gradient:
 //
 //   G_b(x) = sum_k t_k (G_b(p_k) + V_b(p_k) . (x - p_k)),   W_b(x) = sum_k t_k W_b(p_k)
 //
-// with t_k the trilinear weights. A single reading of a planar surface thus
+// with t_k the trilinear weights, and the number of readings that reach x,
+// N_b(x) = W_b(x) / R_b. A single reading of a planar surface thus
 // gives D(x) = G_b(x) / W_b(x) exactly at any x between voxels, as the
 // per-map evaluation does. The approximation against Eq. 37 evaluated per map
 // is the facing check made per bin and leaf on the mean line of sight (maps
@@ -42,10 +49,20 @@
 
 namespace levelfuse {
 
-/// The sums of a data term at a point: sum c D w gamma and sum c w gamma.
+/// The sums of a data term at a point over the readings whose windows reach
+/// it: sum c D w gamma (the terms of g), sum c w gamma (their weight) and
+/// sum w (how many readings reach the point, one whose window is 1 there
+/// counting one).
 struct DataTerms {
   double g = 0.0;
   double weight = 0.0;
+  double readings = 0.0;
+  DataTerms& operator+=(const DataTerms& t) {
+    g += t.g;
+    weight += t.weight;
+    readings += t.readings;
+    return *this;
+  }
 };
 
 class DataTermGrids {
@@ -61,21 +78,19 @@ class DataTermGrids {
   /// deterministic for a given order of maps, whatever the number of threads.
   void integrate(const RangeMap& map);
 
-  /// g~(x) and its weight for a surface through x with outward normal N (Eq. 37).
+  /// g~(x), its weight and its readings for a surface through x with outward normal N (Eq. 37).
   DataTerms facingTerms(const openvdb::Vec3d& x, const openvdb::Vec3d& normal) const;
   /// The total weight sum_j c_j w_j gamma_j at x, all directions (interpolated).
   double weight(const openvdb::Vec3d& x) const;
+  /// The number of readings that reach x, all directions (sum_b N_b(x)).
+  double readings(const openvdb::Vec3d& x) const;
 
   /// g and its weight summed over all bins, per voxel (GRID_UNKNOWN, named "g"
   /// and "weight"): the field whose zero set is the linear solution.
   openvdb::FloatGrid::Ptr gGrid() const;
   openvdb::FloatGrid::Ptr weightGrid() const;
 
-  /// A single typical reading's weight c gamma (the median over the maps
-  /// integrated so far of 1 / (spacing^2 (sigma^2 + sigma_x^2)) for a surface
-  /// square to the line of sight); 1 before any map.
-  double typicalWeight() const;
-  std::size_t mapCount() const { return mMapWeights.size(); }
+  std::size_t mapCount() const { return mMapCount; }
   double voxelSize() const { return mVoxelSize; }
   const DataWindow& window() const { return mWindow; }
   /// (voxel, range map) pairs evaluated so far.
@@ -88,14 +103,19 @@ class DataTermGrids {
     openvdb::FloatGrid::Ptr g, weight;
     openvdb::Vec3fGrid::Ptr gradient;
     openvdb::Vec3fGrid::Ptr sight;  ///< S_b, one voxel per leaf node (voxel size 8 h)
+    /// Per leaf node (voxel size 8 h): sum c w gamma and sum w, whose ratio is R_b.
+    openvdb::FloatGrid::Ptr leafWeight, leafWindows;
   };
+  /// Weight and readings at x over all bins (g is left 0).
+  DataTerms allTerms(const openvdb::Vec3d& x) const;
+
   std::array<Bin, kSightBins> mBins;
   openvdb::Int32Grid::Ptr mBinMask;  ///< per voxel, bit b set where bin b holds terms
   double mVoxelSize;
   DataWindow mWindow;
   double mPositionVariance;
   std::size_t mGrainSize;
-  std::vector<double> mMapWeights;
+  std::size_t mMapCount = 0;
   std::size_t mEvaluations = 0;
 };
 

@@ -65,9 +65,12 @@ class ForceField {
   double facing(const openvdb::Vec3d& x, const openvdb::Vec3d& normal) const;
   /// Sum of the weights c_j w_j gamma_j at x.
   double weight(const openvdb::Vec3d& x) const;
+  /// Sum of the windows w_j at x: how many readings reach x, a reading whose
+  /// window is 1 there counting one.
+  double readings(const openvdb::Vec3d& x) const;
 
-  /// The facing-checked data term at x (Eq. 37) and its weight: the sums of
-  /// c_j D_j w_j gamma_j and of c_j w_j gamma_j over the range maps whose
+  /// The facing-checked data term at x (Eq. 37), its weight and its readings:
+  /// the sums of c_j D_j w_j gamma_j, c_j w_j gamma_j and w_j over the range maps whose
   /// scanner a surface through x with outward normal N faces. The hot path of
   /// the evolution: maps whose windows cannot reach x are skipped at once.
   using Terms = DataTerms;
@@ -94,13 +97,12 @@ class ForceField {
   const std::vector<RangeMap>& maps() const { return *mMaps; }
   const std::shared_ptr<const std::vector<RangeMap>>& sharedMaps() const { return mMaps; }
   const ForceFieldOptions& options() const { return mOptions; }
-  /// A typical single reading's weight c gamma: divides g into a force of
-  /// length units (see Reconstructor).
-  double typicalWeight() const { return mTypicalWeight; }
 
  private:
-  /// Adds range map j's term at x to g and weight; returns false if it has none.
-  bool term(std::size_t j, const openvdb::Vec3d& x, double& gTerm, double& wTerm, openvdb::Vec3d* lineOfSight) const;
+  /// Range map j's term at x; false if it has none.
+  bool term(std::size_t j, const openvdb::Vec3d& x, DataTerms& t, openvdb::Vec3d* lineOfSight) const;
+  /// The terms of all range maps at x, without the facing check.
+  DataTerms allTerms(const openvdb::Vec3d& x) const;
 
   std::shared_ptr<const std::vector<RangeMap>> mMaps;
   /// Per map: the world box its windows reach, and its line of sight where it
@@ -109,7 +111,6 @@ class ForceField {
   std::vector<openvdb::Vec3d> mParallelSight;
   ForceFieldOptions mOptions;
   DataWindow mWindow;
-  double mTypicalWeight = 1.0;
 };
 
 }  // namespace levelfuse

@@ -1,0 +1,96 @@
+// The data force of the MAP evolution: the readings' mean distance, whatever
+// their depth and noise, fading where less than one reading reaches; the same
+// rule from the per-map term and from the grids.
+
+#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/recon/DataSpeed.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+namespace levelfuse {
+namespace {
+
+using openvdb::Vec3d;
+
+constexpr double kVoxel = 0.01;
+
+/// `frames` depth frames of a wall square to the optical axis at `depth`,
+/// with a depth camera's noise sigma(z) (io::DepthNoise's defaults).
+std::vector<RangeMap> wallFrames(double depth, int frames) {
+  io::DepthImage image;
+  image.width = 64;
+  image.height = 48;
+  image.depth.assign(static_cast<std::size_t>(image.width * image.height), static_cast<float>(depth));
+  PinholeProjection camera;
+  camera.fx = camera.fy = 58.5;
+  camera.cx = 32.0;
+  camera.cy = 24.0;
+  std::vector<RangeMap> maps;
+  for (int i = 0; i < frames; ++i)
+    maps.push_back(io::depthFrame(image, camera, openvdb::math::Mat4d::identity(), io::DepthNoise{}, "wall"));
+  return maps;
+}
+
+ForceFieldOptions tenMillimetreGrid() {
+  ForceFieldOptions options;
+  options.epsilon = kVoxel;
+  options.positionVariance = kVoxel * kVoxel / 120.0;
+  return options;
+}
+
+/// The data term of `maps` from one of its two sources.
+template <typename Field>
+std::unique_ptr<Field> dataTermOf(const std::vector<RangeMap>& maps);
+
+template <>
+std::unique_ptr<ForceField> dataTermOf<ForceField>(const std::vector<RangeMap>& maps) {
+  return std::make_unique<ForceField>(maps, tenMillimetreGrid());
+}
+
+template <>
+std::unique_ptr<DataTermGrids> dataTermOf<DataTermGrids>(const std::vector<RangeMap>& maps) {
+  const ForceFieldOptions options = tenMillimetreGrid();
+  auto grids = std::make_unique<DataTermGrids>(kVoxel, options.dataWindow(), options.positionVariance);
+  for (const RangeMap& map : maps) grids->integrate(map);
+  return grids;
+}
+
+template <typename Field>
+class DataForceTest : public ::testing::Test {};
+using Sources = ::testing::Types<ForceField, DataTermGrids>;
+TYPED_TEST_SUITE(DataForceTest, Sources);
+
+TYPED_TEST(DataForceTest, IsTheMeanDistanceAtAnyDepth) {
+  // Two frames: two readings reach every point near the wall. A surface 4 mm
+  // behind the wall, facing the camera, moves 4 mm per unit time toward it,
+  // at 1 m as at 3 m, where a reading weighs about a hundred times less.
+  const Vec3d towardCamera(0.0, 0.0, -1.0);
+  for (double depth : {1.0, 3.0}) {
+    const auto field = dataTermOf<TypeParam>(wallFrames(depth, 2));
+    const DataForce<TypeParam> force{field.get()};
+    EXPECT_NEAR(force(Vec3d(0.0, 0.0, depth + 0.004), towardCamera), 0.004, 2e-4) << "wall at " << depth << " m";
+    EXPECT_NEAR(force(Vec3d(0.0, 0.0, depth - 0.004), towardCamera), -0.004, 2e-4) << "wall at " << depth << " m";
+    EXPECT_NEAR(field->readings(Vec3d(0.0, 0.0, depth)), 2.0, 0.1) << "wall at " << depth << " m";
+    // Facing away from the camera: no data.
+    EXPECT_EQ(force(Vec3d(0.0, 0.0, depth + 0.004), -towardCamera), 0.0);
+  }
+}
+
+TYPED_TEST(DataForceTest, FadesWhereLessThanOneReadingReaches) {
+  // One frame: one reading, whose window w(D) is below 1 away from it.
+  const auto field = dataTermOf<TypeParam>(wallFrames(3.0, 1));
+  const DataForce<TypeParam> force{field.get()};
+  const double D = 0.015, window = std::exp(-0.5 * D * D / (kVoxel * kVoxel));
+  // The grids interpolate the window between voxels: halfway between two, at
+  // 1.5 eps, 14% above w(D).
+  EXPECT_NEAR(force(Vec3d(0.0, 0.0, 3.0 + D), Vec3d(0.0, 0.0, -1.0)), D * window, 0.2 * D * window);
+  // Beyond the window's reach (3 eps and a voxel), nothing.
+  EXPECT_EQ(force(Vec3d(0.0, 0.0, 3.045), Vec3d(0.0, 0.0, -1.0)), 0.0);
+}
+
+}  // namespace
+}  // namespace levelfuse
