@@ -89,12 +89,15 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
     throw std::invalid_argument("reconstruction: a voxel size of " + std::to_string(o.voxelSize) +
                                 " makes the data " + std::to_string(extent / o.voxelSize) +
                                 " voxels across; choose a voxel size of at least " + std::to_string(extent / 1e5));
-  if (o.levels == 0) o.levels = 1 + std::max(0, static_cast<int>(std::lround(std::log2(extent / (64.0 * o.voxelSize)))));
+  const bool depthFrames = std::all_of(mMaps->begin(), mMaps->end(),
+                                       [](const RangeMap& m) { return m.kind() == RangeMap::Kind::kPinhole; });
+  if (o.levels == 0)
+    o.levels = depthFrames ? 1 : 1 + std::max(0, static_cast<int>(std::lround(std::log2(extent / (64.0 * o.voxelSize)))));
   if (o.levels < 1 || o.levels > 12) throw std::invalid_argument("reconstruction: the number of grids must be 1 to 12");
   if (o.epsilon == 0.0) o.epsilon = median(sigmas);
   if (!(o.epsilon > 0.0) || !std::isfinite(o.epsilon))
     throw std::invalid_argument("reconstruction: the window width epsilon must be positive");
-  if (o.beta < 0.0) o.beta = std::max(0.5, median(sigmas) / o.voxelSize);
+  if (o.beta < 0.0) o.beta = depthFrames ? 0.0 : std::max(0.5, median(sigmas) / o.voxelSize);
   if (o.dataTerm == DataTermSource::kAuto)
     o.dataTerm = mMaps->size() > kGridsFromScans ? DataTermSource::kGrids : DataTermSource::kPerMap;
   if (!(o.beta >= 0.0) || !std::isfinite(o.beta)) throw std::invalid_argument("reconstruction: beta must be finite");

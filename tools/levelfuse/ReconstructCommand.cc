@@ -224,10 +224,10 @@ Command addReconstructCommand(CLI::App& app) {
   ReconstructionOptions& o = s->options;
   cmd->add_option("--voxel-size", o.voxelSize, "Finest voxel size, world units; 0: the scans' ray spacing (default)")
       ->check(numberIn(0.0, 1e6));
-  cmd->add_option("--levels", o.levels, "Coarse-to-fine grids, each halving the voxel (default: coarsest ~64 across)")
+  cmd->add_option("--levels", o.levels, "Coarse-to-fine grids, each halving the voxel (default: coarsest ~64 across; 1 for depth frames)")
       ->check(CLI::Range(0, 12));
   cmd->add_option("--beta", o.beta,
-                  "Surface-area prior, in finest voxels: larger is smoother (default: max(0.5, sigma / voxel))")
+                  "Surface-area prior, in finest voxels: larger is smoother (default: max(0.5, sigma / voxel); 0 for depth frames)")
       ->check(numberIn(0.0, 1e3));
   cmd->add_option("--epsilon", o.epsilon, "Window width of a reading, world units; 0: sigma, at least a voxel (default)")
       ->check(numberIn(0.0, 1e6));

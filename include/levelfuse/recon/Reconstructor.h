@@ -45,13 +45,17 @@ struct ReconstructionOptions {
   /// distance between neighbouring rays, the resolution the data supports.
   double voxelSize = 0.0;
   /// Number of grids, each with half the voxel size of the one before. 0: so
-  /// many that the coarsest grid is about 64 voxels across the data.
+  /// many that the coarsest grid is about 64 voxels across the data; one for
+  /// depth frames (pinhole range maps), whose many views give the finest
+  /// grid's linear solution every surface a coarse grid would lose.
   int levels = 0;
   /// Weight of the surface-area prior (Eq. 19), in voxels of the finest grid:
   /// where the data support a surface, a sphere of radius R voxels settles
   /// 2 beta / R voxels inside it. 0 turns the prior off. Negative: derived,
   /// max(0.5, sigma / voxel size) with sigma the scans' median noise, the
-  /// best weight measured on noisy synthetic scans (docs/RESULTS.md).
+  /// best weight measured on noisy synthetic scans (docs/RESULTS.md); 0 for
+  /// depth frames, where it was measured to round edges and retract surfaces
+  /// seen from one side only, and held-out frames fit best without it.
   double beta = -1.0;
   /// Width of the data term's window (Eqs. 8-9), world units. 0: the scans'
   /// median noise sigma: a reading speaks for the space within its own
