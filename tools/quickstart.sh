@@ -6,7 +6,8 @@
 #   tools/quickstart.sh bench   also install ITK and run the benchmarks (JSON in out/)
 #
 # Run as root, or as a user who may sudo. Build directory: $LEVELFUSE_BUILD_DIR
-# (default build/), sanitizer builds with LEVELFUSE_SANITIZER=address|thread.
+# (default build/), sanitizer builds with LEVELFUSE_SANITIZER=address|thread;
+# tests of a label left out with LEVELFUSE_SKIP_LABEL (e.g. paper).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -51,7 +52,9 @@ case "$mode" in
   test)
     cmake --build "$build" -j "$jobs"
     echo "== running the tests"
-    (cd "$build" && ctest --output-on-failure -j "$jobs")
+    skip=()
+    [ -n "${LEVELFUSE_SKIP_LABEL:-}" ] && skip=(-LE "$LEVELFUSE_SKIP_LABEL")
+    (cd "$build" && ctest --output-on-failure -j "$jobs" "${skip[@]}")
     ;;
   bench)
     cmake --build "$build" -j "$jobs" --target levelset_benchmarks scan_benchmarks recon_benchmarks depth_benchmarks
