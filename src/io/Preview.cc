@@ -5,6 +5,7 @@
 #include <levelfuse/io/Preview.h>
 
 #include <openvdb/math/Ray.h>
+#include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/RayIntersector.h>
 
 #include <png.h>
@@ -15,6 +16,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -82,7 +84,71 @@ std::uint8_t toByte(double linear) {
   return static_cast<std::uint8_t>(std::lround(255.0 * srgb));
 }
 
+/// A camera's centre and axes (world): right and up span the picture, back
+/// points away from what it looks at.
+struct Camera {
+  Vec3d eye, right, up, back;
+};
+
+/// Axes with `back` as given and `up` as near the wanted up as it can be.
+Camera cameraAxes(const Vec3d& eye, const Vec3d& back, const Vec3d& wantedUp) {
+  Camera camera{eye, wantedUp.cross(back), Vec3d(0.0), back};
+  if (camera.right.length() < 1e-6) camera.right = Vec3d(0, 0, 1).cross(back);
+  if (camera.right.length() < 1e-6) camera.right = Vec3d(0, 1, 0).cross(back);
+  camera.right.normalize();
+  camera.up = back.cross(camera.right);
+  return camera;
+}
+
+Camera placedCamera(const PreviewCamera& placed) {
+  if (!(placed.forward.length() > 0.0) || !std::isfinite(placed.forward.lengthSqr()) ||
+      !std::isfinite(placed.eye.lengthSqr()))
+    throw std::invalid_argument("preview: the camera needs a finite position and a direction to look in");
+  return cameraAxes(placed.eye, -placed.forward.unit(), placed.up);
+}
+
+/// A camera outside the surface, looking at it from the options' direction and
+/// framing its band: its leaf nodes' extents across and along the view.
+Camera framingCamera(const openvdb::FloatGrid& levelSet, const PreviewOptions& options, double tanHalf,
+                     double aspect) {
+  Camera camera = cameraAxes(Vec3d(0.0), options.toward.length() > 0.0 ? options.toward.unit() : Vec3d(0, 0, 1),
+                             options.up);
+  Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  const double leafRadius = 0.5 * std::sqrt(3.0) * openvdb::FloatTree::LeafNodeType::DIM * levelSet.voxelSize()[0];
+  for (auto leaf = levelSet.tree().cbeginLeaf(); leaf; ++leaf) {
+    if (leaf->isEmpty()) continue;
+    const Vec3d c = levelSet.indexToWorld(leaf->origin().asVec3d() + Vec3d(0.5 * (leaf->DIM - 1)));
+    const Vec3d q(c.dot(camera.right), c.dot(camera.up), c.dot(camera.back));
+    lo = openvdb::math::minComponent(lo, q - Vec3d(leafRadius));
+    hi = openvdb::math::maxComponent(hi, q + Vec3d(leafRadius));
+  }
+  const Vec3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  const double distance = 1.05 * std::max(half.x() / (tanHalf * aspect), half.y() / tanHalf) + half.z();
+  camera.eye = camera.right * mid.x() + camera.up * mid.y() + camera.back * (mid.z() + distance);
+  return camera;
+}
+
+/// Surfaces a ray passes through where they are left out (PreviewOptions::weight), at most.
+constexpr int kMaxSurfacesPassed = 64;
+
 }  // namespace
+
+PreviewOptions seenByFrame(const RangeMap& frame, PreviewOptions options) {
+  if (frame.kind() != RangeMap::Kind::kPinhole)
+    throw std::invalid_argument("preview: '" + frame.name() + "' is not a depth camera's frame (a pinhole range map)");
+  const PinholeProjection& k = frame.pinholeProjection();
+  const openvdb::math::Mat4d& cameraToWorld = frame.mapToWorld();
+  // The camera looks along its +z with image rows running down its +y.
+  PreviewCamera camera;
+  camera.eye = cameraToWorld.transform(Vec3d(0.0));
+  camera.forward = cameraToWorld.transform3x3(Vec3d(0, 0, 1));
+  camera.up = -cameraToWorld.transform3x3(Vec3d(0, 1, 0));
+  options.camera = camera;
+  const double tanHalfWidth = 0.5 * frame.width() / k.fx, tanHalfHeight = 0.5 * frame.height() / k.fy;
+  options.fieldOfViewDegrees = 2.0 * std::atan(tanHalfHeight) * 180.0 / M_PI;
+  options.height = std::max(8, static_cast<int>(std::lround(options.width * tanHalfHeight / tanHalfWidth)));
+  return options;
+}
 
 void writePreviewPng(const openvdb::FloatGrid& levelSet, const std::string& path, const PreviewOptions& options) {
   OutputSet outputs;
@@ -98,44 +164,45 @@ void writePreviewPng(OutputSet& outputs, const openvdb::FloatGrid& levelSet, con
     throw std::invalid_argument("preview: the picture must be 8 to 16384 pixels a side");
   if (levelSet.activeVoxelCount() == 0) throw std::invalid_argument("preview: the level set '" + levelSet.getName() + "' has no surface");
 
-  // The camera's axes.
-  const Vec3d back = options.toward.length() > 0.0 ? options.toward.unit() : Vec3d(0, 0, 1);
-  Vec3d right = options.up.cross(back);
-  if (right.length() < 1e-6) right = Vec3d(0, 0, 1).cross(back);
-  right.normalize();
-  const Vec3d up = back.cross(right);
-  // Frame the band: its leaf nodes' extents across and along the view.
-  Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-  const double leafRadius = 0.5 * std::sqrt(3.0) * openvdb::FloatTree::LeafNodeType::DIM * levelSet.voxelSize()[0];
-  for (auto leaf = levelSet.tree().cbeginLeaf(); leaf; ++leaf) {
-    if (leaf->isEmpty()) continue;
-    const Vec3d c = levelSet.indexToWorld(leaf->origin().asVec3d() + Vec3d(0.5 * (leaf->DIM - 1)));
-    const Vec3d q(c.dot(right), c.dot(up), c.dot(back));
-    lo = openvdb::math::minComponent(lo, q - Vec3d(leafRadius));
-    hi = openvdb::math::maxComponent(hi, q + Vec3d(leafRadius));
-  }
-  const Vec3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  if (!(options.fieldOfViewDegrees > 0.0 && options.fieldOfViewDegrees < 180.0))
+    throw std::invalid_argument("preview: the field of view must lie between 0 and 180 degrees");
   const double tanHalf = std::tan(0.5 * options.fieldOfViewDegrees * M_PI / 180.0);
   const double aspect = static_cast<double>(options.width) / options.height;
-  const double distance = 1.05 * std::max(half.x() / (tanHalf * aspect), half.y() / tanHalf) + half.z();
-  const Vec3d eye = right * mid.x() + up * mid.y() + back * (mid.z() + distance);
+  const Camera camera =
+      options.camera ? placedCamera(*options.camera) : framingCamera(levelSet, options, tanHalf, aspect);
+  const Vec3d &eye = camera.eye, &right = camera.right, &up = camera.up, &back = camera.back;
 
   // A key light from the upper left and a fill from the camera.
   const Vec3d key = (up * 0.8 - right * 0.5 + back * 0.6).unit();
   const Vec3d albedo(0.86, 0.80, 0.70);
   std::vector<std::uint8_t> rgb(static_cast<std::size_t>(options.width) * options.height * 3);
   const openvdb::tools::LevelSetRayIntersector<openvdb::FloatGrid> shared(levelSet);
+  const double passStep = 0.5 * levelSet.voxelSize()[0];  // past a surface left out
   parallelFor(static_cast<std::size_t>(options.height), 4, [&](std::size_t begin, std::size_t end) {
     openvdb::tools::LevelSetRayIntersector<openvdb::FloatGrid> intersector(shared);  // one accessor per task
+    std::optional<openvdb::FloatGrid::ConstAccessor> weight;
+    if (options.weight) weight.emplace(options.weight->getConstAccessor());
+    // The first surface along the ray that is drawn.
+    const auto drawnHit = [&](const Vec3d& direction, Vec3d& hit, Vec3d& normal) {
+      double start = 0.0, time = 0.0;
+      for (int pass = 0; pass < kMaxSurfacesPassed; ++pass) {
+        if (!intersector.intersectsWS(openvdb::math::Ray<double>(eye, direction, start), hit, normal, time))
+          return false;
+        if (!weight) return normal.length() > 0.0;
+        const double observed = openvdb::tools::BoxSampler::sample(*weight, options.weight->worldToIndex(hit));
+        if (observed >= options.minWeight) return normal.length() > 0.0;
+        start = time + passStep;
+      }
+      return false;
+    };
     for (std::size_t y = begin; y < end; ++y)
       for (int x = 0; x < options.width; ++x) {
         const double sx = (2.0 * (x + 0.5) / options.width - 1.0) * tanHalf * aspect;
         const double sy = (1.0 - 2.0 * (y + 0.5) / options.height) * tanHalf;
         const Vec3d direction = (right * sx + up * sy - back).unit();
-        openvdb::math::Ray<double> ray(eye, direction);
         Vec3d hit, normal;
         Vec3d colour;
-        if (intersector.intersectsWS(ray, hit, normal) && normal.length() > 0.0) {
+        if (drawnHit(direction, hit, normal)) {
           normal.normalize();
           if (normal.dot(direction) > 0.0) normal = -normal;  // seen from inside: shade the back face alike
           const double diffuse = 0.75 * std::max(0.0, normal.dot(key)) + 0.35 * std::max(0.0, -normal.dot(direction));

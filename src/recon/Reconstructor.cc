@@ -5,6 +5,7 @@
 #include <levelfuse/levelset/Refine.h>
 #include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/SurfaceWeight.h>
 
 #include <openvdb/tree/LeafManager.h>
 
@@ -89,8 +90,7 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
     throw std::invalid_argument("reconstruction: a voxel size of " + std::to_string(o.voxelSize) +
                                 " makes the data " + std::to_string(extent / o.voxelSize) +
                                 " voxels across; choose a voxel size of at least " + std::to_string(extent / 1e5));
-  const bool depthFrames = std::all_of(mMaps->begin(), mMaps->end(),
-                                       [](const RangeMap& m) { return m.kind() == RangeMap::Kind::kPinhole; });
+  const bool depthFrames = scansOfAScene(*mMaps);
   if (o.levels == 0)
     o.levels = depthFrames ? 1 : 1 + std::max(0, static_cast<int>(std::lround(std::log2(extent / (64.0 * o.voxelSize)))));
   if (o.levels < 1 || o.levels > 12) throw std::invalid_argument("reconstruction: the number of grids must be 1 to 12");
@@ -139,6 +139,14 @@ openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interru
   else requireCoarsestGridMemory();
   const ForceField force(mMaps, forceOptions(mOptions.levels - 1));
   return force.linearSolution(mOptions.voxelSize, 3.0, mOptions.name, interrupter);
+}
+
+openvdb::FloatGrid::Ptr Reconstructor::surfaceWeight(const openvdb::FloatGrid& levelSet,
+                                                     const Interrupter& interrupter) const {
+  const int finest = mOptions.levels - 1;
+  if (mOptions.dataTerm == DataTermSource::kGrids)
+    return levelfuse::surfaceWeight(levelSet, dataTermGrids(finest, interrupter), interrupter);
+  return levelfuse::surfaceWeight(levelSet, ForceField(mMaps, forceOptions(finest)), interrupter);
 }
 
 double Reconstructor::voxelSize(int level) const {
@@ -249,11 +257,21 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
     }
     // 2. Evolve under the data term and the prior until the surface settles.
     state.stage = ReconstructionProgress::Stage::kEvolving;
+    // On the finest grid, the surface's weight is taken while its data term is at hand.
+    const bool finestGrid = level + 1 == mOptions.levels;
+    const auto evolveAndWeigh = [&](const auto& data) {
+      const LevelReport evolved = evolveLevel(*field, data, h, state, report);
+      if (finestGrid) {
+        result.levelSet = field->toLevelSet(3.0, mOptions.name);
+        result.weight = levelfuse::surfaceWeight(*result.levelSet, data, interrupter);
+      }
+      return evolved;
+    };
     LevelReport done;
     if (mOptions.dataTerm == DataTermSource::kGrids)
-      done = evolveLevel(*field, dataTermGrids(level, interrupter), h, state, report);
+      done = evolveAndWeigh(dataTermGrids(level, interrupter));
     else
-      done = evolveLevel(*field, ForceField(mMaps, forceOptions(level)), h, state, report);
+      done = evolveAndWeigh(ForceField(mMaps, forceOptions(level)));
     totalIterations += done.iterations;
     const SparseFieldStats stats = field->stats();
     done.activeVoxels = stats.activeVoxels;
@@ -265,7 +283,6 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
     result.levels.push_back(done);
   }
 
-  result.levelSet = field->toLevelSet(3.0, mOptions.name);
   openvdb::FloatGrid& out = *result.levelSet;
   out.insertMeta("levelfuse_version", openvdb::StringMetadata(version()));
   out.insertMeta("levelfuse_voxel_size", openvdb::DoubleMetadata(finest));

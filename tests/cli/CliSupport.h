@@ -2,6 +2,7 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <sys/wait.h>
 
@@ -30,6 +31,16 @@ inline CliRun levelfuse(const std::string& arguments, const std::string& environ
   const int status = pclose(pipe);
   run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return run;
+}
+
+/// A run's output as JSON (a --json summary); a test failure if it is not.
+inline nlohmann::json jsonOf(const CliRun& run) {
+  try {
+    return nlohmann::json::parse(run.output);
+  } catch (const std::exception&) {
+    ADD_FAILURE() << "not JSON:\n" << run.output;
+    return nlohmann::json::object();
+  }
 }
 
 class Cli : public ::testing::Test {

@@ -28,15 +28,6 @@ extern char** environ;
 namespace levelfuse {
 namespace {
 
-nlohmann::json jsonOf(const CliRun& run) {
-  try {
-    return nlohmann::json::parse(run.output);
-  } catch (const std::exception&) {
-    ADD_FAILURE() << "not JSON:\n" << run.output;
-    return nlohmann::json::object();
-  }
-}
-
 std::string fileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());

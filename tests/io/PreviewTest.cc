@@ -4,11 +4,16 @@
 #include "support/TestSupport.h"
 
 #include <levelfuse/io/Preview.h>
+#include <levelfuse/scan/Synth.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <utility>
+#include <vector>
 
 namespace levelfuse::io {
 namespace {
@@ -50,6 +55,95 @@ TEST(Preview, RefusesWhatItCannotShowAndLeavesNoFile) {
   const auto sphere = test::makeSphere(10.0);
   EXPECT_THROW(writePreviewPng(*sphere, dir.path("no/such/folder/s.png")), std::runtime_error);
   EXPECT_TRUE(std::filesystem::is_empty(dir.root()));
+}
+
+/// A weight grid on `levelSet`'s band: `inFront` where z > `z`, else `behind`.
+openvdb::FloatGrid::Ptr weightSplitAt(const openvdb::FloatGrid& levelSet, double z, float inFront, float behind) {
+  auto weight = openvdb::FloatGrid::create(0.0f);
+  weight->setTransform(levelSet.transform().copy());
+  weight->setTree(std::make_shared<openvdb::FloatTree>(levelSet.tree(), 0.0f, openvdb::TopologyCopy()));
+  for (auto it = weight->beginValueOn(); it; ++it)
+    it.setValue(weight->indexToWorld(it.getCoord()).z() > z ? inFront : behind);
+  return weight;
+}
+
+TEST(Preview, LeavesOutTheSurfaceWhereTheWeightIsBelowItsMinimum) {
+  test::TempDir dir;
+  const openvdb::Vec3d centre(3.0, -2.0, 1.0);
+  const auto sphere = test::makeSphere(20.0, centre, 0.1);
+  PreviewOptions options;
+  options.width = 160;
+  options.height = 120;
+  options.toward = openvdb::Vec3d(0.0, 0.0, 1.0);
+  options.minWeight = 0.5;
+  const auto picture = [&](float inFront, float behind, const std::string& name) {
+    options.weight = weightSplitAt(*sphere, centre.z(), inFront, behind);
+    writePreviewPng(*sphere, dir.path(name), options);
+    return test::readPng8(dir.path(name));
+  };
+  const test::PngImage all = picture(1.0f, 1.0f, "all.png"), none = picture(0.0f, 0.0f, "none.png");
+  const test::PngImage back = picture(0.0f, 1.0f, "back.png");
+  // Nothing drawn: the background alone, which is the same along a row.
+  EXPECT_EQ(brightness(none, 80, 60), brightness(none, 2, 60));
+  EXPECT_GT(brightness(all, 80, 60), brightness(none, 80, 60) + 150);
+  // Seen through the front half that is left out: the inside of the back half.
+  EXPECT_NE(brightness(back, 80, 60), brightness(none, 80, 60));
+  EXPECT_NE(brightness(back, 80, 60), brightness(all, 80, 60));
+}
+
+TEST(Preview, LooksFromAPlacedCamera) {
+  test::TempDir dir;
+  const auto sphere = test::makeSphere(20.0, openvdb::Vec3d(0.0), 0.1);
+  PreviewOptions options;
+  options.width = 64;
+  options.height = 48;
+  options.camera = PreviewCamera{openvdb::Vec3d(0.0), openvdb::Vec3d(1.0, 0.0, 0.0), openvdb::Vec3d(0.0, 0.0, 1.0)};
+  writePreviewPng(*sphere, dir.path("inside.png"), options);
+  options.camera.reset();
+  writePreviewPng(*sphere, dir.path("outside.png"), options);
+  const test::PngImage inside = test::readPng8(dir.path("inside.png"));
+  const test::PngImage outside = test::readPng8(dir.path("outside.png"));
+  // From the centre every ray meets the sphere; from outside the corners show the background.
+  for (const auto& [x, y] : {std::pair{1, 1}, std::pair{62, 1}, std::pair{1, 46}, std::pair{62, 46}})
+    EXPECT_NE(brightness(inside, x, y), brightness(outside, x, y)) << x << ", " << y;
+}
+
+TEST(Preview, SeenByADepthFrameLooksFromItsCameraInsideTheScene) {
+  // A room 4 x 3 x 2.4 m seen from inside, by a camera near one wall that
+  // turns to each of the four walls.
+  const auto room = [](const openvdb::Vec3d& p) {
+    return std::min({2.0 - std::fabs(p.x()), 1.5 - std::fabs(p.y()), 1.2 - std::fabs(p.z())});
+  };
+  const openvdb::Vec3d eye(-1.5, 0.3, 0.2);
+  std::vector<RangeMap> frames;
+  for (const openvdb::Vec3d& look : {openvdb::Vec3d(1, 0, 0), openvdb::Vec3d(0, 1, 0), openvdb::Vec3d(-1, 0, 0),
+                                     openvdb::Vec3d(0, -1, 0)})
+    frames.push_back(synth::renderDistanceFunction(room, synth::pinholeView(eye, eye + look, 60.0, 64, 48),
+                                                   synth::Noise{}, 0.01));
+  const RangeMap& frame = frames.front();
+  const PreviewOptions options = seenByFrame(frame);
+  ASSERT_TRUE(options.camera.has_value());
+  EXPECT_NEAR((options.camera->eye - eye).length(), 0.0, 1e-9);
+  // Inside the box of what the frames saw, looking along the first one's optical axis.
+  openvdb::BBoxd seen;
+  for (const RangeMap& map : frames)
+    for (int v = 0; v < map.height(); ++v)
+      for (int u = 0; u < map.width(); ++u)
+        if (map.valid(u, v)) seen.expand(map.readingPoint(u, v));
+  EXPECT_TRUE(seen.isInside(options.camera->eye)) << seen;
+  const openvdb::Vec3d centre = frame.pointAt(frame.pinholeProjection().cx, frame.pinholeProjection().cy, 1.0);
+  EXPECT_NEAR((centre - eye).unit().dot(options.camera->forward.unit()), 1.0, 1e-9);
+  // The picture has the frame's aspect and vertical field of view.
+  EXPECT_EQ(options.width * 48, options.height * 64);
+  const double tanHalfHeight = 0.5 * 48 / frame.pinholeProjection().fy;
+  EXPECT_NEAR(options.fieldOfViewDegrees, 2.0 * std::atan(tanHalfHeight) * 180.0 / M_PI, 1e-9);
+  // Up in the picture is up in the frame: against its image rows.
+  const openvdb::Vec3d down = frame.pointAt(frame.pinholeProjection().cx, 47.0, 1.0) - centre;
+  EXPECT_LT(down.dot(options.camera->up), 0.0);
+
+  const RangeMap scan = synth::renderDistanceFunction(
+      room, synth::orthographicView(openvdb::Vec3d(0, 0, -1), openvdb::Vec3d(0.0), 1.0, 16), synth::Noise{}, 0.01);
+  EXPECT_THROW(seenByFrame(scan), std::invalid_argument);
 }
 
 }  // namespace

@@ -5,8 +5,11 @@
 
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/levelset/Components.h>
+#include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/SurfaceWeight.h>
 #include <levelfuse/scan/Synth.h>
 
 #include <openvdb/tools/Diagnostics.h>
@@ -122,6 +125,13 @@ TEST(Reconstructor, GridsAndPerMapTermsReachTheSameSurface) {
   EXPECT_LT(rmsGrids, 1.1 * rmsPerMap);
   EXPECT_LT(rmsGrids, 0.25 * sigma);
   EXPECT_EQ(insideComponents(*grids.levelSet), 1);
+  // Both return the surface's weight on its band; six views saw all of the sphere.
+  for (const ReconstructionResult* result : {&perMap, &grids}) {
+    ASSERT_TRUE(result->weight);
+    EXPECT_TRUE(result->weight->tree().hasSameTopology(result->levelSet->tree()));
+    const auto mesh = meshFromLevelSet(*result->levelSet);
+    EXPECT_EQ(trimMesh(mesh, *result->weight, kObservedWeight).triangleCount(), mesh.triangleCount());
+  }
 }
 
 TEST(Reconstructor, RefusesAVoxelSizeThatWouldNotFitInMemory) {

@@ -7,11 +7,14 @@
 #include <levelfuse/io/MeshFile.h>
 #include <levelfuse/io/VdbFile.h>
 #include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/levelset/MeshTrim.h>
+#include <levelfuse/recon/SurfaceWeight.h>
 
 #include <nlohmann/json.hpp>
 
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace levelfuse::cli {
 namespace {
@@ -19,8 +22,20 @@ namespace {
 struct MeshSettings {
   std::string input, output, grid;
   double adaptivity = 0.0;
+  std::optional<bool> trimUnseen;  // none: if the level set is of a scene
   bool json = false;
 };
+
+/// The weight grid `levelfuse reconstruct` wrote beside `levelSet`, if any.
+openvdb::FloatGrid::Ptr weightGridOf(const openvdb::GridPtrVec& grids, const openvdb::FloatGrid& levelSet) {
+  for (const openvdb::GridBase::Ptr& base : grids) {
+    const auto grid = openvdb::GridBase::grid<openvdb::FloatGrid>(base);
+    if (!grid || grid->getName() != kWeightGridName) continue;
+    const auto surface = grid->getMetadata<openvdb::StringMetadata>("levelfuse_surface");
+    if (surface && surface->value() == levelSet.getName()) return grid;
+  }
+  return nullptr;
+}
 
 int runMesh(const MeshSettings& s) {
   requireOutputs({s.output}, {s.input});
@@ -39,8 +54,16 @@ int runMesh(const MeshSettings& s) {
   if (!levelSet)
     throw std::runtime_error(s.input + ": no float level set" + (s.grid.empty() ? "" : " named '" + s.grid + "'") +
                              " (see levelfuse info " + s.input + ")");
+  const openvdb::FloatGrid::Ptr weight = weightGridOf(*grids, *levelSet);
+  const auto scene = levelSet->getMetadata<openvdb::BoolMetadata>("levelfuse_scene");
+  const bool trim = s.trimUnseen.value_or(weight && scene && scene->value());
+  if (trim && !weight)
+    throw std::runtime_error(s.input + ": no weight grid for '" + levelSet->getName() +
+                             "' to trim by (levelfuse reconstruct writes one beside the level set); "
+                             "drop --trim-unseen");
   enterPhase("meshing");
-  const TriangleMesh mesh = meshFromLevelSet(*levelSet, s.adaptivity);
+  TriangleMesh mesh = meshFromLevelSet(*levelSet, s.adaptivity);
+  if (trim) mesh = trimMesh(mesh, *weight, kObservedWeight);
   enterPhase("writing");
   io::OutputSet outputs;
   io::writeMesh(outputs, s.output, mesh);
@@ -48,13 +71,14 @@ int runMesh(const MeshSettings& s) {
   if (s.json) {
     std::cout << nlohmann::json{{"input", s.input}, {"grid", levelSet->getName()}, {"output", s.output},
                                 {"vertices", mesh.vertexCount()}, {"triangles", mesh.triangleCount()},
-                                {"area", mesh.area()}, {"volume", mesh.volume()}}
+                                {"area", mesh.area()}, {"volume", mesh.volume()}, {"trimmed_unseen", trim}}
                      .dump(2)
               << "\n";
   } else {
     std::cout << "levelfuse mesh: '" << levelSet->getName() << "' from " << s.input << ": "
               << withCommas(mesh.vertexCount()) << " vertices, " << withCommas(mesh.triangleCount())
-              << " triangles, area " << fixed(mesh.area()) << ", volume " << fixed(mesh.volume()) << "\n"
+              << " triangles, area " << fixed(mesh.area()) << ", volume " << fixed(mesh.volume())
+              << (trim ? " (unseen parts left out: an open mesh)" : "") << "\n"
               << "  wrote " << s.output << "\n";
   }
   return kExitSuccess;
@@ -71,6 +95,8 @@ Command addMeshCommand(CLI::App& app) {
   cmd->add_option("--adaptivity", s->adaptivity, "0: uniform triangles; up to 1: fewer where the surface is flat")
       ->check(numberIn(0.0, 1.0))
       ->capture_default_str();
+  addTrimUnseenOptions(cmd, s->trimUnseen, "Mesh",
+                       "Default: on for a level set of depth frames (a scene) with its weight grid beside it.");
   cmd->add_flag("--json", s->json, "Print the summary as JSON");
   cmd->footer("Examples:\n  levelfuse mesh bunny.vdb -o bunny.ply\n  levelfuse mesh bunny.vdb --adaptivity 0.3 -o bunny.obj");
   return {cmd, [s] { return runMesh(*s); }};

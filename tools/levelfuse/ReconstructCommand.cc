@@ -13,9 +13,11 @@
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/VdbFile.h>
 #include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/SurfaceWeight.h>
 
 #include <nlohmann/json.hpp>
 
@@ -40,6 +42,7 @@ struct ReconstructSettings {
   double maxDepth = 0.0;    // none
   int frameStride = 1;
   std::string view, up;
+  std::optional<bool> trimUnseen;  // none: for scenes (depth frames) only
   int threads = 0;
   double maxMemoryGiB = 0.0;
   bool json = false, quiet = false;
@@ -116,9 +119,14 @@ int runReconstruct(ReconstructSettings s) {
   }
   enterPhase("measuring");
   openvdb::FloatGrid& surface = *result.levelSet;
+  const bool scene = scansOfAScene(maps);
+  const bool trim = s.trimUnseen.value_or(scene);
+  if (!result.weight && (trim || !s.output.empty()))
+    result.weight = reconstructor.surfaceWeight(surface, cancellationInterrupter());
   surface.insertMeta("levelfuse_inputs", openvdb::StringMetadata(joined(s.inputs)));
   surface.insertMeta("levelfuse_method",
                      openvdb::StringMetadata(s.linear ? "linear solution (zero set of g)" : "MAP level-set evolution"));
+  surface.insertMeta("levelfuse_scene", openvdb::BoolMetadata(scene));
   const DataFit fit = measureDataFit(surface, maps);
   double truthRms = -1.0;
   if (truth) truthRms = rmsOver(zeroCrossings(surface), *truth);
@@ -126,12 +134,19 @@ int runReconstruct(ReconstructSettings s) {
   if (!s.mesh.empty()) {
     enterPhase("meshing");
     mesh = meshFromLevelSet(surface);
+    if (trim) mesh = trimMesh(*mesh, *result.weight, kObservedWeight);
+  }
+  // A scene is seen from where its first frame's camera stood, unless a view is asked for.
+  if (scene && s.view.empty()) preview = io::seenByFrame(maps.front(), preview);
+  if (trim) {
+    preview.weight = result.weight;
+    preview.minWeight = kObservedWeight;
   }
 
   // The outputs, committed together once all are written.
   enterPhase("writing");
   io::OutputSet outputs;
-  if (!s.output.empty()) io::writeVdb(outputs, s.output, {result.levelSet});
+  if (!s.output.empty()) io::writeVdb(outputs, s.output, {result.levelSet, result.weight});
   if (mesh) io::writeMesh(outputs, s.mesh, *mesh);
   if (!s.preview.empty()) io::writePreviewPng(outputs, surface, s.preview, preview);
   commitOutputs(outputs);
@@ -175,7 +190,8 @@ int runReconstruct(ReconstructSettings s) {
                        {"beyond_band", fit.beyondBand}}},
                      {"seconds", seconds},
                      {"outputs", {{"vdb", s.output}, {"mesh", s.mesh}, {"preview", s.preview}}},
-                     {"triangles", triangles}};
+                     {"triangles", triangles},
+                     {"trimmed_unseen", trim}};
     if (truth) j["truth"] = {{"shape", truth->name()}, {"rms_error", truthRms}, {"rms_error_voxels", truthRms / o.voxelSize}};
     std::cout << j.dump(2) << "\n";
     return kExitSuccess;
@@ -202,7 +218,11 @@ int runReconstruct(ReconstructSettings s) {
   std::cout << "  " << fixed(seconds, 3) << " s\n";
   for (const std::string* path : {&s.output, &s.mesh, &s.preview})
     if (!path->empty())
-      std::cout << "  wrote " << *path << (path == &s.mesh ? " (" + withCommas(triangles) + " triangles)" : "")
+      std::cout << "  wrote " << *path
+                << (path == &s.mesh ? " (" + withCommas(triangles) + " triangles" +
+                                          (trim ? ", unseen parts left out" : "") + ")"
+                    : path == &s.output ? " (the closed level set and its weight grid)"
+                                        : "")
                 << "\n";
   return kExitSuccess;
 }
@@ -256,10 +276,14 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("--frame-stride", s->frameStride, "Depth frames: use every n-th frame")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  cmd->add_option("--view", s->view, "Preview: direction from the surface toward the camera, x,y,z")
+  cmd->add_option("--view", s->view,
+                  "Preview: direction from the surface toward the camera, x,y,z (default: for depth frames, the "
+                  "first frame's camera, inside the scene)")
       ->check(threeNumbers());
   cmd->add_option("--up", s->up, "Preview: the world direction that is up in the picture, x,y,z (default 0,1,0)")
       ->check(threeNumbers());
+  addTrimUnseenOptions(cmd, s->trimUnseen, "Mesh and preview",
+                       "Default: on for depth frames (pinhole cameras), off for other scans.");
   cmd->add_option("--threads", s->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--max-memory", s->maxMemoryGiB,
                   "Memory to use at most, GiB (default: the machine's); a run that would need more stops at once "

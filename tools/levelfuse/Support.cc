@@ -4,6 +4,7 @@
 
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/InputFile.h>
+#include <levelfuse/recon/SurfaceWeight.h>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -107,6 +108,17 @@ openvdb::math::Vec3d parseVec3(const std::string& text) {
   }
   if (v.size() != 3) throw std::invalid_argument(io::quote(text) + " is not three numbers x,y,z");
   return openvdb::math::Vec3d(v[0], v[1], v[2]);
+}
+
+void addTrimUnseenOptions(CLI::App* cmd, std::optional<bool>& trim, const std::string& outputs,
+                          const std::string& byDefault) {
+  CLI::Option* on = cmd->add_flag_callback(
+      "--trim-unseen", [&trim] { trim = true; },
+      outputs + ": leave out the surface no scan observed (fewer than " + fixed(kObservedWeight) +
+          " readings face it; the .vdb stays closed). " + byDefault);
+  CLI::Option* off =
+      cmd->add_flag_callback("--no-trim-unseen", [&trim] { trim = false; }, outputs + ": the whole closed surface");
+  on->excludes(off);
 }
 
 }  // namespace levelfuse::cli

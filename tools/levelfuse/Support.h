@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,12 @@ void requireOutputs(const std::vector<std::string>& outputs, const std::vector<s
 /// The end of a run: refuses outputs that are among the files the readers
 /// read (io::inputsRead()), stops if a cancellation is pending, then commits.
 void commitOutputs(io::OutputSet& outputs);
+
+/// --trim-unseen and --no-trim-unseen on `cmd`: set `trim` to true or false;
+/// left empty, the command decides. For --help: `outputs` says what is
+/// trimmed ("Mesh"), `byDefault` when. `trim` must outlive the parsing.
+void addTrimUnseenOptions(CLI::App* cmd, std::optional<bool>& trim, const std::string& outputs,
+                          const std::string& byDefault);
 
 /// "1,234,567"
 std::string withCommas(std::size_t n);

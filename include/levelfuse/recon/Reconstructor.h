@@ -143,6 +143,10 @@ struct ReconstructionResult {
   /// A standard OpenVDB level set: GRID_LEVEL_SET, half-width 3, named as the
   /// options say, with the parameters in its metadata (levelfuse_*).
   openvdb::FloatGrid::Ptr levelSet;
+  /// The readings that face the level set on its narrow band
+  /// (recon/SurfaceWeight.h): GRID_UNKNOWN, named "weight", the level set's
+  /// transform and active voxels; 0 where no scan observed the surface.
+  openvdb::FloatGrid::Ptr weight;
   std::vector<LevelReport> levels;
   double seconds = 0.0;
   std::size_t peakEngineBytes = 0;  ///< the largest sparse field along the way
@@ -165,6 +169,11 @@ class Reconstructor {
   /// run() does, if the finest grid would not fit; Interrupted if
   /// `interrupter` stops it.
   openvdb::FloatGrid::Ptr linearSolution(const Interrupter& interrupter = {}) const;
+  /// The data weight on `levelSet`'s narrow band from the finest grid's data
+  /// term (recon/SurfaceWeight.h), as run() returns it with its surface: for a
+  /// linear solution, or a surface edited since. Interrupted if `interrupter`
+  /// stops it.
+  openvdb::FloatGrid::Ptr surfaceWeight(const openvdb::FloatGrid& levelSet, const Interrupter& interrupter = {}) const;
 
   /// The options with every default resolved.
   const ReconstructionOptions& options() const { return mOptions; }
