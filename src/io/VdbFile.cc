@@ -83,8 +83,7 @@ void requireUsableTransforms(const std::string& path, const openvdb::GridPtrVec&
     const openvdb::Vec3d size = grid->voxelSize();
     for (int axis = 0; axis < 3; ++axis)
       if (!std::isfinite(size[axis]) || size[axis] <= 0.0)
-        throw InputError(path, "grid " + quote(grid->getName()) + " has voxels of size " + std::to_string(size[0]) +
-                                   " x " + std::to_string(size[1]) + " x " + std::to_string(size[2]) +
+        throw InputError(path, "grid " + quote(grid->getName()) + " has voxels of size " + size.str() +
                                    ": not a usable transform");
   }
 }

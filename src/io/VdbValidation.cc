@@ -129,11 +129,12 @@ double skipGrid(VdbByteReader& reader, const GridDescriptor& grid, bool hasGridO
     // An instance has no buffers of its own, and OpenVDB leaves its block offset 0.
     const std::int64_t start = static_cast<std::int64_t>(reader.position());
     const std::int64_t blockPos = grid.parent.empty() ? grid.blockPos : grid.gridPos;
-    if (grid.gridPos < start || blockPos < grid.gridPos || grid.endPos < blockPos ||
-        static_cast<std::uint64_t>(grid.endPos) > reader.size())
-      reader.fail("the grid's offsets (" + std::to_string(grid.gridPos) + ", " + std::to_string(grid.blockPos) +
-                  ", " + std::to_string(grid.endPos) + ") are not in order after its descriptor within the file's " +
+    if (grid.endPos > 0 && static_cast<std::uint64_t>(grid.endPos) > reader.size())
+      reader.fail("the grid ends at byte " + std::to_string(grid.endPos) + ", beyond the file's " +
                   std::to_string(reader.size()) + " bytes (truncated?)");
+    if (grid.gridPos < start || blockPos < grid.gridPos || grid.endPos < blockPos)
+      reader.fail("the grid's offsets (" + std::to_string(grid.gridPos) + ", " + std::to_string(grid.blockPos) +
+                  ", " + std::to_string(grid.endPos) + ") are not in order after its descriptor");
     reader.seek(static_cast<std::uint64_t>(grid.gridPos), "the grid's offset");
   }
   VdbValueLayout layout;
