@@ -9,7 +9,9 @@
 #include <openvdb/Metadata.h>
 #include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/math/Maps.h>
+#include <openvdb/points/StreamCompression.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -29,7 +31,7 @@ constexpr std::uint64_t kMinMetadataItemBytes = 12;
 constexpr std::uint64_t kMinLeafBytes = 128;
 
 /// One array of openvdb::io::DelayedLoadMetadata: raw, or blosc-compressed
-/// with a header that agrees with the array's size.
+/// with a header that agrees with the array's (padded) size.
 void skipDelayedLoadArray(VdbByteReader& reader, std::uint32_t count, std::uint32_t itemBytes,
                           std::uint32_t compressedBytes) {
   const std::uint64_t bytes = std::uint64_t(count) * itemBytes;
@@ -37,7 +39,9 @@ void skipDelayedLoadArray(VdbByteReader& reader, std::uint32_t count, std::uint3
     reader.skip(bytes, "delayed-load metadata");
     return;
   }
-  skipBloscBlock(reader, bytes, compressedBytes, "delayed-load metadata");
+  // OpenVDB pads arrays shorter than BLOSC_PAD_BYTES to it before compressing them.
+  const std::uint64_t padded = std::max<std::uint64_t>(bytes, openvdb::compression::BLOSC_PAD_BYTES);
+  skipBloscBlock(reader, padded, compressedBytes, "delayed-load metadata");
 }
 
 /// openvdb::io::DelayedLoadMetadata::readValue: a count, a mask array and an
