@@ -2,10 +2,15 @@
 
 #include "VdbCompressedValues.h"
 
+#include <levelfuse/io/InputError.h>
+
 #include <openvdb/io/Compression.h>
 
 #include <cstring>
+#include <exception>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace levelfuse::io::detail {
 namespace {
@@ -21,10 +26,32 @@ std::uint32_t littleEndian32(const unsigned char* bytes) {
   return bytes[0] | bytes[1] << 8 | bytes[2] << 16 | static_cast<std::uint32_t>(bytes[3]) << 24;
 }
 
+/// Decompresses the block of `compressedBytes` that ends at the reader's
+/// position with OpenVDB's own function, and fails where OpenVDB would throw.
+void requireDecompression(VdbByteReader& reader, bool blosc, std::uint64_t bytes, std::uint64_t compressedBytes) {
+  const std::uint64_t end = reader.position();
+  reader.seek(end - compressedBytes, "a node's compressed values");
+  std::string block(sizeof(std::int64_t) + compressedBytes, '\0');
+  const auto count = static_cast<std::int64_t>(compressedBytes);
+  std::memcpy(block.data(), &count, sizeof(count));
+  reader.read(block.data() + sizeof(count), compressedBytes, "a node's compressed values");
+  std::istringstream stream(block);
+  std::vector<char> values(bytes);
+  try {
+    if (blosc) {
+      openvdb::io::bloscFromStream(stream, values.data(), values.size());
+    } else {
+      openvdb::io::unzipFromStream(stream, values.data(), values.size());
+    }
+  } catch (const std::exception& e) {
+    reader.fail(std::string("a node's values do not decompress (") + excerpt(e.what()) + ")");
+  }
+}
+
 /// A block of `bytes` bytes as openvdb::io::bloscFromStream and
 /// unzipFromStream read it: an Int64 byte count, negative (or zero) for raw
 /// data, which must then be exactly `bytes` long.
-void skipCompressedBlock(VdbByteReader& reader, bool blosc, std::uint64_t bytes) {
+void skipCompressedBlock(VdbByteReader& reader, bool blosc, std::uint64_t bytes, bool decompress) {
   const auto declared = reader.read<std::int64_t>("the byte count of a node's values");
   if (declared <= 0) {
     const std::uint64_t raw = 0 - static_cast<std::uint64_t>(declared);
@@ -40,9 +67,10 @@ void skipCompressedBlock(VdbByteReader& reader, bool blosc, std::uint64_t bytes)
       reader.fail("a node's " + std::to_string(bytes) + " bytes of values are zipped into " +
                   std::to_string(compressed) + " bytes, more than zip ever takes");
     reader.skip(compressed, "a node's zipped values");
-    return;
+  } else {
+    skipBloscBlock(reader, bytes, compressed, "a node's values");
   }
-  skipBloscBlock(reader, bytes, compressed, "a node's values");
+  if (decompress) requireDecompression(reader, blosc, bytes, compressed);
 }
 
 }  // namespace
@@ -62,7 +90,7 @@ void skipBloscBlock(VdbByteReader& reader, std::uint64_t bytes, std::uint64_t co
 }
 
 void skipCompressedValues(VdbByteReader& reader, const VdbValueLayout& layout, std::uint32_t valueCount,
-                          std::uint32_t activeCount) {
+                          std::uint32_t activeCount, bool decompress) {
   namespace vio = openvdb::io;
   const auto kind = reader.read<std::int8_t>("the kind of a node's values");
   if (kind < vio::NO_MASK_OR_INACTIVE_VALS || kind > vio::NO_MASK_AND_ALL_VALS)
@@ -79,9 +107,9 @@ void skipCompressedValues(VdbByteReader& reader, const VdbValueLayout& layout, s
   if (layout.halfFloat && count == 0) return;  // HalfReader reads nothing then
   const std::uint64_t bytes = count * layout.storedBytes;
   if (layout.compression & vio::COMPRESS_BLOSC) {
-    skipCompressedBlock(reader, /*blosc=*/true, bytes);
+    skipCompressedBlock(reader, /*blosc=*/true, bytes, decompress);
   } else if (layout.compression & vio::COMPRESS_ZIP) {
-    skipCompressedBlock(reader, /*blosc=*/false, bytes);
+    skipCompressedBlock(reader, /*blosc=*/false, bytes, decompress);
   } else {
     reader.skip(bytes, "a node's values");
   }

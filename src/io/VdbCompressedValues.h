@@ -1,5 +1,5 @@
 // levelfuse: the values of one node of a .vdb tree, as OpenVDB 10 stores them
-// (openvdb::io::readCompressedValues), checked without decompressing them.
+// (openvdb::io::readCompressedValues), checked before OpenVDB reads them.
 #pragma once
 
 #include "VdbByteReader.h"
@@ -23,8 +23,11 @@ void skipBloscBlock(VdbByteReader& reader, std::uint64_t bytes, std::uint64_t co
 
 /// Checks and skips one node's values: the byte that says which inactive
 /// values and selection mask follow, those, and the block of `valueCount`
-/// values (`activeCount` of them when only active values are stored).
+/// values (`activeCount` of them when only active values are stored). With
+/// `decompress`, a compressed block is also decompressed as OpenVDB will:
+/// for internal nodes, since OpenVDB leaks the node it reads when their
+/// values fail to decompress.
 void skipCompressedValues(VdbByteReader& reader, const VdbValueLayout& layout, std::uint32_t valueCount,
-                          std::uint32_t activeCount);
+                          std::uint32_t activeCount, bool decompress);
 
 }  // namespace levelfuse::io::detail

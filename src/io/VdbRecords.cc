@@ -6,6 +6,7 @@
 
 #include <levelfuse/io/InputError.h>
 
+#include <openvdb/Grid.h>
 #include <openvdb/Metadata.h>
 #include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/math/Maps.h>
@@ -94,7 +95,8 @@ std::string readVdbString(VdbByteReader& reader, const char* what) {
   return text;
 }
 
-void skipVdbMetadata(VdbByteReader& reader, const char* what) {
+bool skipVdbMetadata(VdbByteReader& reader, const char* what) {
+  bool halfFloat = false;
   const auto count = reader.read<std::uint32_t>(what);
   if (count > reader.remaining() / kMinMetadataItemBytes)
     reader.fail(std::string(what) + " declares " + std::to_string(count) + " items, more than the " +
@@ -107,6 +109,8 @@ void skipVdbMetadata(VdbByteReader& reader, const char* what) {
     const auto problem = [&](const std::string& text) {
       reader.fail("metadata " + quote(name) + " of type " + quote(type) + ": " + text);
     };
+    const bool isBool = type == openvdb::BoolMetadata::staticTypeName();
+    if (name == openvdb::GridBase::META_SAVE_HALF_FLOAT && !isBool) problem("a bool is expected");
     if (!openvdb::Metadata::isRegisteredType(type) || type == openvdb::StringMetadata::staticTypeName()) {
       reader.skip(numBytes, "a metadata value");
     } else if (type == openvdb::io::DelayedLoadMetadata::staticTypeName()) {
@@ -115,14 +119,16 @@ void skipVdbMetadata(VdbByteReader& reader, const char* what) {
       const std::uint32_t expected = fixedMetadataBytes(type);
       if (numBytes != expected)
         problem("declares " + std::to_string(numBytes) + " bytes; the type has " + std::to_string(expected));
-      if (type == openvdb::BoolMetadata::staticTypeName()) {
+      if (isBool) {
         const auto value = reader.read<std::uint8_t>("a metadata value");
         if (value > 1) problem("the value " + std::to_string(value) + " is neither 0 nor 1");
+        if (name == openvdb::GridBase::META_SAVE_HALF_FLOAT) halfFloat = value == 1;
       } else {
         reader.skip(numBytes, "a metadata value");
       }
     }
   }
+  return halfFloat;
 }
 
 void skipVdbTransform(VdbByteReader& reader) {

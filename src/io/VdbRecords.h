@@ -13,7 +13,10 @@ std::string readVdbString(VdbByteReader& reader, const char* what);
 
 /// A metadata map (openvdb::MetaMap::readMeta): each item's size must be the
 /// size of its type, and variable-size items must fit what they declare.
-void skipVdbMetadata(VdbByteReader& reader, const char* what);
+/// Returns whether it says the grid's values are saved as half floats
+/// (openvdb::GridBase::saveFloatAsHalf reads that from the metadata, not
+/// from the grid's descriptor).
+bool skipVdbMetadata(VdbByteReader& reader, const char* what);
 
 /// A grid's transform (openvdb::math::Transform::read): one of OpenVDB's
 /// linear maps, with finite numbers.

@@ -56,7 +56,8 @@ void skipLeafTopology(VdbByteReader& reader, VdbTreeTopology& topology) {
 void skipLowerTopology(VdbByteReader& reader, const VdbValueLayout& layout, VdbTreeTopology& topology) {
   NodeMasks<kLowerLog2> masks;
   masks.read(reader);
-  skipCompressedValues(reader, layout, masks.kSize, static_cast<std::uint32_t>(masks.values.count()));
+  skipCompressedValues(reader, layout, masks.kSize, static_cast<std::uint32_t>(masks.values.count()),
+                       /*decompress=*/true);
   ++topology.lowerNodes;
   for (std::uint32_t i = 0; i < masks.kSize; ++i)
     if (masks.children[i]) skipLeafTopology(reader, topology);
@@ -65,7 +66,8 @@ void skipLowerTopology(VdbByteReader& reader, const VdbValueLayout& layout, VdbT
 void skipUpperTopology(VdbByteReader& reader, const VdbValueLayout& layout, VdbTreeTopology& topology) {
   auto masks = std::make_unique<NodeMasks<kUpperLog2>>();
   masks->read(reader);
-  skipCompressedValues(reader, layout, masks->kSize, static_cast<std::uint32_t>(masks->values.count()));
+  skipCompressedValues(reader, layout, masks->kSize, static_cast<std::uint32_t>(masks->values.count()),
+                       /*decompress=*/true);
   ++topology.upperNodes;
   for (std::uint32_t i = 0; i < masks->kSize; ++i)
     if (masks->children[i]) skipLowerTopology(reader, layout, topology);
@@ -135,7 +137,7 @@ VdbTreeTopology skipVdbTopology(VdbByteReader& reader, const VdbValueLayout& lay
 void skipVdbLeafBuffers(VdbByteReader& reader, const VdbValueLayout& layout, const VdbTreeTopology& topology) {
   for (const std::uint16_t active : topology.leafActiveCounts) {
     reader.skip(kLeafValues / 8, "a leaf node's value mask");
-    skipCompressedValues(reader, layout, kLeafValues, active);
+    skipCompressedValues(reader, layout, kLeafValues, active, /*decompress=*/false);
   }
 }
 

@@ -88,7 +88,6 @@ struct GridDescriptor {
   std::string name, treeType, parent;
   std::int64_t gridPos = 0, blockPos = 0, endPos = 0;
   const GridValueType* valueType = nullptr;
-  bool halfFloat = false;
 };
 
 /// openvdb::io::GridDescriptor::read, checked against the grids before it.
@@ -103,10 +102,9 @@ GridDescriptor readGridDescriptor(VdbByteReader& reader, const std::vector<GridD
 
   const std::string suffix = kHalfFloatSuffix;
   std::string treeType = grid.treeType;
-  if (treeType.size() >= suffix.size() && treeType.compare(treeType.size() - suffix.size(), suffix.size(), suffix) == 0) {
-    grid.halfFloat = true;
+  // Whether values are half floats is the grid's metadata's to say (skipVdbMetadata).
+  if (treeType.size() >= suffix.size() && treeType.compare(treeType.size() - suffix.size(), suffix.size(), suffix) == 0)
     treeType.resize(treeType.size() - suffix.size());
-  }
   grid.valueType = findGridValueType(treeType);
   if (!grid.valueType)
     reader.fail("grid " + quote(grid.name) + " is of type " + quote(grid.treeType) + "; " + kSupportedGridTypes);
@@ -141,11 +139,11 @@ double skipGrid(VdbByteReader& reader, const GridDescriptor& grid, bool hasGridO
   layout.compression = reader.read<std::uint32_t>("the grid's compression flags");
   if (layout.compression & ~kKnownCompression)
     reader.fail("unknown compression flags " + std::to_string(layout.compression));
+  const bool halfFloat = skipVdbMetadata(reader, "the grid's metadata");
   layout.valueBytes = grid.valueType->valueBytes;
-  layout.halfFloat = grid.halfFloat && grid.valueType->halfBytes != grid.valueType->valueBytes;
+  layout.halfFloat = halfFloat && grid.valueType->halfBytes != grid.valueType->valueBytes;
   layout.storedBytes = layout.halfFloat ? grid.valueType->halfBytes : grid.valueType->valueBytes;
 
-  skipVdbMetadata(reader, "the grid's metadata");
   skipVdbTransform(reader);
   double memory = 0;
   if (grid.parent.empty()) {

@@ -191,6 +191,9 @@ const BadInput kCorpus[] = {
   {"vdb/unknown-transform.vdb", Reader::kVdb, "a transform of type 'FrustumScaleMap'; levelfuse reads the linear maps"},
   {"vdb/infinite-transform.vdb", Reader::kVdb, "the transform holds a number that is not finite"},
   {"vdb/zero-voxel-size.vdb", Reader::kVdb, "grid 'ls' has voxels of size [0, 0, 0]: not a usable transform"},
+  // Found by FuzzVdb: half floats whose grid metadata lacks 'is_saved_as_half_float', which OpenVDB
+  // reads as full floats; a block then failed to decompress inside the topology and OpenVDB leaked its node.
+  {"vdb/half-floats-without-their-flag.vdb", Reader::kVdb, "a node's values: 0 bytes compressed (blosc) into 1, which blosc never does"},
   {"vdb/bool-grid.vdb", Reader::kVdb, "grid 'b' is of type 'Tree_bool_5_4_3'; levelfuse reads grids of float, double, int32, int64, vec3s, vec3d and vec3i values"},
 };
 // clang-format on
