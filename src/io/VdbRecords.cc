@@ -9,13 +9,11 @@
 #include <openvdb/Grid.h>
 #include <openvdb/Metadata.h>
 #include <openvdb/io/DelayedLoadMetadata.h>
-#include <openvdb/math/Maps.h>
 #include <openvdb/points/StreamCompression.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <utility>
 
 namespace levelfuse::io::detail {

@@ -7,7 +7,6 @@
 #include <bitset>
 #include <memory>
 #include <string>
-#include <tuple>
 
 namespace levelfuse::io::detail {
 namespace {

@@ -15,7 +15,7 @@
 
 #include <cctype>
 #include <cstdint>
-#include <set>
+#include <vector>
 #include <string>
 
 namespace levelfuse::io::detail {

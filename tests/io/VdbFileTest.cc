@@ -17,7 +17,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <functional>
 #include <initializer_list>
 #include <iterator>
 #include <string>
