@@ -15,7 +15,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 seconds=${1:-60}
 build=${LEVELFUSE_FUZZ_BUILD_DIR:-$root/build-fuzz}
 jobs=${LEVELFUSE_JOBS:-2}
-fuzzers=${LEVELFUSE_FUZZERS:-FuzzPly FuzzStanfordConf FuzzManifest FuzzDepthPng FuzzDepthPfm FuzzCameraText FuzzTumText}
+fuzzers=${LEVELFUSE_FUZZERS:-FuzzPly FuzzStanfordConf FuzzManifest FuzzDepthPng FuzzDepthPfm FuzzCameraText FuzzTumText FuzzVdb}
 
 packages=(cmake clang libclang-rt-14-dev make ccache pkg-config
           libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev nlohmann-json3-dev libpng-dev)
@@ -36,10 +36,13 @@ for fuzzer in $fuzzers; do
   mkdir -p "$corpus" "$findings"
   dict=()
   [ -f "$root/tests/fuzz/$fuzzer.dict" ] && dict=(-dict="$root/tests/fuzz/$fuzzer.dict")
+  # Inputs up to 4 KiB, but .vdb files up to 32 KiB: one internal node's masks alone take 8 KiB.
+  max_len=4096
+  [ "$fuzzer" = FuzzVdb ] && max_len=32768
   echo "== $fuzzer for ${seconds}s"
   # New inputs go to the first folder; the committed seeds are only read.
   if "$build/tests/fuzz/$fuzzer" "$corpus" "$root/tests/fuzz/corpus/$fuzzer" "${dict[@]}" \
-       -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=4096 \
+       -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=$max_len \
        -artifact_prefix="$findings/" -print_final_stats=1 >"$build/$fuzzer.log" 2>&1; then
     grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb)' "$build/$fuzzer.log" | tr '\n' ' '
     echo

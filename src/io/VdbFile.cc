@@ -5,7 +5,10 @@
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/VdbFile.h>
 
+#include "VdbValidation.h"
+
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -73,6 +76,18 @@ class CheckedVdbWriter : public openvdb::io::Archive {
   }
 };
 
+/// Throws InputError unless every grid's voxels have a finite, positive size:
+/// OpenVDB reads a scale of zero or infinity without complaint.
+void requireUsableTransforms(const std::string& path, const openvdb::GridPtrVec& grids) {
+  for (const openvdb::GridBase::Ptr& grid : grids) {
+    const openvdb::Vec3d size = grid->voxelSize();
+    for (int axis = 0; axis < 3; ++axis)
+      if (!std::isfinite(size[axis]) || size[axis] <= 0.0)
+        throw InputError(path, "grid " + quote(grid->getName()) + " has voxels of size " + size.str() +
+                                   ": not a usable transform");
+  }
+}
+
 }  // namespace
 
 void writeVdb(OutputSet& outputs, const std::string& path, const openvdb::GridCPtrVec& grids,
@@ -93,16 +108,23 @@ void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids, const 
 openvdb::GridPtrVecPtr readVdb(const std::string& path, openvdb::MetaMap::Ptr* fileMetadata) {
   openvdb::initialize();
   requireInputFile(path);
+  detail::validateVdbFile(path);
+  openvdb::GridPtrVecPtr grids;
   try {
     openvdb::io::File file(path);
-    file.open();
-    openvdb::GridPtrVecPtr grids = file.getGrids();
+    // Read now, not later from a mapping of the file: a file that changes
+    // after its check could not then fail here, where its name is known.
+    file.open(/*delayLoad=*/false);
+    grids = file.getGrids();
     if (fileMetadata) *fileMetadata = file.getMetadata();
     file.close();
-    return grids;
+  } catch (const std::bad_alloc&) {
+    throw;
   } catch (const std::exception& e) {
     throw InputError(path, "not a readable .vdb file (" + excerpt(e.what()) + ")");
   }
+  requireUsableTransforms(path, *grids);
+  return grids;
 }
 
 }  // namespace levelfuse::io

@@ -10,6 +10,7 @@
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/VdbFile.h>
 
 #include <gtest/gtest.h>
 
@@ -26,7 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 
 enum class Reader { kPly, kRangeGrid, kStanfordConf, kManifest, kDepthPng, kDepthPfm, kDepthExr, kIntrinsics, kPose,
-                    kFolder };
+                    kFolder, kVdb };
 
 struct BadInput {
   const char* file;      ///< below tests/data/bad; a folder of depth frames for kFolder
@@ -169,6 +170,31 @@ const BadInput kCorpus[] = {
   {"tum/timestamp-not-a-number", Reader::kFolder, "line 2: 'ten' is not a number", "tum/timestamp-not-a-number/depth.txt"},
   {"tum/pose-too-few-numbers", Reader::kFolder, "line 1: expected 'timestamp tx ty tz qx qy qz qw'", "tum/pose-too-few-numbers/groundtruth.txt"},
   {"tum/no-frames", Reader::kFolder, "no frames: expected lines 'timestamp filename'", "tum/no-frames/depth.txt"},
+  // .vdb files (readVdb): truncated and corrupted copies of a small float level set
+  {"vdb/empty.vdb", Reader::kVdb, "not a valid .vdb file: the header: the file ends in the magic number (8 bytes needed, 0 left; truncated?)"},
+  {"vdb/not-a-vdb.vdb", Reader::kVdb, "the file does not start with OpenVDB's magic number"},
+  {"vdb/truncated-header.vdb", Reader::kVdb, "the file ends in the UUID (36 bytes needed, 9 left; truncated?)"},
+  {"vdb/truncated-half.vdb", Reader::kVdb, "grid 'ls' (1 of 1): the grid ends at byte 10139, beyond the file's 5069 bytes (truncated?)"},
+  {"vdb/truncated-last-byte.vdb", Reader::kVdb, "the grid ends at byte 10139, beyond the file's 10138 bytes (truncated?)"},
+  {"vdb/future-version.vdb", Reader::kVdb, "file format version 300; levelfuse reads versions 222 to 224"},
+  {"vdb/huge-grid-count.vdb", Reader::kVdb, "the file declares 2147483647 grids; the 10074 bytes left cannot hold them"},
+  {"vdb/huge-metadata-count.vdb", Reader::kVdb, "the grid's metadata declares 4294967295 items, more than the 10012 bytes left can hold"},
+  {"vdb/huge-name-length.vdb", Reader::kVdb, "a grid's name declares 4294967295 bytes; levelfuse reads at most 65536"},
+  {"vdb/huge-delayed-load-count.vdb", Reader::kVdb, "delayed-load metadata declares 2147483647 leaf nodes, more than the file holds"},
+  {"vdb/offsets-beyond-the-end.vdb", Reader::kVdb, "the grid ends at byte 1099511627776, beyond the file's 10139 bytes"},
+  // OpenVDB read the 8-byte count of a leaf's raw values into a buffer of 24 bytes.
+  {"vdb/raw-block-of-a-terabyte.vdb", Reader::kVdb, "a node's values are stored as 1099511627776 raw bytes; they take 24"},
+  {"vdb/blosc-header-disagrees.vdb", Reader::kVdb, "the blosc header declares 1073741824 bytes compressed into 16; expected 0 in 16"},
+  {"vdb/unaligned-root-child.vdb", Reader::kVdb, "a root child (100, 0, 0) is not a multiple of 4096"},
+  {"vdb/slot-both-child-and-value.vdb", Reader::kVdb, "a node's slot is both a child and a value"},
+  {"vdb/unknown-value-kind.vdb", Reader::kVdb, "a node's values are of unknown kind 9 (expected 0 to 6)"},
+  {"vdb/unknown-transform.vdb", Reader::kVdb, "a transform of type 'FrustumScaleMap'; levelfuse reads the linear maps"},
+  {"vdb/infinite-transform.vdb", Reader::kVdb, "the transform holds a number that is not finite"},
+  {"vdb/zero-voxel-size.vdb", Reader::kVdb, "grid 'ls' has voxels of size [0, 0, 0]: not a usable transform"},
+  // Found by FuzzVdb: half floats whose grid metadata lacks 'is_saved_as_half_float', which OpenVDB
+  // reads as full floats; a block then failed to decompress inside the topology and OpenVDB leaked its node.
+  {"vdb/half-floats-without-their-flag.vdb", Reader::kVdb, "a node's values: 0 bytes compressed (blosc) into 1, which blosc never does"},
+  {"vdb/bool-grid.vdb", Reader::kVdb, "grid 'b' is of type 'Tree_bool_5_4_3'; levelfuse reads grids of float, double, int32, int64, vec3s, vec3d and vec3i values"},
 };
 // clang-format on
 
@@ -206,6 +232,7 @@ void read(Reader reader, const std::string& path) {
     case Reader::kIntrinsics: readIntrinsics(path); break;
     case Reader::kPose: readPose(path); break;
     case Reader::kFolder: loadScans(path); break;
+    case Reader::kVdb: readVdb(path); break;
   }
 }
 
