@@ -15,8 +15,9 @@ namespace {
 
 std::vector<std::string> badScanSets() {
   std::vector<std::string> files;
-  // Files for .conf and manifests; folders of depth frames for 7-Scenes and TUM RGB-D.
-  for (const char* kind : {"conf", "manifest", "7scenes", "tum"})
+  // Files for .conf and manifests; folders of depth frames for 7-Scenes and TUM RGB-D; scans that read
+  // well but that no reconstruction can take.
+  for (const char* kind : {"conf", "manifest", "7scenes", "tum", "reconstruct"})
     for (const auto& entry : fs::directory_iterator(fs::path(LEVELFUSE_TEST_DATA_DIR) / "bad" / kind))
       files.push_back(entry.path().string());
   std::sort(files.begin(), files.end());
@@ -27,8 +28,10 @@ class BadInputCli : public Cli, public ::testing::WithParamInterface<std::string
 
 TEST_P(BadInputCli, FailsWithOneLineAndWritesNothing) {
   const std::string& input = GetParam();
+  const bool readsWell = fs::path(input).parent_path().filename() == "reconstruct";
   for (const std::string command : {"reconstruct", "info"}) {
     SCOPED_TRACE(command);
+    if (command == "info" && readsWell) continue;
     const std::string outputs =
         command == "info" ? "" : " -o " + path("out.vdb") + " --mesh " + path("out.ply") + " --preview " + path("out.png");
     const CliRun run = levelfuse(command + " '" + input + "'" + outputs);

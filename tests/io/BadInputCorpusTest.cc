@@ -10,6 +10,7 @@
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/recon/Reconstructor.h>
 
 #include <gtest/gtest.h>
 
@@ -26,7 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 
 enum class Reader { kPly, kRangeGrid, kStanfordConf, kManifest, kDepthPng, kDepthPfm, kDepthExr, kIntrinsics, kPose,
-                    kFolder };
+                    kFolder, kReconstruction };
 
 struct BadInput {
   const char* file;      ///< below tests/data/bad; a folder of depth frames for kFolder
@@ -176,11 +177,15 @@ const BadInput kCorpus[] = {
   {"tum/timestamp-not-a-number", Reader::kFolder, "line 2: 'ten' is not a number", "tum/timestamp-not-a-number/depth.txt"},
   {"tum/pose-too-few-numbers", Reader::kFolder, "line 1: expected 'timestamp tx ty tz qx qy qz qw'", "tum/pose-too-few-numbers/groundtruth.txt"},
   {"tum/no-frames", Reader::kFolder, "no frames: expected lines 'timestamp filename'", "tum/no-frames/depth.txt"},
+  // Scans that read well but that no reconstruction can take: parameters checked against the data
+  {"reconstruct/sigma-of-1e300.json", Reader::kReconstruction, "a window width epsilon of 1e+300 (the scans' median sigma) is wider than the data, which span 0.06: a reading would speak for the whole scene; choose a window width (--epsilon) of at most 0.06"},
+  {"reconstruct/spacing-of-1e-40.conf", Reader::kReconstruction, "a voxel size of 1e-40 (the scans' median distance between rays) is below the smallest a grid can have, 1.5e-05"},
 };
 // clang-format on
 
 /// Valid files that the corpus's manifests refer to.
-const char* const kSupportFiles[] = {"support/depth.png", "support/intrinsics.txt"};
+const char* const kSupportFiles[] = {"support/depth.png", "support/intrinsics.txt", "support/plane.pfm",
+                                     "support/spacing-of-1e-40.ply"};
 
 /// No corpus file may make a reader allocate more than this at once.
 constexpr std::size_t kMaxAllocation = 16 << 20;
@@ -213,6 +218,16 @@ void read(Reader reader, const std::string& path) {
     case Reader::kIntrinsics: readIntrinsics(path); break;
     case Reader::kPose: readPose(path); break;
     case Reader::kFolder: loadScans(path); break;
+    case Reader::kReconstruction:
+      // As the CLI says it: the reconstruction's refusal, of the inputs.
+      try {
+        Reconstructor(loadScans(path)).linearSolution();
+      } catch (const std::invalid_argument& e) {
+        throw InputError(path, e.what());
+      } catch (const InsufficientMemory& e) {
+        throw InputError(path, e.what());
+      }
+      break;
   }
 }
 
