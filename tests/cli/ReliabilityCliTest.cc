@@ -161,6 +161,29 @@ TEST_F(ReliabilityCli, ParametersAreCheckedAgainstTheDataBeforeTheWork) {
   EXPECT_EQ(outputsInDir(), 0u);
 }
 
+TEST_F(ReliabilityCli, OutOfMemoryIsOneLineWhereverItHappens) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "sanitizers reserve more address space than the limit this test sets";
+#else
+  const std::string input = scans();
+  // The budget says 100 GiB, the address space holds 200 MB: allocations fail wherever they are, in TBB's tasks
+  // and in OpenVDB's trees too.
+  const std::string command = "sh -c 'ulimit -v 200000; exec " + std::string(LEVELFUSE_CLI) + " reconstruct -q " +
+                              input + " --voxel-size 0.005 --max-memory 100 -o " + path("o.vdb") + "' 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  char buffer[4096];
+  while (std::size_t n = std::fread(buffer, 1, sizeof(buffer), pipe)) output.append(buffer, n);
+  const int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status)) << output;
+  EXPECT_EQ(WEXITSTATUS(status), 1) << output;
+  EXPECT_EQ(output.rfind("levelfuse reconstruct: error: out of memory while ", 0), 0u) << output;
+  EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
+  EXPECT_EQ(outputsInDir(), 0u);
+#endif
+}
+
 TEST_F(ReliabilityCli, ReadingsInOnePlaneAreReadingsToo) {
   // A depth frame of a wall square to the camera: info counted its 64 readings, reconstruct said there were none.
   std::string pfm = "Pf\n8 8\n-1\n";
