@@ -6,6 +6,8 @@
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/MemoryBudget.h>
 
+#include "ExrHeader.h"
+
 #include <png.h>
 
 #if defined(LEVELFUSE_HAVE_OPENEXR)
@@ -152,6 +154,47 @@ std::string readPng16(const char* path, double fileBytes, int& width, int& heigh
   return std::string(problem);
 }
 
+/// Depth images hold metres: a scanner or depth camera measures within metres,
+/// lidar within hundreds; an image whose every reading lies beyond this is in
+/// other units (a wrong depth scale), and its windows would reach absurdly far.
+constexpr double kFarthestNearestReading = 1000.0;
+
+/// Throws InputError if `image` holds readings and all of them lie beyond
+/// kFarthestNearestReading.
+void requireMetres(const std::string& path, const DepthImage& image) {
+  float nearest = std::numeric_limits<float>::infinity();
+  for (const float d : image.depth)
+    if (std::fabs(d) < nearest) nearest = std::fabs(d);  // NaN, no reading, is never nearer
+  if (!(nearest > kFarthestNearestReading) || std::isinf(nearest)) return;
+  char text[200];
+  std::snprintf(text, sizeof(text),
+                "every reading lies beyond 1 km (the nearest at %.3g m): depth images hold metres; check the depth "
+                "scale (metres per unit of a 16-bit PNG)", nearest);
+  throw InputError(path, text);
+}
+
+/// Before OpenEXR is given the file (it allocates what the header declares):
+/// the header read with bounded reads, its image's size checked as every
+/// reader's is, and its pixels held against what the file can hold.
+void requireExrFits(const std::string& path) {
+  std::error_code ec;
+  const std::uintmax_t fileBytes = fs::file_size(path, ec);
+  if (ec) throw InputError(path, "cannot be read (" + ec.message() + ")");
+  detail::ExrLayout layout;
+  const std::string problem = detail::readExrLayout(path, fileBytes, layout);
+  if (!problem.empty()) throw InputError(path, problem);
+  requireSize(path, layout.width, layout.height);
+  const double pixelBytes = layout.width * layout.height * layout.bytesPerPixel;
+  if (pixelBytes > detail::exrMaxCompressionRatio(layout.compression) * static_cast<double>(fileBytes)) {
+    Problem text = "";
+    std::snprintf(text, sizeof(text),
+                  "the header declares %.12g x %.12g pixels (%s of samples), more than the file's %.0f bytes can "
+                  "hold (truncated?)", layout.width, layout.height, describeBytes(pixelBytes).c_str(),
+                  static_cast<double>(fileBytes));
+    throw InputError(path, text);
+  }
+}
+
 std::vector<double> readNumbers(const std::string& path, std::size_t expected) {
   requireInputFile(path);
   std::ifstream in(path);
@@ -195,6 +238,7 @@ DepthImage readDepthPng(const std::string& path, double scale, const std::vector
     const bool none = std::find(invalid.begin(), invalid.end(), samples[i]) != invalid.end();
     image.depth[i] = none ? kNoReading : static_cast<float>(samples[i] * scale);
   }
+  requireMetres(path, image);
   return image;
 }
 
@@ -210,7 +254,8 @@ DepthImage readDepthPfm(const std::string& path, bool positiveOnly) {
   if (!(in >> width >> height >> scale) || width != std::floor(width) || height != std::floor(height) || scale == 0.0)
     throw InputError(path, "a malformed PFM header (expected width, height and a non-zero scale)");
   requireSize(path, width, height);
-  in.get();  // the single whitespace after the scale
+  // The single whitespace after the scale; a header written on Windows ends its lines in CRLF.
+  if (in.get() == '\r' && in.peek() == '\n') in.get();
   DepthImage image;
   image.width = static_cast<int>(width);
   image.height = static_cast<int>(height);
@@ -239,6 +284,7 @@ DepthImage readDepthPfm(const std::string& path, bool positiveOnly) {
       image.depth[static_cast<std::size_t>(y) * image.width + x] =
           std::isfinite(d) && (d > 0.0f || !positiveOnly) ? d : kNoReading;
     }
+  requireMetres(path, image);
   return image;
 }
 
@@ -271,6 +317,7 @@ void writeDepthPfm(OutputSet& outputs, const std::string& path, const DepthImage
 
 DepthImage readDepthExr(const std::string& path) {
   requireInputFile(path);
+  requireExrFits(path);
 #if defined(LEVELFUSE_HAVE_OPENEXR)
   try {
     Imf::InputFile file(path.c_str());
@@ -298,6 +345,7 @@ DepthImage readDepthExr(const std::string& path) {
     image.depth.resize(raw.size());
     for (std::size_t i = 0; i < raw.size(); ++i)
       image.depth[i] = std::isfinite(raw[i]) && raw[i] > 0.0f ? raw[i] : kNoReading;
+    requireMetres(path, image);
     return image;
   } catch (const InputError&) {
     throw;

@@ -218,8 +218,13 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
                          : format == "depth-pfm" ? readDepthPfm(file)
                                                  : readDepthExr(file);
       dropReadingsBeyond(image, e.positive("max_depth", defaults.maxDepth));
-      maps.push_back(depthFrame(image, intrinsicsOf(e), poseOf(e, path), depthNoiseOf(e),
-                                fs::path(file).filename().string()));
+      const PinholeProjection intrinsics = intrinsicsOf(e);
+      const openvdb::math::Mat4d pose = poseOf(e, path);
+      try {
+        maps.push_back(depthFrame(image, intrinsics, pose, depthNoiseOf(e), fs::path(file).filename().string()));
+      } catch (const std::invalid_argument& error) {
+        e.fail(error.what());
+      }
     } else if (format == "tum") {
       for (RangeMap& m : loadTumEntry(e, defaults)) maps.push_back(std::move(m));
     } else if (format == "orthographic-pfm") {

@@ -65,7 +65,11 @@ RangeMap loadDepthFrame(const std::string& image, const PinholeProjection& intri
                         double conventionScale) {
   DepthImage depth = readDepthImage(image, options.depthScale > 0.0 ? options.depthScale : conventionScale);
   dropReadingsBeyond(depth, options.maxDepth);
-  return depthFrame(depth, intrinsics, cameraToWorld, options.depthNoise, fs::path(image).filename().string());
+  try {
+    return depthFrame(depth, intrinsics, cameraToWorld, options.depthNoise, fs::path(image).filename().string());
+  } catch (const std::invalid_argument& e) {  // the frame's geometry: its size against the intrinsics
+    throw InputError(image, e.what());
+  }
 }
 
 std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& options) {

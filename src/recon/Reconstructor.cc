@@ -6,6 +6,7 @@
 #include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/SurfaceWeight.h>
+#include <levelfuse/scan/AccumulationCost.h>
 
 #include <openvdb/tree/LeafManager.h>
 
@@ -72,19 +73,33 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
     : mMaps(std::make_shared<const std::vector<RangeMap>>(std::move(maps))), mOptions(options) {
   if (mMaps->empty()) throw std::invalid_argument("reconstruction: no range maps to reconstruct from");
   std::vector<double> spacings, sigmas;
+  std::size_t readings = 0;
   for (const RangeMap& m : *mMaps) {
+    readings += m.validCount();
     for (int v = 0; v < m.height(); ++v)
       for (int u = 0; u < m.width(); ++u)
         if (m.valid(u, v)) mBounds.expand(m.readingPoint(u, v));
     spacings.push_back(m.maxRaySpacing());
     sigmas.push_back(m.sigma());
   }
-  if (mBounds.empty()) throw std::invalid_argument("reconstruction: the range maps hold no readings");
+  // Counted, not judged by the box: the readings of one frame facing a wall square on may lie in a plane.
+  if (readings == 0) throw std::invalid_argument("reconstruction: the range maps hold no readings");
+  if (!(mBounds.extents()[mBounds.maxExtent()] > 0.0))
+    throw std::invalid_argument("reconstruction: every reading lies at one point: there is no surface to reconstruct");
 
   ReconstructionOptions& o = mOptions;
   if (o.voxelSize == 0.0) o.voxelSize = median(spacings);
   if (!(o.voxelSize > 0.0) || !std::isfinite(o.voxelSize))
     throw std::invalid_argument("reconstruction: the voxel size must be positive");
+  if (o.voxelSize < kSmallestVoxelSize)
+    throw std::invalid_argument(
+        "reconstruction: a voxel size of " + shortNumber(o.voxelSize) +
+        (options.voxelSize == 0.0 ? " (the scans' median distance between rays)" : "") +
+        " is below the smallest a grid can have, " + shortNumber(kSmallestVoxelSize) +
+        (options.voxelSize == 0.0 ? ": the scans' coordinates are in units too small (give them in metres), or choose "
+                                    "--voxel-size of at least "
+                                  : ": choose --voxel-size of at least ") +
+        shortNumber(kSmallestVoxelSize));
   const double extent = mBounds.extents()[mBounds.maxExtent()];
   if (extent / o.voxelSize > 1e5)
     throw std::invalid_argument("reconstruction: a voxel size of " + std::to_string(o.voxelSize) +
@@ -97,6 +112,12 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
   if (o.epsilon == 0.0) o.epsilon = median(sigmas);
   if (!(o.epsilon > 0.0) || !std::isfinite(o.epsilon))
     throw std::invalid_argument("reconstruction: the window width epsilon must be positive");
+  if (o.epsilon > extent)
+    throw std::invalid_argument(
+        "reconstruction: a window width epsilon of " + shortNumber(o.epsilon) +
+        (options.epsilon == 0.0 ? " (the scans' median sigma)" : "") + " is wider than the data, which span " +
+        shortNumber(extent) + ": a reading would speak for the whole scene; choose a window width (--epsilon) of " +
+        "at most " + shortNumber(extent) + (options.epsilon == 0.0 ? ", or check the scans' sigma" : ""));
   if (o.beta < 0.0) o.beta = depthFrames ? 0.0 : std::max(0.5, median(sigmas) / o.voxelSize);
   if (o.dataTerm == DataTermSource::kAuto)
     o.dataTerm = mMaps->size() > kGridsFromScans ? DataTermSource::kGrids : DataTermSource::kPerMap;
@@ -116,8 +137,36 @@ void Reconstructor::requireCoarsestGridMemory() const {
                 "use more grids (levels) or a larger voxel size");
 }
 
+void Reconstructor::requireAccumulationMemory(int level) const {
+  const auto costAt = [&](double finest) {
+    const double h = std::ldexp(finest, mOptions.levels - 1 - level);
+    ForceFieldOptions f = forceOptions(level);
+    f.epsilon = std::max(mOptions.epsilon, h);
+    return accumulationCost(*mMaps, h, f.dataWindow().reach());
+  };
+  const AccumulationCost cost = costAt(mOptions.voxelSize);
+  const double budget = static_cast<double>(io::memoryBudget());
+  if (cost.bytes <= budget) return;
+  // What would fit: the finest voxel size doubled until the data term's leaves do (a window of
+  // a fixed width reaches fewer, larger leaves), if some size within a million times does.
+  std::string advice = "no voxel size up to a million times this one fits: check the scans' geometry (focal "
+                       "lengths, depth scale, pixel size) and the window width (--epsilon)";
+  for (double finest = 2.0 * mOptions.voxelSize; finest <= 1e6 * mOptions.voxelSize; finest *= 2.0)
+    if (costAt(finest).bytes <= 0.9 * budget) {
+      advice = "choose a voxel size (--voxel-size) of at least " + shortNumber(finest) +
+               " or a narrower window (--epsilon)";
+      break;
+    }
+  requireMemory(cost.bytes,
+                "the data term on a grid of voxel size " + shortNumber(voxelSize(level)) + " (windows reaching " +
+                    shortNumber(forceOptions(level).dataWindow().reach()) + " from their readings, " +
+                    shortNumber(cost.leafMarks) + " leaf nodes marked)",
+                advice);
+}
+
 SparseField Reconstructor::initialModel(const Interrupter& interrupter) const {
   requireCoarsestGridMemory();
+  requireAccumulationMemory(0);
   const ForceField force(mMaps, forceOptions(0));
   return SparseField::fromLevelSet(*force.linearSolution(voxelSize(0), 3.0, "surface", interrupter), mOptions.engine);
 }
@@ -137,6 +186,7 @@ void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) co
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
   if (mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter).stats().activeVoxels);
   else requireCoarsestGridMemory();
+  requireAccumulationMemory(mOptions.levels - 1);
   const ForceField force(mMaps, forceOptions(mOptions.levels - 1));
   return force.linearSolution(mOptions.voxelSize, 3.0, mOptions.name, interrupter);
 }
@@ -164,6 +214,7 @@ ForceFieldOptions Reconstructor::forceOptions(int level) const {
 }
 
 DataTermGrids Reconstructor::dataTermGrids(int level, const Interrupter& interrupter) const {
+  requireAccumulationMemory(level);
   const ForceFieldOptions f = forceOptions(level);
   DataTermGrids data(voxelSize(level), f.dataWindow(), f.positionVariance, f.grainSize);
   for (const RangeMap& map : *mMaps) {

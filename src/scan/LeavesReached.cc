@@ -5,6 +5,7 @@
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace levelfuse::detail {
@@ -13,12 +14,14 @@ namespace {
 using openvdb::Coord;
 using openvdb::Vec3d;
 constexpr int kLeafDim = 8;
-}  // namespace
 
-std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double reach) {
-  constexpr int kTile = 4;  // pixels per side; tiles share their last row and column
-  openvdb::MaskTree coarse;  // one voxel per leaf: duplicates cost nothing
-  openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(coarse);
+/// Calls visit(box) with the world box that the lines of sight through each
+/// tile of kTile x kTile pixels span, from its nearest reading less the reach
+/// to its farthest plus the reach (a box for parallel rays, a frustum's for a
+/// camera); tiles share their last row and column.
+template <typename Visit>
+void forEachTileBox(const RangeMap& m, double reach, const Visit& visit) {
+  constexpr int kTile = 4;
   for (int v0 = 0; v0 + 1 < m.height(); v0 += kTile)
     for (int u0 = 0; u0 + 1 < m.width(); u0 += kTile) {
       const int u1 = std::min(u0 + kTile, m.width() - 1), v1 = std::min(v0 + kTile, m.height() - 1);
@@ -35,12 +38,22 @@ std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double rea
       openvdb::BBoxd box;
       for (int c = 0; c < 8; ++c)
         box.expand(m.pointAt(c & 1 ? u1 : u0, c & 2 ? v1 : v0, c & 4 ? farthest + reach : front));
-      const Coord lo = Coord::floor(box.min() / (voxelSize * kLeafDim));
-      const Coord hi = Coord::floor(box.max() / (voxelSize * kLeafDim));
-      for (int x = lo.x(); x <= hi.x(); ++x)
-        for (int y = lo.y(); y <= hi.y(); ++y)
-          for (int z = lo.z(); z <= hi.z(); ++z) marks.setValueOn(Coord(x, y, z));
+      visit(box);
     }
+}
+
+}  // namespace
+
+std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double reach) {
+  openvdb::MaskTree coarse;  // one voxel per leaf: duplicates cost nothing
+  openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(coarse);
+  forEachTileBox(m, reach, [&](const openvdb::BBoxd& box) {
+    const Coord lo = Coord::floor(box.min() / (voxelSize * kLeafDim));
+    const Coord hi = Coord::floor(box.max() / (voxelSize * kLeafDim));
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int z = lo.z(); z <= hi.z(); ++z) marks.setValueOn(Coord(x, y, z));
+  });
   std::vector<Coord> leaves;
   leaves.reserve(coarse.activeVoxelCount());
   for (auto it = coarse.cbeginValueOn(); it; ++it) {
@@ -49,6 +62,19 @@ std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double rea
   }
   std::sort(leaves.begin(), leaves.end());
   return leaves;
+}
+
+double leafMarks(const RangeMap& m, double voxelSize, double reach, openvdb::BBoxd& reached) {
+  double marks = 0.0;
+  const double leaf = voxelSize * kLeafDim;
+  forEachTileBox(m, reach, [&](const openvdb::BBoxd& box) {
+    reached.expand(box);
+    double cells = 1.0;  // in doubles: a box may span more leaves than an int counts
+    for (int axis = 0; axis < 3; ++axis)
+      cells *= std::floor(box.max()[axis] / leaf) - std::floor(box.min()[axis] / leaf) + 1.0;
+    marks += cells;
+  });
+  return marks;
 }
 
 bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {

@@ -4,6 +4,7 @@
 
 #include <levelfuse/scan/RangeMap.h>
 
+#include <openvdb/math/BBox.h>
 #include <openvdb/math/Coord.h>
 
 #include <vector>
@@ -16,6 +17,13 @@ namespace levelfuse::detail {
 /// sight through it between its nearest reading less the reach and its
 /// farthest plus the reach (a box for parallel rays, a frustum for a camera).
 std::vector<openvdb::Coord> leavesReached(const RangeMap& map, double voxelSize, double reach);
+
+/// How many leaf nodes leavesReached() marks for `map`, with repeats: the
+/// leaves that the box of each tile of pixels spans, summed in doubles. An
+/// upper bound of the leaves it returns, and the measure of its work; cheap
+/// (no grid), so that a window or a camera that would reach absurdly far is
+/// seen before the marking starts. Expands `reached` by the tiles' boxes.
+double leafMarks(const RangeMap& map, double voxelSize, double reach, openvdb::BBoxd& reached);
 
 /// Whether readings of `map` can reach the leaf at `origin` within `reach`:
 /// false if the leaf's depths and the readings over its footprint in the map

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
@@ -123,6 +124,20 @@ RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, con
   if (!(p.fx > 0.0) || !(p.fy > 0.0) || !std::isfinite(p.fx) || !std::isfinite(p.fy) || !std::isfinite(p.cx) ||
       !std::isfinite(p.cy))
     throw std::invalid_argument("range map '" + m.mName + "': focal lengths must be positive and finite");
+  // The lines of sight of a pinhole fan out within a half-space: focal lengths
+  // so short that the image spans nearly 180 degrees (a thousandth of a pixel)
+  // are not a camera's, and would send its readings' windows out for ever.
+  const auto span = [](double lo, double hi, double f) { return std::atan(hi / f) - std::atan(lo / f); };
+  const double degrees =
+      180.0 / M_PI * std::max(span(-p.cx, width - 1 - p.cx, p.fx), span(-p.cy, height - 1 - p.cy, p.fy));
+  if (degrees >= kWidestPinholeView) {
+    char text[240];
+    std::snprintf(text, sizeof(text),
+                  "focal lengths of %.3g x %.3g pixels give a %d x %d image a field of view of %.6g degrees, more "
+                  "than the %.0f of a pinhole camera (focal lengths are in pixels, a Kinect's about 585)",
+                  p.fx, p.fy, width, height, degrees, kWidestPinholeView);
+    throw std::invalid_argument("range map '" + m.mName + "': " + text);
+  }
   m.mPinhole = p;
   m.finish(std::move(depths), cameraToWorld, sigma);
   return m;

@@ -102,7 +102,7 @@ View orthographicView(const Vec3d& direction, const Vec3d& centre, double extent
 
 View pinholeView(const Vec3d& eye, const Vec3d& target, double fovDegrees, int width, int height,
                  const std::string& name) {
-  if (width < 2 || height < 2 || !(fovDegrees > 0.0 && fovDegrees < 179.0))
+  if (width < 2 || height < 2 || !(fovDegrees > 0.0 && fovDegrees < kWidestPinholeView))
     throw std::invalid_argument("pinholeView: bad image size or field of view");
   Vec3d x, y, z;
   frameAround(target - eye, x, y, z);

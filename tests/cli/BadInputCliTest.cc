@@ -25,8 +25,9 @@ std::vector<std::string> corpusFiles(std::initializer_list<const char*> kinds) {
   return files;
 }
 
-/// Files for .conf and manifests; folders of depth frames for 7-Scenes and TUM RGB-D.
-std::vector<std::string> badScanSets() { return corpusFiles({"conf", "manifest", "7scenes", "tum"}); }
+/// Files for .conf and manifests; folders of depth frames for 7-Scenes and TUM RGB-D; scans that read
+/// well but that no reconstruction can take.
+std::vector<std::string> badScanSets() { return corpusFiles({"conf", "manifest", "7scenes", "tum", "reconstruct"}); }
 
 std::vector<std::string> badVdbFiles() { return corpusFiles({"vdb"}); }
 
@@ -59,8 +60,10 @@ class BadInputCli : public Cli, public ::testing::WithParamInterface<std::string
 
 TEST_P(BadInputCli, FailsWithOneLineAndWritesNothing) {
   const std::string& input = GetParam();
+  const bool readsWell = fs::path(input).parent_path().filename() == "reconstruct";
   for (const std::string command : {"reconstruct", "info"}) {
     SCOPED_TRACE(command);
+    if (command == "info" && readsWell) continue;
     const std::string outputs =
         command == "info" ? "" : " -o " + path("out.vdb") + " --mesh " + path("out.ply") + " --preview " + path("out.png");
     expectOneLineErrorAndNoOutput(levelfuse(command + " '" + input + "'" + outputs), command, mDir);

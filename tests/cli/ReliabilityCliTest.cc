@@ -136,6 +136,69 @@ TEST_F(ReliabilityCli, NumericOptionsAreCheckedAtParseTime) {
   }
 }
 
+/// One line naming the input and the problem, exit 1 and nothing written.
+void expectOneLineRefusal(const CliRun& run, const std::string& input, const std::string& fragment) {
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_EQ(run.output.rfind("levelfuse reconstruct: error: " + input + ": ", 0), 0u) << run.output;
+  EXPECT_NE(run.output.find(fragment), std::string::npos) << run.output;
+  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+}
+
+TEST_F(ReliabilityCli, ParametersAreCheckedAgainstTheDataBeforeTheWork) {
+  const std::string input = scans();
+  const std::string outputs = " -o " + path("o.vdb") + " --mesh " + path("o.ply");
+  // A window wider than the data (the sphere spans 2 units): the kernel killed this run for lack of memory.
+  expectOneLineRefusal(levelfuse("reconstruct " + input + " --epsilon 1e6" + outputs), input,
+                       "a window width epsilon of 1e+06 is wider than the data, which span 2: a reading would speak "
+                       "for the whole scene; choose a window width (--epsilon) of at most 2");
+  // A window within the data that reaches too many leaves for the memory allowed: the estimate says which voxel
+  // size fits, before the data term is accumulated.
+  const CliRun wide = levelfuse("reconstruct --linear " + input + " --epsilon 1.5 --max-memory 0.01" + outputs);
+  expectOneLineRefusal(wide, input, "the data term on a grid of voxel size ");
+  const std::string advice =
+      "more than the 10.2 MiB levelfuse may use: choose a voxel size (--voxel-size) of at least 0.14";
+  EXPECT_NE(wide.output.find(advice), std::string::npos) << wide.output;
+  EXPECT_EQ(outputsInDir(), 0u);
+}
+
+TEST_F(ReliabilityCli, OutOfMemoryIsOneLineWhereverItHappens) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "sanitizers reserve more address space than the limit this test sets";
+#else
+  const std::string input = scans();
+  // The budget says 100 GiB, the address space holds 200 MB: allocations fail wherever they are, in TBB's tasks
+  // and in OpenVDB's trees too.
+  const std::string command = "sh -c 'ulimit -v 200000; exec " + std::string(LEVELFUSE_CLI) + " reconstruct -q " +
+                              input + " --voxel-size 0.005 --max-memory 100 -o " + path("o.vdb") + "' 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  char buffer[4096];
+  while (std::size_t n = std::fread(buffer, 1, sizeof(buffer), pipe)) output.append(buffer, n);
+  const int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status)) << output;
+  EXPECT_EQ(WEXITSTATUS(status), 1) << output;
+  EXPECT_EQ(output.rfind("levelfuse reconstruct: error: out of memory while ", 0), 0u) << output;
+  EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
+  EXPECT_EQ(outputsInDir(), 0u);
+#endif
+}
+
+TEST_F(ReliabilityCli, ReadingsInOnePlaneAreReadingsToo) {
+  // A depth frame of a wall square to the camera: info counted its 64 readings, reconstruct said there were none.
+  std::string pfm = "Pf\n8 8\n-1\n";
+  const float depth = 1.0f;
+  for (int i = 0; i < 64; ++i) pfm.append(reinterpret_cast<const char*>(&depth), sizeof(depth));
+  std::ofstream(path("wall.pfm"), std::ios::binary) << pfm;
+  std::ofstream(path("wall.json")) << R"({"scans": [{"format": "depth-pfm", "file": "wall.pfm",
+    "intrinsics": {"fx": 8, "fy": 8, "cx": 3.5, "cy": 3.5}, "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}]})";
+  const CliRun info = levelfuse("info " + path("wall.json"));
+  EXPECT_NE(info.output.find("64 readings"), std::string::npos) << info.output;
+  const CliRun run = levelfuse("reconstruct --linear -q " + path("wall.json") + " -o " + path("wall.vdb"));
+  EXPECT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_TRUE(fs::exists(path("wall.vdb")));
+}
+
 /// A full disk: exit 1 naming the file, no partial file, the file that would
 /// have been replaced untouched, and no other output of the run replaced.
 TEST_F(ReliabilityCli, AFullDiskFailsTheWholeRun) {
@@ -158,6 +221,14 @@ TEST_F(ReliabilityCli, AFullDiskFailsTheWholeRun) {
   EXPECT_EQ(contents(path("keep.vdb")), "old");  // the other output was not committed
   EXPECT_EQ(disk.fileCount(), files);
   EXPECT_EQ(outputsInDir(), 1u);
+
+  // libpng's own words about the failed write are part of the one line, never a line of their own.
+  run = levelfuse("reconstruct --linear " + input + " --preview " + disk.path("x.png"));
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_EQ(run.output.rfind("levelfuse reconstruct: error: ", 0), 0u) << run.output;
+  EXPECT_NE(run.output.find(disk.path("x.png")), std::string::npos) << run.output;
+  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+  EXPECT_EQ(disk.fileCount(), files);
 }
 
 }  // namespace

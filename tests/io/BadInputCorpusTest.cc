@@ -11,6 +11,7 @@
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/io/VdbFile.h>
+#include <levelfuse/recon/Reconstructor.h>
 
 #include <gtest/gtest.h>
 
@@ -27,7 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 
 enum class Reader { kPly, kRangeGrid, kStanfordConf, kManifest, kDepthPng, kDepthPfm, kDepthExr, kIntrinsics, kPose,
-                    kFolder, kVdb };
+                    kFolder, kVdb, kReconstruction };
 
 struct BadInput {
   const char* file;      ///< below tests/data/bad; a folder of depth frames for kFolder
@@ -115,6 +116,9 @@ const BadInput kCorpus[] = {
   {"manifest/intrinsics-not-an-object.json", Reader::kManifest, "scans[0]: 'intrinsics' needs a number 'fx'"},
   {"manifest/quaternion-not-unit.json", Reader::kManifest, "scans[0]: 'quaternion' has norm 3.000000: a rotation needs a unit quaternion"},
   {"manifest/translation-too-short.json", Reader::kManifest, "scans[0]: 'translation' needs 3 numbers"},
+  {"manifest/depth-scale-beyond-a-kilometre.json", Reader::kManifest, "every reading lies beyond 1 km (the nearest at 1.8e+32 m): depth images hold metres; check the depth scale", "support/depth.png"},
+  {"manifest/focal-length-of-a-thousandth.json", Reader::kManifest, "scans[0]: range map 'depth.png': focal lengths of 0.001 x 0.001 pixels give a 4 x 4 image a field of view of 179.9"},
+  {"manifest/focal-length-of-1e-300.json", Reader::kManifest, "scans[0]: range map 'depth.png': focal lengths of 1e-300 x 1e-300 pixels give a 4 x 4 image a field of view of 180 degrees, more than the 170 of a pinhole camera"},
   {"manifest/one-pixel-image.json", Reader::kManifest, "the image has 1 x 1 pixels; a depth image needs at least 2 x 2", "png/one-pixel.png"},
   // Depth PNG (readDepthPng)
   {"png/empty.png", Reader::kDepthPng, "not a PNG file"},
@@ -141,10 +145,14 @@ const BadInput kCorpus[] = {
   {"pfm/one-pixel.pfm", Reader::kDepthPfm, "the image has 1 x 1 pixels; a depth image needs at least 2 x 2"},
   {"pfm/truncated.pfm", Reader::kDepthPfm, "the file holds 19 bytes of pixels, 24 are declared (truncated?)"},
   {"pfm/huge-dimensions.pfm", Reader::kDepthPfm, "the header declares 100000 x 100000 pixels: too large for a depth image"},
+  {"pfm/every-reading-beyond-a-kilometre.pfm", Reader::kDepthPfm, "every reading lies beyond 1 km (the nearest at 1.2e+29 m)"},
   {"pfm/absurd-dimensions.pfm", Reader::kDepthPfm, "the header declares 1e+300 x 1e+300 pixels: too large for a depth image"},
   // EXR (readDepthExr; also without OpenEXR, which the message then says)
   {"exr/not-an-exr.exr", Reader::kDepthExr, "EXR"},
   {"exr/truncated.exr", Reader::kDepthExr, "EXR"},
+  // Checked before OpenEXR allocates what the header declares.
+  {"exr/declares-more-than-it-holds.exr", Reader::kDepthExr, "the header declares 16384 x 4096 pixels (256 MiB of samples), more than the file's 2325 bytes can hold (truncated?)"},
+  {"exr/attribute-longer-than-the-file.exr", Reader::kDepthExr, "the EXR header's attribute 'channels' declares 1073741824 bytes, more than the file holds (truncated?)"},
   // Camera files (readIntrinsics, readPose)
   {"camera/intrinsics-skewed.txt", Reader::kIntrinsics, "not a pinhole intrinsics matrix (expected fx 0 cx / 0 fy cy / 0 0 1)"},
   {"camera/intrinsics-nan.txt", Reader::kIntrinsics, "a value is not finite"},
@@ -195,11 +203,15 @@ const BadInput kCorpus[] = {
   // reads as full floats; a block then failed to decompress inside the topology and OpenVDB leaked its node.
   {"vdb/half-floats-without-their-flag.vdb", Reader::kVdb, "a node's values: 0 bytes compressed (blosc) into 1, which blosc never does"},
   {"vdb/bool-grid.vdb", Reader::kVdb, "grid 'b' is of type 'Tree_bool_5_4_3'; levelfuse reads grids of float, double, int32, int64, vec3s, vec3d and vec3i values"},
+  // Scans that read well but that no reconstruction can take: parameters checked against the data
+  {"reconstruct/sigma-of-1e300.json", Reader::kReconstruction, "a window width epsilon of 1e+300 (the scans' median sigma) is wider than the data, which span 0.06: a reading would speak for the whole scene; choose a window width (--epsilon) of at most 0.06"},
+  {"reconstruct/spacing-of-1e-40.conf", Reader::kReconstruction, "a voxel size of 1e-40 (the scans' median distance between rays) is below the smallest a grid can have, 1.5e-05"},
 };
 // clang-format on
 
 /// Valid files that the corpus's manifests refer to.
-const char* const kSupportFiles[] = {"support/depth.png", "support/intrinsics.txt"};
+const char* const kSupportFiles[] = {"support/depth.png", "support/intrinsics.txt", "support/plane.pfm",
+                                     "support/spacing-of-1e-40.ply"};
 
 /// No corpus file may make a reader allocate more than this at once.
 constexpr std::size_t kMaxAllocation = 16 << 20;
@@ -233,6 +245,16 @@ void read(Reader reader, const std::string& path) {
     case Reader::kPose: readPose(path); break;
     case Reader::kFolder: loadScans(path); break;
     case Reader::kVdb: readVdb(path); break;
+    case Reader::kReconstruction:
+      // As the CLI says it: the reconstruction's refusal, of the inputs.
+      try {
+        Reconstructor(loadScans(path)).linearSolution();
+      } catch (const std::invalid_argument& e) {
+        throw InputError(path, e.what());
+      } catch (const InsufficientMemory& e) {
+        throw InputError(path, e.what());
+      }
+      break;
   }
 }
 

@@ -75,6 +75,17 @@ TEST(DepthPfm, ReadsFloatMetresTopDown) {
   expectInputError([&] { readDepthPfm(dir.path("colour.pfm")); }, dir.path("colour.pfm"), "colour PFM");
 }
 
+TEST(DepthPfm, ReadsHeadersWhoseLinesEndInCrLf) {
+  TempDir dir;
+  std::string text = pfm(2, 2, {1.0f, 2.0f, 3.0f, 4.0f});
+  for (std::size_t at = text.find('\n'); at != std::string::npos && at < 16; at = text.find('\n', at + 2))
+    text.insert(at, "\r");
+  ASSERT_EQ(text.rfind("Pf\r\n2 2\r\n-1.0\r\n", 0), 0u);
+  writeText(dir.path("crlf.pfm"), text);
+  const DepthImage image = readDepthPfm(dir.path("crlf.pfm"));
+  EXPECT_EQ(image.depth, (std::vector<float>{3.0f, 4.0f, 1.0f, 2.0f}));
+}
+
 TEST(DepthImages, RefuseImagesBeyondTheMemoryBudget) {
   TempDir dir;
   test::writePng(dir.path("d.png"), 64, 32, 16, 1, std::vector<std::uint16_t>(64 * 32, 1500));

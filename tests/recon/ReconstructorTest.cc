@@ -134,6 +134,25 @@ TEST(Reconstructor, GridsAndPerMapTermsReachTheSameSurface) {
   }
 }
 
+TEST(Reconstructor, TakesReadingsThatLieInOnePlane) {
+  // A depth frame facing a wall square on: every reading at 1 m, a box of no
+  // volume, which was taken for no readings at all.
+  std::vector<RangeMap> maps{RangeMap::pinhole(32, 32, std::vector<float>(32 * 32, 1.0f),
+                                               PinholeProjection{30.0, 30.0, 16.0, 16.0},
+                                               openvdb::math::Mat4d::identity(), 0.0015, "wall")};
+  const Reconstructor wall(maps);
+  EXPECT_DOUBLE_EQ(wall.bounds().extents().z(), 0.0);
+  EXPECT_GT(wall.options().voxelSize, 0.0);
+  maps = {RangeMap::pinhole(2, 2, {1.0f, NAN, NAN, NAN}, PinholeProjection{30.0, 30.0, 0.0, 0.0},
+                            openvdb::math::Mat4d::identity(), 0.0015, "point")};
+  try {
+    Reconstructor{maps};
+    FAIL() << "one reading was taken for a surface";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("every reading lies at one point"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Reconstructor, RefusesAVoxelSizeThatWouldNotFitInMemory) {
   ReconstructionOptions options;
   options.voxelSize = 0.005;  // 400 voxels across: about 0.5 million on the surface, some 200 MiB

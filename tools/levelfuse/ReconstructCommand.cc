@@ -95,28 +95,40 @@ int runReconstruct(ReconstructSettings s) {
     points += m.sampleCount();
   }
 
-  // The surface.
-  const Reconstructor reconstructor(maps, s.options);
+  // The surface. What the data and the options cannot give (a window wider
+  // than the data, a grid that would not fit) is said of the inputs.
+  const auto ofTheInputs = [&](const std::exception& e) {
+    return std::runtime_error(joined(s.inputs) + ": " + e.what());
+  };
+  std::optional<Reconstructor> made;
+  try {
+    made.emplace(maps, s.options);
+  } catch (const std::invalid_argument& e) {
+    throw ofTheInputs(e);
+  }
+  const Reconstructor& reconstructor = *made;
   const ReconstructionOptions& o = reconstructor.options();
   ReconstructionResult result;
-  if (s.linear) {
-    enterPhase("solving");
-    result.levelSet = reconstructor.linearSolution(cancellationInterrupter());
-  } else {
-    enterPhase("evolving");
-    ProgressBar bar(!s.quiet && !s.json);
-    try {
+  ProgressBar bar(!s.quiet && !s.json && !s.linear);
+  try {
+    if (s.linear) {
+      enterPhase("solving");
+      result.levelSet = reconstructor.linearSolution(cancellationInterrupter());
+    } else {
+      enterPhase("evolving");
       result = reconstructor.run(
           [&](const ReconstructionProgress& p) {
             bar.update(p);
             return !cancellationRequested();
           },
           cancellationInterrupter());
-    } catch (const Interrupted&) {
-      bar.finish();
-      throw;
     }
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const InsufficientMemory& e) {
+    throw ofTheInputs(e);
   }
+  bar.finish();
   enterPhase("measuring");
   openvdb::FloatGrid& surface = *result.levelSet;
   const bool scene = scansOfAScene(maps);

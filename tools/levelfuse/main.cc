@@ -11,13 +11,48 @@
 #include <openvdb/openvdb.h>
 #include <tbb/version.h>
 
+#include <cstdlib>
+#include <exception>
 #include <iostream>
 #include <new>
 #include <string>
 #include <vector>
 
+namespace {
+
+/// "levelfuse <command>", for the messages of the running command.
+std::string gCommandName = "levelfuse";
+
+void reportOutOfMemory() {
+  std::cerr << gCommandName << ": error: out of memory while " << levelfuse::cli::currentPhase()
+            << "; nothing written (use a larger voxel size, fewer scans, or a machine with more memory)\n";
+}
+
+/// Where an exception cannot be caught (a destructor that allocates while the
+/// stack unwinds, a library's noexcept function, a worker thread that cannot
+/// start), std::terminate is called: a bad_alloc or another error there still
+/// ends in the one-line error and exit code 1.
+[[noreturn]] void onTerminate() {
+  if (const std::exception_ptr pending = std::current_exception()) {
+    try {
+      std::rethrow_exception(pending);
+    } catch (const std::bad_alloc&) {
+      reportOutOfMemory();
+    } catch (const std::exception& e) {
+      std::cerr << gCommandName << ": error: " << levelfuse::io::excerpt(e.what()) << "\n";
+    } catch (...) {
+      std::cerr << gCommandName << ": error: an unknown failure\n";
+    }
+    std::_Exit(levelfuse::cli::kExitFailure);
+  }
+  std::abort();
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace levelfuse::cli;
+  std::set_terminate(onTerminate);
   CLI::App app{"levelfuse: surfaces from range maps with sparse-field level sets on OpenVDB"};
   app.require_subcommand(1);
   app.set_version_flag("--version",
@@ -48,14 +83,14 @@ int main(int argc, char** argv) {
   for (const Command& command : commands) {
     if (!command.app->parsed()) continue;
     const std::string name = "levelfuse " + command.app->get_name();
+    gCommandName = name;
     try {
       return command.run();
     } catch (const levelfuse::Interrupted&) {
       std::cerr << name << ": interrupted while " << currentPhase() << "; nothing written\n";
       return kExitCancelled;
     } catch (const std::bad_alloc&) {
-      std::cerr << name << ": error: out of memory while " << currentPhase()
-                << "; nothing written (use a larger voxel size, fewer scans, or a machine with more memory)\n";
+      reportOutOfMemory();
       return kExitFailure;
     } catch (const std::exception& e) {
       // Readers quote short excerpts; the cut is the last guard for a third party's message.

@@ -119,6 +119,11 @@ class InsufficientMemory : public std::runtime_error {
   explicit InsufficientMemory(const std::string& what) : std::runtime_error(what) {}
 };
 
+/// The smallest voxel size a grid can have: OpenVDB's transforms refuse a
+/// scale whose cube is below 3e-15 (math::Tolerance<double>), so 1.5e-5
+/// world units, 15 micrometres for scans in metres.
+inline constexpr double kSmallestVoxelSize = 1.5e-5;
+
 /// Memory a reconstruction needs at its peak per voxel of the finest grid's
 /// active set (|psi| <= dx / 2): the sparse field and its layers (about 110
 /// bytes), the data term accumulated around the readings, the level set it is
@@ -198,6 +203,9 @@ class Reconstructor {
   template <typename Field>
   LevelReport evolveLevel(SparseField& field, const Field& data, double h, ReconstructionProgress& state,
                           const std::function<void()>& report) const;
+  /// Throws InsufficientMemory if accumulating the data term on grid `level`
+  /// would not fit (accumulationCost), saying which voxel size would.
+  void requireAccumulationMemory(int level) const;
   /// Throws InsufficientMemory if the finest grid of a surface with this many
   /// active voxels on the coarsest grid would not fit.
   void requireFinestGridMemory(std::size_t coarsestActiveVoxels) const;

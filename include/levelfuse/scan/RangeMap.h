@@ -46,13 +46,18 @@ struct RangeSample {
   double sigma = 0.0;            ///< standard deviation of the reading (world units)
 };
 
+/// The widest field of view (degrees, across the image) RangeMap::pinhole
+/// takes: a rectilinear camera's image stretches without bound toward 180.
+inline constexpr double kWidestPinholeView = 170.0;
+
 class RangeMap {
  public:
   enum class Kind { kOrthographic, kPinhole };
 
   /// `readings` is row-major, `width * height` values in world units; NaN or
   /// values <= 0 (pinhole) mean no reading. `mapToWorld` is rigid. Throws
-  /// std::invalid_argument for inconsistent sizes or geometry.
+  /// std::invalid_argument for inconsistent sizes or geometry (a pinhole whose
+  /// field of view reaches kWidestPinholeView).
   static RangeMap orthographic(int width, int height, std::vector<float> readings, const OrthographicProjection& p,
                                const openvdb::math::Mat4d& mapToWorld, double sigma, std::string name = "");
   static RangeMap pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,

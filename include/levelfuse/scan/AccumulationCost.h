@@ -1,0 +1,40 @@
+// levelfuse: what accumulating the data term on a grid costs, known before it
+// is done.
+//
+// Accumulation (ForceField::accumulate, the linear solution, DataTermGrids)
+// first marks the leaf nodes each range map's windows reach, tile of pixels by
+// tile, then fills every leaf marked. A window far wider than the data, or a
+// camera whose lines of sight spread far (a focal length of a thousandth of a
+// pixel), makes both grow without bound; this estimate, from the same tiles'
+// boxes and without a grid, lets the caller refuse such work up front.
+#pragma once
+
+#include <levelfuse/scan/RangeMap.h>
+
+#include <vector>
+
+namespace levelfuse {
+
+struct AccumulationCost {
+  /// Leaf nodes marked over all range maps, with repeats: the work of finding
+  /// where the windows reach, and at most the (leaf, map) pairs evaluated.
+  double leafMarks = 0.0;
+  /// Leaf nodes that may hold data: the marks, but no more than the box of
+  /// everything the windows reach holds.
+  double leaves = 0.0;
+  /// Memory at most: the lists of marked leaves per map and the leaves of the
+  /// accumulated grids.
+  double bytes = 0.0;
+};
+
+/// Bytes per leaf marked (its place in the lists of leaves and of (leaf, map) pairs).
+inline constexpr double kBytesPerLeafMark = 32.0;
+/// Bytes per accumulated leaf node: the sum of the terms and of their weights,
+/// a float leaf each, and their bookkeeping.
+inline constexpr double kBytesPerAccumulatedLeaf = 4608.0;
+
+/// The cost of accumulating the data term of `maps` on a grid of `voxelSize`
+/// whose windows reach `reach` (world units) from their readings.
+AccumulationCost accumulationCost(const std::vector<RangeMap>& maps, double voxelSize, double reach);
+
+}  // namespace levelfuse

@@ -1,0 +1,45 @@
+// What accumulating the data term costs, known before it is done.
+
+#include <levelfuse/scan/AccumulationCost.h>
+#include <levelfuse/scan/ForceField.h>
+#include <levelfuse/scan/Synth.h>
+
+#include <gtest/gtest.h>
+
+namespace levelfuse {
+namespace {
+
+using openvdb::Vec3d;
+
+std::vector<RangeMap> sphereViews() {
+  std::vector<RangeMap> maps;
+  const auto sphere = [](const Vec3d& p) { return p.length() - 1.0; };
+  for (const synth::View& view : synth::sixAxisViews(Vec3d(0.0), 2.4, 60))
+    maps.push_back(synth::renderDistanceFunction(sphere, view, synth::Noise{}, 0.01));
+  return maps;
+}
+
+TEST(AccumulationCost, BoundsTheLeavesThatAccumulationFills) {
+  const std::vector<RangeMap> maps = sphereViews();
+  for (const double voxel : {0.02, 0.05}) {
+    const ForceField field(maps, defaultForceFieldOptions(maps, voxel));
+    const AccumulatedField accumulated = field.accumulate(voxel);
+    const AccumulationCost cost = accumulationCost(maps, voxel, field.options().dataWindow().reach());
+    const double filled = static_cast<double>(accumulated.g->tree().leafCount());
+    EXPECT_GE(cost.leaves, filled) << voxel;
+    EXPECT_GE(cost.leafMarks, cost.leaves) << voxel;
+    EXPECT_GE(cost.leafMarks * 512.0, static_cast<double>(accumulated.evaluations)) << voxel;
+    EXPECT_LT(cost.leaves, 20.0 * filled) << voxel;  // an upper bound, but not a wild one
+    EXPECT_DOUBLE_EQ(cost.bytes, kBytesPerLeafMark * cost.leafMarks + kBytesPerAccumulatedLeaf * cost.leaves);
+  }
+}
+
+TEST(AccumulationCost, SeesAWindowThatReachesAbsurdlyFar) {
+  const std::vector<RangeMap> maps = sphereViews();
+  const double modest = accumulationCost(maps, 0.02, 0.06).bytes;
+  EXPECT_GT(accumulationCost(maps, 0.02, 1e6).bytes, 1e6 * modest);  // 190 TiB: more than any machine has
+  EXPECT_EQ(accumulationCost(maps, 0.02, 1e300).bytes, HUGE_VAL);  // no box of leaves counts that far
+}
+
+}  // namespace
+}  // namespace levelfuse
