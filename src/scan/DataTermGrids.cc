@@ -189,11 +189,24 @@ struct Corners {
   Vec3d offset[8];  ///< x - p_k, world
 };
 
-/// N_b = W_b / R_b, R_b = leafWeight / leafWindows: the weight of one reading
-/// near x, from the sums over the leaves around it.
-double readingsOf(double weight, double leafWeight, double leafWindows) {
-  return leafWeight > 0.0 ? weight * leafWindows / leafWeight : 0.0;
-}
+/// One bin's sums of weights and of windows over the leaves around x,
+/// interpolated like its other terms: their ratio is the weight R_b of one
+/// reading near x, and a weight W_b there holds N_b = W_b / R_b readings.
+class LeafReadingSums {
+ public:
+  LeafReadingSums(const openvdb::FloatGrid& leafWeight, const openvdb::FloatGrid& leafWindows)
+      : mWeight(leafWeight.tree()), mWindows(leafWindows.tree()) {}
+  /// Adds the leaf holding voxel `ijk` with trilinear weight t.
+  void add(const Coord& ijk, double t) {
+    mWeightSum += t * mWeight.getValue(leafBlock(ijk));
+    mWindowSum += t * mWindows.getValue(leafBlock(ijk));
+  }
+  double readingsIn(double weight) const { return mWeightSum > 0.0 ? weight * mWindowSum / mWeightSum : 0.0; }
+
+ private:
+  openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> mWeight, mWindows;
+  double mWeightSum = 0.0, mWindowSum = 0.0;
+};
 
 Corners cornersAround(const Vec3d& x, double h) {
   Corners c;
@@ -222,19 +235,18 @@ DataTerms DataTermGrids::facingTerms(const Vec3d& x, const Vec3d& normal) const 
     const Bin& bin = mBins[static_cast<std::size_t>(b)];
     openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> g(bin.g->tree()), w(bin.weight->tree());
     openvdb::tree::ValueAccessor<const openvdb::Vec3fTree, false> grad(bin.gradient->tree()), sight(bin.sight->tree());
-    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> lw(bin.leafWeight->tree()), ln(bin.leafWindows->tree());
-    double G = 0.0, W = 0.0, leafW = 0.0, leafN = 0.0;
+    LeafReadingSums leafSums(*bin.leafWeight, *bin.leafWindows);
+    double G = 0.0, W = 0.0;
     Vec3d S(0.0);
     for (int k = 0; k < 8; ++k) {
       if (!(masks[k] & (1 << b)) || c.t[k] == 0.0) continue;
       G += c.t[k] * (g.getValue(c.ijk[k]) + Vec3d(grad.getValue(c.ijk[k])).dot(c.offset[k]));  // carried to x
       W += c.t[k] * w.getValue(c.ijk[k]);
       S += c.t[k] * Vec3d(sight.getValue(leafBlock(c.ijk[k])));
-      leafW += c.t[k] * lw.getValue(leafBlock(c.ijk[k]));
-      leafN += c.t[k] * ln.getValue(leafBlock(c.ijk[k]));
+      leafSums.add(c.ijk[k], c.t[k]);
     }
     if (!(S.dot(normal) < 0.0)) continue;  // Eq. 37, per bin
-    sum += DataTerms{G, W, readingsOf(W, leafW, leafN)};
+    sum += DataTerms{G, W, leafSums.readingsIn(W)};
   }
   return sum;
 }
@@ -248,15 +260,14 @@ DataTerms DataTermGrids::allTerms(const Vec3d& x) const {
   DataTerms sum;
   for (const Bin& bin : mBins) {
     if (bin.weight->tree().leafCount() == 0) continue;
-    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> w(bin.weight->tree()), lw(bin.leafWeight->tree()),
-        ln(bin.leafWindows->tree());
-    double W = 0.0, leafW = 0.0, leafN = 0.0;
+    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> w(bin.weight->tree());
+    LeafReadingSums leafSums(*bin.leafWeight, *bin.leafWindows);
+    double W = 0.0;
     for (int k = 0; k < 8; ++k) {
       W += c.t[k] * w.getValue(c.ijk[k]);
-      leafW += c.t[k] * lw.getValue(leafBlock(c.ijk[k]));
-      leafN += c.t[k] * ln.getValue(leafBlock(c.ijk[k]));
+      leafSums.add(c.ijk[k], c.t[k]);
     }
-    sum += DataTerms{0.0, W, readingsOf(W, leafW, leafN)};
+    sum += DataTerms{0.0, W, leafSums.readingsIn(W)};
   }
   return sum;
 }
