@@ -14,8 +14,14 @@ function(levelfuse_warnings target)
     $<IF:$<CXX_COMPILER_ID:GNU>,-Wshadow=local,-Wshadow>)
 endfunction()
 
+# The ASan+UBSan build is optimised with -O1 and leaves out UBSan's alignment
+# and null checks: with them, at -O3, GCC 12 takes 5x as long on the engine's
+# sources (SparseField.cc: 330 s against 88 s; plain -O3 52 s). ASan reports a
+# null access itself; the fuzzers' clang build of the readers keeps every check.
 if(LEVELFUSE_SANITIZER STREQUAL "address")
-  set(_lf_san -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  set(_lf_san -fsanitize=address,undefined -fno-sanitize=alignment,null -fno-sanitize-recover=undefined
+              -fno-omit-frame-pointer)
+  set(_lf_san_optimisation -O1)
 elseif(LEVELFUSE_SANITIZER STREQUAL "thread")
   set(_lf_san -fsanitize=thread -fno-omit-frame-pointer)
 elseif(NOT LEVELFUSE_SANITIZER STREQUAL "")
@@ -25,6 +31,6 @@ endif()
 # to its users, who need the sanitizer runtimes to link against it.
 set(LEVELFUSE_SANITIZER_FLAGS ${_lf_san})
 if(_lf_san)
-  add_compile_options(${_lf_san})
+  add_compile_options(${_lf_san} ${_lf_san_optimisation})
   add_link_options(${_lf_san})
 endif()
