@@ -63,6 +63,25 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<Ran
   return measureDataFit(levelSet, points);
 }
 
+int fitStride(const std::vector<RangeMap>& maps, std::size_t atMost) {
+  if (atMost == 0) throw std::invalid_argument("fitStride: at least one point must be measured");
+  const auto measured = [&](std::size_t stride) {
+    std::size_t count = 0;
+    for (const RangeMap& m : maps) {
+      if (!m.samples().empty()) {
+        count += (m.samples().size() + stride * stride - 1) / (stride * stride);
+        continue;
+      }
+      for (int v = 0; v < m.height(); v += static_cast<int>(stride))
+        for (int u = 0; u < m.width(); u += static_cast<int>(stride)) count += m.valid(u, v);
+    }
+    return count;
+  };
+  std::size_t stride = 1;
+  while (measured(stride) > atMost) ++stride;
+  return static_cast<int>(stride);
+}
+
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points) {
   if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
     throw std::invalid_argument("measureDataFit: the grid '" + levelSet.getName() + "' is not a level set");

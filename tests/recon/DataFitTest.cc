@@ -86,6 +86,21 @@ TEST_F(DataFitTest, MeasuresTheSamplesOfAResampledMap) {
   EXPECT_EQ(measureDataFit(*sphere, maps, 2).readings, 10u);  // every 4th sample
 }
 
+TEST_F(DataFitTest, TheStrideMeasuresAtMostTheGivenNumberOfPoints) {
+  // Two 11 x 11 maps of valid readings: 242 points; stride 2 takes 6 x 6 of each, stride 3 4 x 4.
+  std::vector<float> readings(121, 1.0f);
+  const RangeMap map = RangeMap::orthographic(11, 11, readings, OrthographicProjection{0.01, openvdb::math::Vec2d(0.0)},
+                                              openvdb::math::Mat4d::identity(), 0.001, "plane");
+  const std::vector<RangeMap> maps{map, map};
+  EXPECT_EQ(fitStride(maps, 1000), 1);
+  EXPECT_EQ(fitStride(maps, 242), 1);
+  EXPECT_EQ(fitStride(maps, 241), 2);
+  EXPECT_EQ(fitStride(maps, 72), 2);
+  EXPECT_EQ(fitStride(maps, 71), 3);
+  EXPECT_EQ(measureDataFit(*sphere, maps, fitStride(maps, 71)).readings, 32u);
+  EXPECT_THROW(fitStride(maps, 0), std::invalid_argument);
+}
+
 TEST_F(DataFitTest, MeasuresAMeshWithTheSameRuler) {
   // The sphere's zero set as triangles: points at known distances from it
   // measure the same as from the level set, inside the band and far beyond.

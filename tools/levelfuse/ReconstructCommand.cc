@@ -139,7 +139,8 @@ int runReconstruct(ReconstructSettings s) {
   surface.insertMeta("levelfuse_method",
                      openvdb::StringMetadata(s.linear ? "linear solution (zero set of g)" : "MAP level-set evolution"));
   surface.insertMeta("levelfuse_scene", openvdb::BoolMetadata(scene));
-  const DataFit fit = measureDataFit(surface, maps);
+  const int fitSample = fitStride(maps, kFitPointsAtMost);
+  const DataFit fit = measureDataFit(surface, maps, fitSample);
   double truthRms = -1.0;
   if (truth) truthRms = rmsOver(zeroCrossings(surface), *truth);
   std::optional<TriangleMesh> mesh;
@@ -221,7 +222,11 @@ int runReconstruct(ReconstructSettings s) {
               << withCommas(l.activeVoxels) << " active voxels, " << fixed(l.seconds, 3) << " s\n";
   std::cout << "  surface: " << withCommas(active) << " narrow-band voxels; memory: engine "
             << mebibytes(result.peakEngineBytes) << ", process peak " << mebibytes(peakResidentBytes()) << "\n"
-            << "  fit to the points: mean " << fixed(fit.mean) << ", median " << fixed(fit.median) << ", 90% "
+            << "  fit to the points"
+            << (fitSample > 1 ? " (a sample of " + withCommas(fit.readings) + ": one reading in " + std::to_string(fitSample) +
+                                    " along each row and column of each scan)"
+                              : std::string())
+            << ": mean " << fixed(fit.mean) << ", median " << fixed(fit.median) << ", 90% "
             << fixed(fit.p90) << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, "
             << fixed(100.0 * fit.beyondBand, 3) << "% beyond the band\n";
   if (truth)

@@ -30,6 +30,14 @@ struct DataFit {
 /// readings; every `stride`-th reading in each direction of each map (every
 /// stride^2-th sample).
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride = 1);
+/// The points a summary of the fit measures at most: a sample of two million
+/// gives its mean and quantiles to well under a percent.
+inline constexpr std::size_t kFitPointsAtMost = 2'000'000;
+
+/// The smallest stride for measureDataFit(levelSet, maps, stride) that
+/// measures at most `atMost` points (at least 1): the fit of a few laser scans
+/// takes every point, that of hundreds of depth frames a sample of them.
+int fitStride(const std::vector<RangeMap>& maps, std::size_t atMost);
 /// The same for any points (world units), e.g. a scan's original samples.
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points);
 /// Exact distances from `points` to the triangles of a mesh (world units),
