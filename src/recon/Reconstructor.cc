@@ -213,13 +213,15 @@ ForceFieldOptions Reconstructor::forceOptions(int level) const {
   return f;
 }
 
-DataTermGrids Reconstructor::dataTermGrids(int level, const Interrupter& interrupter) const {
+DataTermGrids Reconstructor::dataTermGrids(int level, const Interrupter& interrupter,
+                                           const std::function<void(std::size_t)>& integrated) const {
   requireAccumulationMemory(level);
   const ForceFieldOptions f = forceOptions(level);
   DataTermGrids data(voxelSize(level), f.dataWindow(), f.positionVariance, f.grainSize);
   for (const RangeMap& map : *mMaps) {
     checkInterrupter(interrupter);
     data.integrate(map);
+    if (integrated) integrated(data.mapCount());
   }
   return data;
 }
@@ -307,10 +309,10 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
                                                                       mOptions.engine));
     }
     // 2. Evolve under the data term and the prior until the surface settles.
-    state.stage = ReconstructionProgress::Stage::kEvolving;
     // On the finest grid, the surface's weight is taken while its data term is at hand.
     const bool finestGrid = level + 1 == mOptions.levels;
     const auto evolveAndWeigh = [&](const auto& data) {
+      state.stage = ReconstructionProgress::Stage::kEvolving;
       const LevelReport evolved = evolveLevel(*field, data, h, state, report);
       if (finestGrid) {
         result.levelSet = field->toLevelSet(3.0, mOptions.name);
@@ -319,9 +321,15 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
       return evolved;
     };
     LevelReport done;
-    if (mOptions.dataTerm == DataTermSource::kGrids)
-      done = evolveAndWeigh(dataTermGrids(level, interrupter));
-    else
+    if (mOptions.dataTerm == DataTermSource::kGrids) {
+      state.stage = ReconstructionProgress::Stage::kIntegrating;
+      state.scans = mMaps->size();
+      const auto integrated = [&](std::size_t scans) {
+        state.scan = scans;
+        report();
+      };
+      done = evolveAndWeigh(dataTermGrids(level, interrupter, integrated));
+    } else
       done = evolveAndWeigh(ForceField(mMaps, forceOptions(level)));
     totalIterations += done.iterations;
     const SparseFieldStats stats = field->stats();

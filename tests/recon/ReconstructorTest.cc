@@ -215,6 +215,43 @@ TEST(Reconstructor, ReportsProgressAndCanBeCancelled) {
   EXPECT_EQ(calls, 4);
 }
 
+TEST(Reconstructor, ReportsEachScanIntegratedIntoTheGrids) {
+  ReconstructionOptions options = smallOptions();
+  options.dataTerm = DataTermSource::kGrids;
+  const Reconstructor r(noisySphere(0.01), options);
+  const std::size_t scans = r.maps().size();
+  ASSERT_GT(scans, 1u);
+  // Per grid: scans 1, 2, ..., all of them, in order, before the grid's first iteration.
+  std::vector<std::vector<std::size_t>> integrated(options.levels);
+  std::vector<int> firstIteration(options.levels, -1);
+  int calls = 0;
+  r.run([&](const ReconstructionProgress& p) {
+    ++calls;
+    if (p.stage == ReconstructionProgress::Stage::kIntegrating) {
+      EXPECT_EQ(p.scans, scans);
+      EXPECT_EQ(firstIteration[p.level], -1) << "integrating after the grid's evolution began";
+      integrated[p.level].push_back(p.scan);
+    }
+    if (p.stage == ReconstructionProgress::Stage::kEvolving && firstIteration[p.level] < 0) firstIteration[p.level] = calls;
+    return true;
+  });
+  std::vector<std::size_t> expected(scans);
+  for (std::size_t i = 0; i < scans; ++i) expected[i] = i + 1;
+  for (int level = 0; level < options.levels; ++level) {
+    EXPECT_EQ(integrated[level], expected) << "grid " << level;
+    EXPECT_GT(firstIteration[level], 0) << "grid " << level;
+  }
+  // A cancel while integrating stops the run there.
+  ReconstructionProgress last;
+  EXPECT_THROW(r.run([&](const ReconstructionProgress& p) {
+    last = p;
+    return p.stage != ReconstructionProgress::Stage::kIntegrating || p.scan < 2;
+  }), ReconstructionCancelled);
+  EXPECT_EQ(last.stage, ReconstructionProgress::Stage::kIntegrating);
+  EXPECT_EQ(last.level, 0);
+  EXPECT_EQ(last.scan, 2u);
+}
+
 /// The linear solution asks its interrupter while it works, not only before:
 /// an interrupter that says stop at its n-th call stops it mid-way.
 TEST(Reconstructor, TheLinearSolutionStopsWhenItsInterrupterSaysSo) {

@@ -42,13 +42,15 @@ void ProgressBar::update(const ReconstructionProgress& p) {
     mLastIteration = p.iteration;
     mSecondsPerIteration = (p.seconds - mLevelStart) / p.iteration;
   }
-  if (p.seconds - mLastDraw < 0.1 && p.stage == Stage::kEvolving) return;  // at most ten lines a second
+  const bool frequent = p.stage == Stage::kEvolving || (p.stage == Stage::kIntegrating && p.scan < p.scans);
+  if (p.seconds - mLastDraw < 0.1 && frequent) return;  // at most ten lines a second
   mLastDraw = p.seconds;
   std::ostringstream line;
   line << "grid " << p.level + 1 << "/" << p.levels << " (voxel " << fixed(p.voxelSize, 3) << ") ";
   switch (p.stage) {
     case Stage::kInitialModel: line << "initial model"; break;
     case Stage::kResampling: line << "resampling"; break;
+    case Stage::kIntegrating: line << "integrating scan " << p.scan << "/" << p.scans; break;
     case Stage::kDone: line << "done"; break;
     case Stage::kEvolving:
       line << "iteration " << p.iteration << " | " << withCommas(p.activeVoxels) << " active | speed "

@@ -87,8 +87,10 @@ struct ReconstructionOptions {
 
 /// Where a reconstruction is; passed to the progress callback.
 struct ReconstructionProgress {
-  enum class Stage { kInitialModel, kEvolving, kResampling, kDone };
+  enum class Stage { kInitialModel, kIntegrating, kEvolving, kResampling, kDone };
   Stage stage = Stage::kInitialModel;
+  std::size_t scan = 0;    ///< kIntegrating: the scans integrated into the grid's data term so far
+  std::size_t scans = 0;   ///< the scans to integrate
   int level = 0;           ///< 0 is the coarsest grid
   int levels = 0;
   double voxelSize = 0.0;
@@ -187,8 +189,10 @@ class Reconstructor {
   /// The data term's settings on grid `level`.
   ForceFieldOptions forceOptions(int level) const;
   /// The data term of every scan accumulated on grid `level`; throws
-  /// Interrupted between scans if `interrupter` asks to stop.
-  DataTermGrids dataTermGrids(int level, const Interrupter& interrupter = {}) const;
+  /// Interrupted between scans if `interrupter` asks to stop. `integrated`,
+  /// if set, is told after each scan how many are in.
+  DataTermGrids dataTermGrids(int level, const Interrupter& interrupter = {},
+                              const std::function<void(std::size_t)>& integrated = {}) const;
   const std::vector<RangeMap>& maps() const { return *mMaps; }
   /// World box of the scans' readings.
   const openvdb::BBoxd& bounds() const { return mBounds; }
