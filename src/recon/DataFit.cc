@@ -43,6 +43,23 @@ DataFit summarise(std::vector<double> distance, const std::vector<char>* beyond,
   return fit;
 }
 
+/// Calls `visit` with each point a fit of `maps` at `stride` measures: each
+/// map's samples where it was resampled from them (every stride^2-th), else
+/// every stride-th valid reading along its rows and columns.
+template <typename Visit>
+void forEachFitPoint(const std::vector<RangeMap>& maps, int stride, const Visit& visit) {
+  const std::size_t sampleStride = static_cast<std::size_t>(stride) * static_cast<std::size_t>(stride);
+  for (const RangeMap& m : maps) {
+    if (!m.samples().empty()) {  // the points measured, where the map was resampled from them
+      for (std::size_t i = 0; i < m.samples().size(); i += sampleStride) visit(m.samples()[i]);
+      continue;
+    }
+    for (int v = 0; v < m.height(); v += stride)
+      for (int u = 0; u < m.width(); u += stride)
+        if (m.valid(u, v)) visit(m.readingPoint(u, v));
+  }
+}
+
 }  // namespace
 
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride) {
@@ -50,36 +67,20 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<Ran
   if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
     throw std::invalid_argument("measureDataFit: the grid '" + levelSet.getName() + "' is not a level set");
   std::vector<openvdb::Vec3d> points;
-  const std::size_t sampleStride = static_cast<std::size_t>(stride) * static_cast<std::size_t>(stride);
-  for (const RangeMap& m : maps) {
-    if (!m.samples().empty()) {  // the points measured, where the map was resampled from them
-      for (std::size_t i = 0; i < m.samples().size(); i += sampleStride) points.push_back(m.samples()[i]);
-      continue;
-    }
-    for (int v = 0; v < m.height(); v += stride)
-      for (int u = 0; u < m.width(); u += stride)
-        if (m.valid(u, v)) points.push_back(m.readingPoint(u, v));
-  }
+  forEachFitPoint(maps, stride, [&](const openvdb::Vec3d& point) { points.push_back(point); });
   return measureDataFit(levelSet, points);
 }
 
 int fitStride(const std::vector<RangeMap>& maps, std::size_t atMost) {
   if (atMost == 0) throw std::invalid_argument("fitStride: at least one point must be measured");
-  const auto measured = [&](std::size_t stride) {
+  const auto measured = [&](int stride) {
     std::size_t count = 0;
-    for (const RangeMap& m : maps) {
-      if (!m.samples().empty()) {
-        count += (m.samples().size() + stride * stride - 1) / (stride * stride);
-        continue;
-      }
-      for (int v = 0; v < m.height(); v += static_cast<int>(stride))
-        for (int u = 0; u < m.width(); u += static_cast<int>(stride)) count += m.valid(u, v);
-    }
+    forEachFitPoint(maps, stride, [&](const openvdb::Vec3d&) { ++count; });
     return count;
   };
-  std::size_t stride = 1;
+  int stride = 1;
   while (measured(stride) > atMost) ++stride;
-  return static_cast<int>(stride);
+  return stride;
 }
 
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points) {
