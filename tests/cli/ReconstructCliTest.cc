@@ -110,6 +110,23 @@ TEST_F(ReconstructCli, LinearSolutionAndMeshCommand) {
   EXPECT_EQ(first.rfind("# written by levelfuse", 0), 0u) << first;
 }
 
+TEST_F(ReconstructCli, TextSummariesGiveLengthsWithUnitsAndJsonInMetres) {
+  const std::string scans = sphereScans();
+  const CliRun text = levelfuse("reconstruct --linear --voxel-size 0.05 " + scans + " -o " + path("u.vdb"));
+  ASSERT_EQ(text.exitCode, 0) << text.output;
+  EXPECT_NE(text.output.find("voxel 5.0 cm,"), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find(": mean "), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find(" mm, median "), std::string::npos) << text.output;
+  const CliRun json = levelfuse("reconstruct --linear --json --voxel-size 0.05 " + scans + " -o " + path("j.vdb"));
+  ASSERT_EQ(json.exitCode, 0) << json.output;
+  EXPECT_DOUBLE_EQ(jsonOf(json)["voxel_size"].get<double>(), 0.05);
+  const CliRun info = levelfuse("info " + path("u.vdb"));
+  EXPECT_NE(info.output.find("voxel 5.0 cm,"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("background 15 cm,"), std::string::npos) << info.output;
+  const CliRun mesh = levelfuse("mesh " + path("u.vdb") + " -o " + path("u.ply"));
+  EXPECT_NE(mesh.output.find(" m², volume "), std::string::npos) << mesh.output;
+}
+
 TEST_F(ReconstructCli, BadInputFailsClearlyAndWritesNothing) {
   std::ofstream(path("broken.json")) << "{ \"scans\": [ { \"format\": \"depth-png\" } ] }";
   CliRun run = levelfuse("reconstruct " + path("broken.json") + " -o " + path("out.vdb"));

@@ -3,6 +3,7 @@
 #include "Cancellation.h"
 #include "Commands.h"
 #include "Support.h"
+#include "Units.h"
 
 #include <levelfuse/Version.h>
 #include <levelfuse/geometry/Shapes.h>
@@ -134,7 +135,7 @@ int runEvolve(const EvolveSettings& s) {
                      {"output", s.output}};
     std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << "levelfuse evolve: " << s.shape << " under " << s.flow << " flow, voxel " << voxelSize << "\n"
+    std::cout << "levelfuse evolve: " << s.shape << " under " << s.flow << " flow, voxel " << length(voxelSize) << "\n"
               << "  " << steps << " steps to t = " << t << " in " << seconds << " s\n"
               << "  " << stats.activeVoxels << " active voxels, " << stats.bandVoxels << " in the layers, "
               << stats.memoryBytes / 1048576.0 << " MiB\n"

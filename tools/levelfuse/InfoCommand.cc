@@ -2,6 +2,7 @@
 
 #include "Commands.h"
 #include "Support.h"
+#include "Units.h"
 
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Scans.h>
@@ -105,13 +106,13 @@ void print(const nlohmann::json& j) {
     std::cout << path << ": OpenVDB file, " << j["grids"].size() << (j["grids"].size() == 1 ? " grid\n" : " grids\n");
     for (const auto& g : j["grids"]) {
       std::cout << "  '" << g["name"].get<std::string>() << "': " << g["type"].get<std::string>() << " "
-                << g["class"].get<std::string>() << ", voxel " << fixed(g["voxel_size"].get<double>()) << ", "
+                << g["class"].get<std::string>() << ", voxel " << length(g["voxel_size"].get<double>()) << ", "
                 << withCommas(g["active_voxels"].get<std::size_t>()) << " active voxels, "
                 << mebibytes(g["memory_bytes"].get<std::size_t>()) << "\n";
       if (g.contains("bounds"))
-        std::cout << "    bounds " << point(g["bounds"][0]) << " to " << point(g["bounds"][1]) << "\n";
+        std::cout << "    bounds " << point(g["bounds"][0]) << " to " << point(g["bounds"][1]) << " m\n";
       if (g.contains("inside_components"))
-        std::cout << "    level set: background " << fixed(g["background"].get<double>()) << ", "
+        std::cout << "    level set: background " << length(g["background"].get<double>()) << ", "
                   << g["inside_components"].get<int>() << " inside component(s)\n";
       if (g.contains("levelfuse"))
         for (const auto& [key, value] : g["levelfuse"].items())
@@ -120,14 +121,14 @@ void print(const nlohmann::json& j) {
     return;
   }
   std::cout << path << ": " << j["scans"].size() << " scans, " << withCommas(j["points"].get<std::size_t>())
-            << " points, " << withCommas(j["readings"].get<std::size_t>()) << " readings, bounds " << point(j["bounds"][0]) << " to " << point(j["bounds"][1]) << "\n";
+            << " points, " << withCommas(j["readings"].get<std::size_t>()) << " readings, bounds " << point(j["bounds"][0]) << " to " << point(j["bounds"][1]) << " m\n";
   if (j.contains("truth")) std::cout << "  synthetic: the truth is a " << j["truth"].get<std::string>() << "\n";
   for (const auto& m : j["scans"])
     std::cout << "  " << m["name"].get<std::string>() << ": " << m["projection"].get<std::string>() << " "
               << m["width"].get<int>() << " x " << m["height"].get<int>() << ", "
               << withCommas(m["points"].get<std::size_t>()) << " points, "
               << withCommas(m["readings"].get<std::size_t>()) << " readings, ray spacing "
-              << fixed(m["ray_spacing"].get<double>()) << ", sigma " << fixed(m["sigma"].get<double>()) << "\n";
+              << length(m["ray_spacing"].get<double>()) << ", sigma " << length(m["sigma"].get<double>()) << "\n";
 }
 
 int runInfo(const InfoSettings& s) {

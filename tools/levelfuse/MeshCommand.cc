@@ -3,6 +3,7 @@
 #include "Cancellation.h"
 #include "Commands.h"
 #include "Support.h"
+#include "Units.h"
 
 #include <levelfuse/io/MeshFile.h>
 #include <levelfuse/io/VdbFile.h>
@@ -77,7 +78,7 @@ int runMesh(const MeshSettings& s) {
   } else {
     std::cout << "levelfuse mesh: '" << levelSet->getName() << "' from " << s.input << ": "
               << withCommas(mesh.vertexCount()) << " vertices, " << withCommas(mesh.triangleCount())
-              << " triangles, area " << fixed(mesh.area()) << ", volume " << fixed(mesh.volume())
+              << " triangles, area " << area(mesh.area()) << ", volume " << volume(mesh.volume())
               << (trim ? " (unseen parts left out: an open mesh)" : "") << "\n"
               << "  wrote " << s.output << "\n";
   }

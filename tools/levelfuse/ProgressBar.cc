@@ -1,6 +1,7 @@
 #include "ProgressBar.h"
 
 #include "Support.h"
+#include "Units.h"
 
 #include <unistd.h>
 
@@ -46,7 +47,7 @@ void ProgressBar::update(const ReconstructionProgress& p) {
   if (p.seconds - mLastDraw < 0.1 && frequent) return;  // at most ten lines a second
   mLastDraw = p.seconds;
   std::ostringstream line;
-  line << "grid " << p.level + 1 << "/" << p.levels << " (voxel " << fixed(p.voxelSize, 3) << ") ";
+  line << "grid " << p.level + 1 << "/" << p.levels << " (voxel " << length(p.voxelSize) << ") ";
   switch (p.stage) {
     case Stage::kInitialModel: line << "initial model"; break;
     case Stage::kResampling: line << "resampling"; break;

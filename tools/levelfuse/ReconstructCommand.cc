@@ -4,6 +4,7 @@
 #include "Commands.h"
 #include "ProgressBar.h"
 #include "Support.h"
+#include "Units.h"
 
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Manifest.h>
@@ -213,11 +214,11 @@ int runReconstruct(ReconstructSettings s) {
   std::cout << "levelfuse reconstruct: " << maps.size() << " scans, " << withCommas(points) << " points"
             << (points != readings ? " (" + withCommas(readings) + " readings of their range maps)" : std::string())
             << " (" << joined(s.inputs) << ")\n"
-            << "  voxel " << fixed(o.voxelSize) << ", " << o.levels << (o.levels == 1 ? " grid" : " grids")
-            << ", beta " << fixed(o.beta) << ", window " << fixed(o.epsilon) << "\n";
+            << "  voxel " << length(o.voxelSize) << ", " << o.levels << (o.levels == 1 ? " grid" : " grids")
+            << ", beta " << fixed(o.beta) << " voxels, window " << length(o.epsilon) << "\n";
   if (s.linear) std::cout << "  the linear solution (zero set of g), no evolution\n";
   for (const LevelReport& l : result.levels)
-    std::cout << "  grid " << fixed(l.voxelSize) << ": " << l.iterations << " iterations ("
+    std::cout << "  grid " << length(l.voxelSize) << ": " << l.iterations << " iterations ("
               << (l.converged ? "converged" : l.settled ? "settled" : "iteration limit") << "), "
               << withCommas(l.activeVoxels) << " active voxels, " << fixed(l.seconds, 3) << " s\n";
   std::cout << "  surface: " << withCommas(active) << " narrow-band voxels; memory: engine "
@@ -226,11 +227,11 @@ int runReconstruct(ReconstructSettings s) {
             << (fitSample > 1 ? " (a sample of " + withCommas(fit.readings) + ": one reading in " + std::to_string(fitSample) +
                                     " along each row and column of each scan)"
                               : std::string())
-            << ": mean " << fixed(fit.mean) << ", median " << fixed(fit.median) << ", 90% "
-            << fixed(fit.p90) << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, "
+            << ": mean " << length(fit.mean) << ", median " << length(fit.median) << ", 90% "
+            << length(fit.p90) << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, "
             << fixed(100.0 * fit.beyondBand, 3) << "% beyond the band\n";
   if (truth)
-    std::cout << "  error against the true " << truth->name() << ": rms " << fixed(truthRms) << " ("
+    std::cout << "  error against the true " << truth->name() << ": rms " << length(truthRms) << " ("
               << fixed(truthRms / o.voxelSize, 3) << " voxel)\n";
   std::cout << "  " << fixed(seconds, 3) << " s\n";
   for (const std::string* path : {&s.output, &s.mesh, &s.preview})

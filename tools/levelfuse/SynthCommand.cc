@@ -3,6 +3,7 @@
 #include "Cancellation.h"
 #include "Commands.h"
 #include "Support.h"
+#include "Units.h"
 
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/Manifest.h>
@@ -103,7 +104,7 @@ int runSynth(const SynthSettings& s) {
     std::cout << "levelfuse synth: " << maps.size() << " " << (s.pinhole ? "pinhole" : "orthographic") << " views of "
               << (s.mesh.empty() ? "a " + s.shape : s.mesh) << ", " << s.resolution << " x " << s.resolution
               << " pixels, " << withCommas(readings) << " readings\n"
-              << "  noise: Gaussian sigma " << fixed(scene.noiseSigma) << " (" << fixed(100.0 * s.noise, 3)
+              << "  noise: Gaussian sigma " << length(scene.noiseSigma) << " (" << fixed(100.0 * s.noise, 3)
               << "% of " << scene.sizeName << "), " << fixed(100.0 * s.outliers, 3) << "% outliers\n"
               << "  wrote " << manifest << " and " << maps.size() << " range images beside it\n";
   }
