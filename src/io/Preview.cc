@@ -3,6 +3,7 @@
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/Preview.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 
 #include <openvdb/math/Ray.h>
 #include <openvdb/tools/Interpolation.h>
@@ -158,8 +159,7 @@ void writePreviewPng(const openvdb::FloatGrid& levelSet, const std::string& path
 
 void writePreviewPng(OutputSet& outputs, const openvdb::FloatGrid& levelSet, const std::string& path,
                      const PreviewOptions& options) {
-  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
-    throw std::invalid_argument("preview: the grid '" + levelSet.getName() + "' is not a level set");
+  requireLevelSet(levelSet, "writePreviewPng");
   if (options.width < 8 || options.height < 8 || options.width > 16384 || options.height > 16384)
     throw std::invalid_argument("preview: the picture must be 8 to 16384 pixels a side");
   if (levelSet.activeVoxelCount() == 0) throw std::invalid_argument("preview: the level set '" + levelSet.getName() + "' has no surface");

@@ -1,12 +1,14 @@
 // levelfuse: connected components of a level set's inside.
 
 #include <levelfuse/levelset/Components.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 
 #include <vector>
 
 namespace levelfuse {
 
 int insideComponents(const openvdb::FloatGrid& grid) {
+  requireLevelSet(grid, "insideComponents");
   static constexpr int kStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
   openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
   openvdb::MaskTree seen;

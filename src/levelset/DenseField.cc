@@ -1,6 +1,7 @@
 // levelfuse: the dense-field reference.
 
 #include <levelfuse/levelset/DenseFieldStep.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 
 #include <openvdb/tools/SignedFloodFill.h>
 
@@ -30,6 +31,7 @@ DenseField::DenseField(const openvdb::CoordBBox& box, openvdb::math::Transform::
 
 DenseField DenseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const openvdb::CoordBBox& box,
                                     const DenseFieldOptions& options) {
+  requireLevelSet(levelSet, "DenseField::fromLevelSet");
   const openvdb::math::Transform& xform = levelSet.transform();
   // Sampled at grid points only, so the world-to-index round trip is exact.
   return DenseField(

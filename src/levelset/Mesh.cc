@@ -1,6 +1,7 @@
 // levelfuse: meshes of level sets.
 
 #include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/VolumeToMesh.h>
@@ -34,8 +35,7 @@ double TriangleMesh::area() const {
 }
 
 TriangleMesh meshFromLevelSet(const openvdb::FloatGrid& levelSet, double adaptivity) {
-  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
-    throw std::invalid_argument("meshFromLevelSet: the grid '" + levelSet.getName() + "' is not a level set");
+  requireLevelSet(levelSet, "meshFromLevelSet");
   if (!(adaptivity >= 0.0 && adaptivity <= 1.0))
     throw std::invalid_argument("meshFromLevelSet: the adaptivity must lie in [0, 1]");
   std::vector<openvdb::Vec3s> points;

@@ -3,6 +3,7 @@
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/levelset/Background.h>
 #include <levelfuse/levelset/Refine.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 
 #include <openvdb/tools/Interpolation.h>
 
@@ -22,10 +23,7 @@ openvdb::Coord twice(const openvdb::Coord& ijk) { return openvdb::Coord(2 * ijk.
 
 openvdb::FloatGrid::Ptr refineLevelSet(const openvdb::FloatGrid& levelSet, double halfWidth) {
   using LeafT = openvdb::FloatTree::LeafNodeType;
-  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
-    throw std::invalid_argument("refineLevelSet: the grid '" + levelSet.getName() + "' is not a level set");
-  if (!levelSet.hasUniformVoxels() || !levelSet.transform().isLinear())
-    throw std::invalid_argument("refineLevelSet: the grid '" + levelSet.getName() + "' needs uniform, linear voxels");
+  requireLevelSet(levelSet, "refineLevelSet");
   if (!(halfWidth >= 1.0)) throw std::invalid_argument("refineLevelSet: the half-width must be at least one voxel");
 
   openvdb::math::Transform::Ptr fineTransform = levelSet.transform().copy();

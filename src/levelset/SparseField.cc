@@ -2,6 +2,7 @@
 
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/levelset/Background.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/detail/SparseFieldState.h>
 
@@ -158,14 +159,7 @@ SparseField& SparseField::operator=(const SparseField& other) {
 
 SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const SparseFieldOptions& options) {
   validateOptions(options);
-  validateTransform(levelSet);
-  if (levelSet.getGridClass() == openvdb::GRID_FOG_VOLUME)
-    throw std::invalid_argument(describe(levelSet) +
-                                " is a fog volume, not a level set; convert it with openvdb::tools::fogToSdf");
-  if (!(levelSet.background() > 0.0f))
-    throw std::invalid_argument(describe(levelSet) +
-                                " has a non-positive background; a level set's background is its "
-                                "narrow-band half-width in world units");
+  requireLevelSet(levelSet, "SparseField::fromLevelSet");
 
   const float half = static_cast<float>(0.5 * levelSet.voxelSize()[0]);
   std::vector<const openvdb::FloatTree::LeafNodeType*> leaves;

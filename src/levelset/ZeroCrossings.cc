@@ -1,5 +1,6 @@
 // levelfuse: zero crossings along grid edges.
 
+#include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 
 #include <openvdb/tree/LeafManager.h>
@@ -9,6 +10,7 @@
 namespace levelfuse {
 
 std::vector<openvdb::Vec3d> zeroCrossings(const openvdb::FloatGrid& grid) {
+  requireLevelSet(grid, "zeroCrossings");
   using LeafT = openvdb::FloatTree::LeafNodeType;
   std::vector<const LeafT*> leaves;
   grid.tree().getNodes(leaves);

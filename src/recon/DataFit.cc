@@ -2,6 +2,7 @@
 
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/geometry/NearestTriangle.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/recon/DataFit.h>
 
 #include <openvdb/tools/Interpolation.h>
@@ -64,8 +65,7 @@ void forEachFitPoint(const std::vector<RangeMap>& maps, int stride, const Visit&
 
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride) {
   if (stride < 1) throw std::invalid_argument("measureDataFit: the stride must be at least 1");
-  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
-    throw std::invalid_argument("measureDataFit: the grid '" + levelSet.getName() + "' is not a level set");
+  requireLevelSet(levelSet, "measureDataFit");
   std::vector<openvdb::Vec3d> points;
   forEachFitPoint(maps, stride, [&](const openvdb::Vec3d& point) { points.push_back(point); });
   return measureDataFit(levelSet, points);
@@ -84,8 +84,7 @@ int fitStride(const std::vector<RangeMap>& maps, std::size_t atMost) {
 }
 
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points) {
-  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
-    throw std::invalid_argument("measureDataFit: the grid '" + levelSet.getName() + "' is not a level set");
+  requireLevelSet(levelSet, "measureDataFit");
   if (points.empty()) return DataFit();
 
   const double background = levelSet.background();

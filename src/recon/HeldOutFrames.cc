@@ -2,6 +2,7 @@
 
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/geometry/NearestTriangle.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/recon/HeldOutFrames.h>
 
 #include <cmath>
@@ -65,8 +66,7 @@ HeldOutAccuracy measureHeldOutFrames(const TriangleMesh& mesh, const std::vector
 
 HeldOutAccuracy measureHeldOutFrames(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& frames,
                                      const HeldOutOptions& options) {
-  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
-    throw std::invalid_argument("measureHeldOutFrames: the grid '" + levelSet.getName() + "' is not a level set");
+  requireLevelSet(levelSet, "measureHeldOutFrames");
   checkArguments(frames, options);
   const TriangleMesh mesh = meshFromLevelSet(levelSet);
   if (mesh.triangleCount() == 0)

@@ -1,5 +1,6 @@
 // levelfuse: the data weight on a level set's narrow band.
 
+#include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 
 #include <openvdb/tree/LeafManager.h>
@@ -46,9 +47,7 @@ struct FacingWeightOp {
 template <typename Data>
 openvdb::FloatGrid::Ptr facingWeight(const openvdb::FloatGrid& levelSet, const Data& data,
                                      const Interrupter& interrupter) {
-  if (levelSet.getGridClass() != openvdb::GRID_LEVEL_SET)
-    throw std::invalid_argument("surfaceWeight: the grid '" + levelSet.getName() +
-                                "' is not a level set (set its class to GRID_LEVEL_SET if it holds signed distances)");
+  requireLevelSet(levelSet, "surfaceWeight");
   auto weight = openvdb::FloatGrid::create(0.0f);
   weight->setTransform(levelSet.transform().copy());
   weight->setTree(std::make_shared<openvdb::FloatTree>(levelSet.tree(), 0.0f, openvdb::TopologyCopy()));

@@ -6,6 +6,7 @@
 #include <levelfuse/io/VdbFile.h>
 #include <levelfuse/levelset/Components.h>
 #include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace levelfuse;
@@ -18,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       grid->memUsage();
       grid->evalActiveVoxelBoundingBox();
       const auto levelSet = openvdb::GridBase::grid<openvdb::FloatGrid>(grid);
-      if (!levelSet || levelSet->getGridClass() != openvdb::GRID_LEVEL_SET) continue;
+      if (!levelSet || !levelSetProblem(*levelSet).empty()) continue;  // as info and mesh skip them
       insideComponents(*levelSet);
       meshFromLevelSet(*levelSet, 0.0);
     }

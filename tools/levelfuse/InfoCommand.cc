@@ -8,6 +8,7 @@
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/VdbFile.h>
 #include <levelfuse/levelset/Components.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 
 #include <nlohmann/json.hpp>
 
@@ -43,7 +44,9 @@ nlohmann::json describeVdb(const std::string& path) {
     if (const auto grid = openvdb::GridBase::grid<openvdb::FloatGrid>(base);
         grid && grid->getGridClass() == openvdb::GRID_LEVEL_SET) {
       g["background"] = grid->background();
-      g["inside_components"] = insideComponents(*grid);
+      const std::string problem = levelSetProblem(*grid);
+      if (problem.empty()) g["inside_components"] = insideComponents(*grid);
+      else g["problem"] = problem;
     }
     nlohmann::json meta = nlohmann::json::object();
     for (auto it = base->beginMeta(); it != base->endMeta(); ++it)
@@ -114,6 +117,7 @@ void print(const nlohmann::json& j) {
       if (g.contains("inside_components"))
         std::cout << "    level set: background " << length(g["background"].get<double>()) << ", "
                   << g["inside_components"].get<int>() << " inside component(s)\n";
+      if (g.contains("problem")) std::cout << "    not usable as a level set: " << g["problem"].get<std::string>() << "\n";
       if (g.contains("levelfuse"))
         for (const auto& [key, value] : g["levelfuse"].items())
           std::cout << "    " << key << " = " << value.get<std::string>() << "\n";

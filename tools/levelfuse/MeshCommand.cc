@@ -9,6 +9,7 @@
 #include <levelfuse/io/VdbFile.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/levelset/MeshTrim.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 
 #include <nlohmann/json.hpp>
@@ -55,6 +56,8 @@ int runMesh(const MeshSettings& s) {
   if (!levelSet)
     throw std::runtime_error(s.input + ": no float level set" + (s.grid.empty() ? "" : " named '" + s.grid + "'") +
                              " (see levelfuse info " + s.input + ")");
+  if (const std::string problem = levelSetProblem(*levelSet); !problem.empty())
+    throw std::runtime_error(s.input + ": " + problem);
   const openvdb::FloatGrid::Ptr weight = weightGridOf(*grids, *levelSet);
   const auto scene = levelSet->getMetadata<openvdb::BoolMetadata>("levelfuse_scene");
   const bool trim = s.trimUnseen.value_or(weight && scene && scene->value());
