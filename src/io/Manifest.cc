@@ -146,6 +146,7 @@ DepthNoise depthNoiseOf(const Entry& e) {
 /// maximum depth, frame stride and noise.
 std::vector<RangeMap> loadTumEntry(const Entry& e, const ScanLoadOptions& defaults) {
   ScanLoadOptions o = defaults;
+  o.progress = {};  // a manifest reports its entries, not the frames within one
   if (e.has("depth_scale")) o.depthScale = e.positive("depth_scale", 0.0);
   o.maxDepth = e.positive("max_depth", defaults.maxDepth);
   const double stride = e.number("frame_stride", 1.0);
@@ -257,6 +258,7 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       for (std::size_t m = first; m < maps.size(); ++m)
         maps[m].setMissesAreEmpty(e["misses_are_empty"].get<bool>(), static_cast<int>(reach));
     }
+    reportLoaded(defaults.progress, i + 1, root["scans"].size());
   }
   return maps;
 }

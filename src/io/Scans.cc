@@ -40,13 +40,15 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
     throw InputError(folder.string(), "no camera-intrinsics.txt (the 3x3 pinhole intrinsics) in this folder");
   const PinholeProjection intrinsics = readIntrinsics(intrinsicsFile.string());
   std::vector<RangeMap> maps;
-  for (std::size_t i = 0; i < frames.size(); i += static_cast<std::size_t>(options.frameStride)) {
+  const std::size_t stride = static_cast<std::size_t>(options.frameStride);
+  for (std::size_t i = 0; i < frames.size(); i += stride) {
     checkInterrupter(options.interrupter);
     const std::string image = frames[i].string();
     const std::string stem = image.substr(0, image.size() - std::string(".depth.png").size());
     const std::string pose = stem + ".pose.txt";
     if (!fs::exists(pose, ec)) throw InputError(image, "no pose beside it (expected " + pose + ")");
     maps.push_back(loadDepthFrame(image, intrinsics, readPose(pose), options, 0.001));
+    reportLoaded(options.progress, maps.size(), (frames.size() + stride - 1) / stride);
   }
   return maps;
 }
@@ -84,6 +86,7 @@ std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& 
   if (extension == ".conf") {
     StanfordScanOptions stanford = options.stanford;
     stanford.interrupter = options.interrupter;
+    stanford.progress = options.progress;
     return loadStanfordScans(path, stanford);
   }
   if (extension == ".json") return loadManifest(path, options);

@@ -277,9 +277,11 @@ RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, c
 
 std::vector<RangeMap> loadStanfordScans(const std::string& confPath, const StanfordScanOptions& options) {
   std::vector<RangeMap> maps;
-  for (const StanfordPlacement& s : readStanfordConf(confPath)) {
+  const std::vector<StanfordPlacement> placements = readStanfordConf(confPath);
+  for (const StanfordPlacement& s : placements) {
     checkInterrupter(options.interrupter);
     maps.push_back(rangeMapFromScan(readRangeGridPly(s.path), s.scanToWorld(), options, s.file));
+    reportLoaded(options.progress, maps.size(), placements.size());
   }
   return maps;
 }

@@ -102,7 +102,9 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
   const std::vector<TumPose> poses = readTumTrajectory(trajectory);
   const PinholeProjection intrinsics = tumIntrinsics(folder);
   std::vector<RangeMap> maps;
-  for (std::size_t i = 0; i < frames.size(); i += static_cast<std::size_t>(options.frameStride)) {
+  const std::size_t stride = static_cast<std::size_t>(options.frameStride);
+  for (std::size_t i = 0; i < frames.size(); i += stride) {
+    checkInterrupter(options.interrupter);
     const TumFrame& frame = frames[i];
     const std::string image = (root / frame.file).lexically_normal().string();
     if (!fs::is_regular_file(image, ec))
@@ -115,6 +117,7 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
                                   " s of the frame's time " + seconds(frame.time, true) + " (the nearest, line " +
                                   std::to_string(pose.line) + ", is " + seconds(gap, false) + " s away)");
     maps.push_back(loadDepthFrame(image, intrinsics, pose.cameraToWorld, options, 1.0 / kTumDepthUnitsPerMetre));
+    reportLoaded(options.progress, maps.size(), (frames.size() + stride - 1) / stride);
   }
   return maps;
 }

@@ -3,6 +3,7 @@
 
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/LoadProgress.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/scan/RangeMap.h>
 
@@ -20,6 +21,9 @@ struct ScanLoadOptions {
   DepthNoise depthNoise;         ///< sigma of depth-camera readings
   int frameStride = 1;           ///< of a folder of depth frames, every n-th
   Interrupter interrupter;       ///< asked before each scan or frame is read (Interrupted)
+  /// Told after each scan or frame is read (of a manifest: after each entry),
+  /// with how many of how many are in.
+  LoadProgress progress;
   /// Depth readings deeper than this (metres) are dropped; positive.
   double maxDepth = std::numeric_limits<double>::infinity();
   /// TUM RGB-D folders: a frame takes the pose of the nearest timestamp, which

@@ -17,6 +17,7 @@
 
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/scan/RangeMap.h>
+#include <levelfuse/io/LoadProgress.h>
 
 #include <openvdb/math/Mat4.h>
 #include <openvdb/math/Quat.h>
@@ -59,6 +60,8 @@ RangeGridScan readRangeGridPly(const std::string& path);
 struct StanfordScanOptions {
   /// Asked before each scan is read: a long load can be stopped (Interrupted).
   Interrupter interrupter;
+  /// Told after each scan of a .conf file is read.
+  LoadProgress progress;
   /// Direction from the points toward the scanner, in the scan frame (the
   /// bunny's scanner is on the +z side; the dragon's is tilted about 27 degrees
   /// toward +x: (0.46, 0.04, 0.89)).

@@ -1,0 +1,83 @@
+// Every reader of a list of scans or frames says how far it has got, and
+// stops when asked to.
+
+#include "support/DepthFolders.h"
+#include "support/Files.h"
+
+#include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/Scans.h>
+
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+namespace levelfuse::io {
+namespace {
+
+using openvdb::Vec3d;
+using test::TempDir;
+using Reports = std::vector<std::pair<std::size_t, std::size_t>>;
+
+const PinholeProjection kCamera{12.0, 12.0, 7.5, 5.5};
+
+/// `count` cameras at z = 0 along x, looking at the plane z = 2.
+std::vector<test::CameraPose> poses(int count) {
+  std::vector<test::CameraPose> out(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) out[static_cast<std::size_t>(i)].position = Vec3d(0.05 * i, 0.0, 0.0);
+  return out;
+}
+
+test::TumFixture tumFrames(int count) {
+  test::TumFixture f;
+  for (int i = 0; i < count; ++i) {
+    f.poses.push_back({1.0 + i, test::CameraPose{Vec3d(0.05 * i, 0.0, 0.0), {0.0, 0.0, 0.0, 1.0}}});
+    f.frameTimes.push_back(1.0 + i);
+  }
+  return f;
+}
+
+Reports loadReporting(const std::string& path, int stride = 1) {
+  Reports reports;
+  ScanLoadOptions options;
+  options.frameStride = stride;
+  options.progress = [&](std::size_t read, std::size_t total) { reports.emplace_back(read, total); };
+  loadScans(path, options);
+  return reports;
+}
+
+TEST(LoadProgress, SevenScenesFoldersReportEachFrameOfTheStride) {
+  TempDir dir;
+  test::writeSevenScenesFolder(dir.path("scene"), poses(5), kCamera, 16, 12, 2.0);
+  EXPECT_EQ(loadReporting(dir.path("scene"), 2), (Reports{{1, 3}, {2, 3}, {3, 3}}));
+  EXPECT_EQ(loadReporting(dir.path("scene")), (Reports{{1, 5}, {2, 5}, {3, 5}, {4, 5}, {5, 5}}));
+}
+
+TEST(LoadProgress, TumFoldersReportEachFrame) {
+  TempDir dir;
+  test::writeTumFolder(dir.path("tum"), tumFrames(4));
+  EXPECT_EQ(loadReporting(dir.path("tum")), (Reports{{1, 4}, {2, 4}, {3, 4}, {4, 4}}));
+  EXPECT_EQ(loadReporting(dir.path("tum"), 3), (Reports{{1, 2}, {2, 2}}));
+}
+
+TEST(LoadProgress, ManifestsReportTheirEntries) {
+  TempDir dir;
+  test::writeSevenScenesFolder(dir.path("scene"), poses(3), kCamera, 16, 12, 2.0);
+  const std::string manifest = writeScanSet(dir.path("set"), loadScans(dir.path("scene")));
+  EXPECT_EQ(loadReporting(manifest), (Reports{{1, 3}, {2, 3}, {3, 3}}));
+}
+
+TEST(LoadProgress, ATumFolderStopsWhenAsked) {
+  TempDir dir;
+  test::writeTumFolder(dir.path("tum"), tumFrames(4));
+  ScanLoadOptions options;
+  std::size_t read = 0;
+  options.progress = [&](std::size_t n, std::size_t) { read = n; };
+  options.interrupter = [&] { return read >= 2; };
+  EXPECT_THROW(loadScans(dir.path("tum"), options), Interrupted);
+  EXPECT_EQ(read, 2u);
+}
+
+}  // namespace
+}  // namespace levelfuse::io
