@@ -1,5 +1,6 @@
-# Install the library, headers and an exported CMake package so that other
-# projects can `find_package(levelfuse)` and link `levelfuse::levelfuse`.
+# Install the library, headers, an exported CMake package (find_package(levelfuse),
+# target levelfuse::levelfuse) and a pkg-config file (levelfuse.pc), all
+# relocatable: nothing in them names the machine levelfuse was built on.
 
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -9,9 +10,8 @@ set(LEVELFUSE_CMAKE_INSTALL_DIR "${CMAKE_INSTALL_LIBDIR}/cmake/levelfuse")
 install(TARGETS levelfuse EXPORT levelfuseTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
-  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(DIRECTORY include/levelfuse DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(DIRECTORY include/levelfuse DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN "*.in" EXCLUDE)
 install(FILES "${PROJECT_BINARY_DIR}/include/levelfuse/Version.h"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/levelfuse)
 install(EXPORT levelfuseTargets NAMESPACE levelfuse:: DESTINATION ${LEVELFUSE_CMAKE_INSTALL_DIR})
@@ -24,4 +24,26 @@ write_basic_package_version_file("${PROJECT_BINARY_DIR}/levelfuseConfigVersion.c
 install(FILES
   "${PROJECT_BINARY_DIR}/levelfuseConfig.cmake"
   "${PROJECT_BINARY_DIR}/levelfuseConfigVersion.cmake"
+  "${PROJECT_SOURCE_DIR}/cmake/levelfuseOpenVDBModule.cmake"
   DESTINATION ${LEVELFUSE_CMAKE_INSTALL_DIR})
+
+# pkg-config: the prefix found from the file's own folder. A static levelfuse
+# brings the libraries its readers use into the consumer's link.
+set(_lf_pc_dir "${CMAKE_INSTALL_LIBDIR}/pkgconfig")
+file(RELATIVE_PATH LEVELFUSE_PC_PREFIX_FROM_PCDIR "/prefix/${_lf_pc_dir}" "/prefix")
+string(REGEX REPLACE "/$" "" LEVELFUSE_PC_PREFIX_FROM_PCDIR "${LEVELFUSE_PC_PREFIX_FROM_PCDIR}")
+set(_lf_pc_readers " libpng")
+if(LEVELFUSE_HAVE_OPENEXR)
+  string(APPEND _lf_pc_readers " OpenEXR")
+endif()
+if(LEVELFUSE_SHARED)
+  set(LEVELFUSE_PC_REQUIRES "")
+  set(LEVELFUSE_PC_REQUIRES_PRIVATE "${_lf_pc_readers}")
+else()
+  set(LEVELFUSE_PC_REQUIRES "${_lf_pc_readers}")
+  set(LEVELFUSE_PC_REQUIRES_PRIVATE "")
+endif()
+# A sanitizer build's users link its runtimes (LevelfuseCompilerSettings.cmake).
+string(JOIN " " LEVELFUSE_PC_LINK_FLAGS ${LEVELFUSE_SANITIZER_FLAGS})
+configure_file(cmake/levelfuse.pc.in "${PROJECT_BINARY_DIR}/levelfuse.pc" @ONLY)
+install(FILES "${PROJECT_BINARY_DIR}/levelfuse.pc" DESTINATION ${_lf_pc_dir})

@@ -1,7 +1,6 @@
-// Uses the installed levelfuse: a sphere shrinking under curvature flow.
-#include <levelfuse/Version.h>
-#include <levelfuse/levelset/SparseField.h>
-#include <levelfuse/levelset/SpeedTerms.h>
+// Uses the installed levelfuse through its umbrella header: a sphere
+// shrinking under curvature flow.
+#include <levelfuse/levelfuse.h>
 
 #include <openvdb/tools/LevelSetSphere.h>
 

@@ -1,0 +1,68 @@
+// levelfuse: every public header in one include, for a program that uses the
+// whole library. (Each header also stands alone; include only what you use to
+// keep compile times down: OpenVDB's headers are heavy.)
+//
+// A consumer's first reconstruction, from scans on disk to a .vdb file:
+//
+//   openvdb::initialize();
+//   levelfuse::Reconstructor reconstructor(levelfuse::io::loadScans("bunny/bun.conf"));
+//   levelfuse::ReconstructionResult result = reconstructor.run();
+//   levelfuse::io::writeVdb("bunny.vdb", {result.levelSet, result.weight});
+#pragma once
+
+#include <levelfuse/Version.h>
+
+#include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/Parallel.h>
+
+#include <levelfuse/geometry/NearestTriangle.h>
+#include <levelfuse/geometry/Shapes.h>
+
+#include <levelfuse/io/AtomicWrite.h>
+#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/InputError.h>
+#include <levelfuse/io/InputFile.h>
+#include <levelfuse/io/LoadProgress.h>
+#include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/MemoryBudget.h>
+#include <levelfuse/io/MeshFile.h>
+#include <levelfuse/io/Ply.h>
+#include <levelfuse/io/Preview.h>
+#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/TextRecords.h>
+#include <levelfuse/io/TumScans.h>
+#include <levelfuse/io/VdbFile.h>
+
+#include <levelfuse/levelset/Background.h>
+#include <levelfuse/levelset/Components.h>
+#include <levelfuse/levelset/DenseField.h>
+#include <levelfuse/levelset/DenseFieldStep.h>
+#include <levelfuse/levelset/Invariants.h>
+#include <levelfuse/levelset/LevelSetFromFunction.h>
+#include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/levelset/MeshTrim.h>
+#include <levelfuse/levelset/Refine.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
+#include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/SparseFieldStep.h>
+#include <levelfuse/levelset/SpeedTerms.h>
+#include <levelfuse/levelset/Stencil.h>
+#include <levelfuse/levelset/ZeroCrossings.h>
+
+#include <levelfuse/recon/DataFit.h>
+#include <levelfuse/recon/DataSpeed.h>
+#include <levelfuse/recon/HeldOutFrames.h>
+#include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/SurfaceRoughness.h>
+#include <levelfuse/recon/SurfaceWeight.h>
+
+#include <levelfuse/scan/AccumulationCost.h>
+#include <levelfuse/scan/DataTermGrids.h>
+#include <levelfuse/scan/DataWindow.h>
+#include <levelfuse/scan/DepthRaster.h>
+#include <levelfuse/scan/ForceField.h>
+#include <levelfuse/scan/RangeMap.h>
+#include <levelfuse/scan/Scenes.h>
+#include <levelfuse/scan/SightBins.h>
+#include <levelfuse/scan/Synth.h>
