@@ -72,16 +72,14 @@ double median(std::vector<double> values) {
 Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options)
     : mMaps(std::make_shared<const std::vector<RangeMap>>(std::move(maps))), mOptions(options) {
   if (mMaps->empty()) throw std::invalid_argument("reconstruction: no range maps to reconstruct from");
-  std::vector<double> spacings, sigmas;
+  std::vector<double> spacings;
   std::size_t readings = 0;
   for (const RangeMap& m : *mMaps) {
     readings += m.validCount();
-    for (int v = 0; v < m.height(); ++v)
-      for (int u = 0; u < m.width(); ++u)
-        if (m.valid(u, v)) mBounds.expand(m.readingPoint(u, v));
+    mBounds.expand(m.readingBounds());
     spacings.push_back(m.maxRaySpacing());
-    sigmas.push_back(m.sigma());
   }
+  const double sigma = medianSigma(*mMaps);
   // Counted, not judged by the box: the readings of one frame facing a wall square on may lie in a plane.
   if (readings == 0) throw std::invalid_argument("reconstruction: the range maps hold no readings");
   if (!(mBounds.extents()[mBounds.maxExtent()] > 0.0))
@@ -109,7 +107,7 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
   if (o.levels == 0)
     o.levels = depthFrames ? 1 : 1 + std::max(0, static_cast<int>(std::lround(std::log2(extent / (64.0 * o.voxelSize)))));
   if (o.levels < 1 || o.levels > 12) throw std::invalid_argument("reconstruction: the number of grids must be 1 to 12");
-  if (o.epsilon == 0.0) o.epsilon = median(sigmas);
+  if (o.epsilon == 0.0) o.epsilon = sigma;
   if (!(o.epsilon > 0.0) || !std::isfinite(o.epsilon))
     throw std::invalid_argument("reconstruction: the window width epsilon must be positive");
   if (o.epsilon > extent)
@@ -118,7 +116,7 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
         (options.epsilon == 0.0 ? " (the scans' median sigma)" : "") + " is wider than the data, which span " +
         shortNumber(extent) + ": a reading would speak for the whole scene; choose a window width (--epsilon) of " +
         "at most " + shortNumber(extent) + (options.epsilon == 0.0 ? ", or check the scans' sigma" : ""));
-  if (o.beta < 0.0) o.beta = depthFrames ? 0.0 : std::max(0.5, median(sigmas) / o.voxelSize);
+  if (o.beta < 0.0) o.beta = depthFrames ? 0.0 : std::max(0.5, sigma / o.voxelSize);
   if (o.dataTerm == DataTermSource::kAuto)
     o.dataTerm = mMaps->size() > kGridsFromScans ? DataTermSource::kGrids : DataTermSource::kPerMap;
   if (!(o.beta >= 0.0) || !std::isfinite(o.beta)) throw std::invalid_argument("reconstruction: beta must be finite");
@@ -140,9 +138,7 @@ void Reconstructor::requireCoarsestGridMemory() const {
 void Reconstructor::requireAccumulationMemory(int level) const {
   const auto costAt = [&](double finest) {
     const double h = std::ldexp(finest, mOptions.levels - 1 - level);
-    ForceFieldOptions f = forceOptions(level);
-    f.epsilon = std::max(mOptions.epsilon, h);
-    return accumulationCost(*mMaps, h, f.dataWindow().reach());
+    return accumulationCost(*mMaps, h, forceFieldOptions(mOptions.epsilon, h, mOptions.window).dataWindow().reach());
   };
   const AccumulationCost cost = costAt(mOptions.voxelSize);
   const double budget = static_cast<double>(io::memoryBudget());
@@ -204,11 +200,7 @@ double Reconstructor::voxelSize(int level) const {
 }
 
 ForceFieldOptions Reconstructor::forceOptions(int level) const {
-  const double h = voxelSize(level);
-  ForceFieldOptions f;
-  f.window = mOptions.window;
-  f.epsilon = std::max(mOptions.epsilon, h);  // the window never narrows below a voxel of the grid
-  f.positionVariance = h * h / 120.0;         // Eq. 38 with subcell positioning
+  ForceFieldOptions f = forceFieldOptions(mOptions.epsilon, voxelSize(level), mOptions.window);
   f.grainSize = mOptions.engine.grainSize == 0 ? 0 : 1;
   return f;
 }
@@ -277,12 +269,11 @@ LevelReport Reconstructor::evolveLevel(SparseField& field, const Field& data, do
 
 ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const Interrupter& interrupter) const {
   const auto start = Clock::now();
-  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   ReconstructionProgress state;
   state.levels = mOptions.levels;
   state.maxIterations = mOptions.maxIterations;
   const std::function<void()> report = [&] {
-    state.seconds = elapsed();
+    state.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (progress && !progress(state)) throw ReconstructionCancelled();
   };
 
@@ -292,59 +283,71 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   // 1. The initial model: the linear solution on the coarsest grid.
   std::unique_ptr<SparseField> field = std::make_unique<SparseField>(initialModel(interrupter));
   requireFinestGridMemory(field->stats().activeVoxels);
-  const double finest = mOptions.voxelSize;
-  int totalIterations = 0;
+  // 2-3. Each grid evolved, then refined for the next.
+  int iterations = 0;
   for (int level = 0; level < mOptions.levels; ++level) {
-    const auto levelStart = Clock::now();
-    const double h = voxelSize(level);
-    state.level = level;
-    state.voxelSize = h;
-    state.iteration = 0;
-    state.drift = 0.0;
-    if (level > 0) {
-      // 3. Resample to half the voxel size.
-      state.stage = ReconstructionProgress::Stage::kResampling;
-      report();
-      field = std::make_unique<SparseField>(SparseField::fromLevelSet(*refineLevelSet(*field->toLevelSet(3.0)),
-                                                                      mOptions.engine));
-    }
-    // 2. Evolve under the data term and the prior until the surface settles.
-    // On the finest grid, the surface's weight is taken while its data term is at hand.
-    const bool finestGrid = level + 1 == mOptions.levels;
-    const auto evolveAndWeigh = [&](const auto& data) {
-      state.stage = ReconstructionProgress::Stage::kEvolving;
-      const LevelReport evolved = evolveLevel(*field, data, h, state, report);
-      if (finestGrid) {
-        result.levelSet = field->toLevelSet(3.0, mOptions.name);
-        result.weight = levelfuse::surfaceWeight(*result.levelSet, data, interrupter);
-      }
-      return evolved;
-    };
-    LevelReport done;
-    if (mOptions.dataTerm == DataTermSource::kGrids) {
-      state.stage = ReconstructionProgress::Stage::kIntegrating;
-      state.scans = mMaps->size();
-      const auto integrated = [&](std::size_t scans) {
-        state.scan = scans;
-        report();
-      };
-      done = evolveAndWeigh(dataTermGrids(level, interrupter, integrated));
-    } else
-      done = evolveAndWeigh(ForceField(mMaps, forceOptions(level)));
-    totalIterations += done.iterations;
-    const SparseFieldStats stats = field->stats();
-    done.activeVoxels = stats.activeVoxels;
-    done.bandVoxels = stats.bandVoxels;
-    done.engineBytes = stats.memoryBytes;
-    done.voxelSize = h;
-    done.seconds = std::chrono::duration<double>(Clock::now() - levelStart).count();
-    result.peakEngineBytes = std::max(result.peakEngineBytes, stats.memoryBytes);
-    result.levels.push_back(done);
+    result.levels.push_back(reconstructLevel(level, field, state, report, interrupter, result));
+    iterations += result.levels.back().iterations;
+    result.peakEngineBytes = std::max(result.peakEngineBytes, result.levels.back().engineBytes);
   }
+  describeRun(*result.levelSet, iterations);
+  result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  state.stage = ReconstructionProgress::Stage::kDone;
+  report();
+  return result;
+}
 
-  openvdb::FloatGrid& out = *result.levelSet;
+LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseField>& field,
+                                            ReconstructionProgress& state, const std::function<void()>& report,
+                                            const Interrupter& interrupter, ReconstructionResult& result) const {
+  const auto levelStart = Clock::now();
+  const double h = voxelSize(level);
+  state.level = level;
+  state.voxelSize = h;
+  state.iteration = 0;
+  state.drift = 0.0;
+  if (level > 0) {
+    // 3. Resample to half the voxel size.
+    state.stage = ReconstructionProgress::Stage::kResampling;
+    report();
+    field = std::make_unique<SparseField>(
+        SparseField::fromLevelSet(*refineLevelSet(*field->toLevelSet(3.0)), mOptions.engine));
+  }
+  // 2. Evolve under the data term and the prior until the surface settles.
+  // On the finest grid, the surface's weight is taken while its data term is at hand.
+  const bool finestGrid = level + 1 == mOptions.levels;
+  const auto evolveAndWeigh = [&](const auto& data) {
+    state.stage = ReconstructionProgress::Stage::kEvolving;
+    const LevelReport evolved = evolveLevel(*field, data, h, state, report);
+    if (finestGrid) {
+      result.levelSet = field->toLevelSet(3.0, mOptions.name);
+      result.weight = levelfuse::surfaceWeight(*result.levelSet, data, interrupter);
+    }
+    return evolved;
+  };
+  LevelReport done;
+  if (mOptions.dataTerm == DataTermSource::kGrids) {
+    state.stage = ReconstructionProgress::Stage::kIntegrating;
+    state.scans = mMaps->size();
+    const auto integrated = [&](std::size_t scans) {
+      state.scan = scans;
+      report();
+    };
+    done = evolveAndWeigh(dataTermGrids(level, interrupter, integrated));
+  } else
+    done = evolveAndWeigh(ForceField(mMaps, forceOptions(level)));
+  const SparseFieldStats stats = field->stats();
+  done.activeVoxels = stats.activeVoxels;
+  done.bandVoxels = stats.bandVoxels;
+  done.engineBytes = stats.memoryBytes;
+  done.voxelSize = h;
+  done.seconds = std::chrono::duration<double>(Clock::now() - levelStart).count();
+  return done;
+}
+
+void Reconstructor::describeRun(openvdb::FloatGrid& out, int iterations) const {
   out.insertMeta("levelfuse_version", openvdb::StringMetadata(version()));
-  out.insertMeta("levelfuse_voxel_size", openvdb::DoubleMetadata(finest));
+  out.insertMeta("levelfuse_voxel_size", openvdb::DoubleMetadata(mOptions.voxelSize));
   out.insertMeta("levelfuse_levels", openvdb::Int32Metadata(mOptions.levels));
   out.insertMeta("levelfuse_beta", openvdb::DoubleMetadata(mOptions.beta));
   out.insertMeta("levelfuse_epsilon", openvdb::DoubleMetadata(mOptions.epsilon));
@@ -353,12 +356,8 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   out.insertMeta("levelfuse_data_term",
                  openvdb::StringMetadata(mOptions.dataTerm == DataTermSource::kGrids ? "grids" : "maps"));
   out.insertMeta("levelfuse_tolerance", openvdb::DoubleMetadata(mOptions.tolerance));
-  out.insertMeta("levelfuse_iterations", openvdb::Int32Metadata(totalIterations));
+  out.insertMeta("levelfuse_iterations", openvdb::Int32Metadata(iterations));
   out.insertMeta("levelfuse_scans", openvdb::Int32Metadata(static_cast<int>(mMaps->size())));
-  result.seconds = elapsed();
-  state.stage = ReconstructionProgress::Stage::kDone;
-  report();
-  return result;
 }
 
 }  // namespace levelfuse

@@ -22,17 +22,19 @@ using LeafT = openvdb::FloatTree::LeafNodeType;
 
 }  // namespace
 
-ForceFieldOptions defaultForceFieldOptions(const std::vector<RangeMap>& maps, double voxelSize) {
-  if (maps.empty()) throw std::invalid_argument("defaultForceFieldOptions: no range maps");
-  if (!(voxelSize > 0.0)) throw std::invalid_argument("defaultForceFieldOptions: the voxel size must be positive");
-  std::vector<double> sigmas;
-  for (const RangeMap& m : maps) sigmas.push_back(m.sigma());
-  std::nth_element(sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end());
+ForceFieldOptions forceFieldOptions(double epsilon, double voxelSize, WindowKind window) {
+  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
+    throw std::invalid_argument("forceFieldOptions: the voxel size must be positive");
   ForceFieldOptions options;
-  options.window = WindowKind::kGaussian;
-  options.epsilon = std::max(sigmas[sigmas.size() / 2], voxelSize);
+  options.window = window;
+  options.epsilon = std::max(epsilon, voxelSize);               // never narrower than a voxel of the grid
   options.positionVariance = voxelSize * voxelSize / 120.0;  // Eq. 38 with subcell positioning
   return options;
+}
+
+ForceFieldOptions defaultForceFieldOptions(const std::vector<RangeMap>& maps, double voxelSize) {
+  if (maps.empty()) throw std::invalid_argument("defaultForceFieldOptions: no range maps");
+  return forceFieldOptions(medianSigma(maps), voxelSize);
 }
 
 ForceField::ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& options)
@@ -45,10 +47,7 @@ ForceField::ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const 
   // Where each map's windows reach, and its line of sight if it is one.
   const double reach = mWindow.reach();
   for (const RangeMap& m : *mMaps) {
-    openvdb::BBoxd box;
-    for (int v = 0; v < m.height(); ++v)
-      for (int u = 0; u < m.width(); ++u)
-        if (m.valid(u, v)) box.expand(m.readingPoint(u, v));
+    openvdb::BBoxd box = m.readingBounds();
     box.expand(reach);
     mReach.push_back(box);
     const bool parallel = m.kind() == RangeMap::Kind::kOrthographic && !m.hasRayDirections();

@@ -316,4 +316,20 @@ double RangeMap::maxRaySpacing() const {
   return zmax / std::min(mPinhole.fx, mPinhole.fy);
 }
 
+openvdb::BBoxd RangeMap::readingBounds() const {
+  openvdb::BBoxd box;
+  for (int v = 0; v < mHeight; ++v)
+    for (int u = 0; u < mWidth; ++u)
+      if (valid(u, v)) box.expand(readingPoint(u, v));
+  return box;
+}
+
+double medianSigma(const std::vector<RangeMap>& maps) {
+  if (maps.empty()) throw std::invalid_argument("medianSigma: no range maps");
+  std::vector<double> sigmas;
+  for (const RangeMap& m : maps) sigmas.push_back(m.sigma());
+  std::nth_element(sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end());
+  return sigmas[sigmas.size() / 2];
+}
+
 }  // namespace levelfuse

@@ -65,11 +65,7 @@ nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
   openvdb::BBoxd all;
   std::size_t readings = 0, points = 0;
   for (const RangeMap& m : maps) {
-    openvdb::BBoxd box;
-    for (int v = 0; v < m.height(); ++v)
-      for (int u = 0; u < m.width(); ++u)
-        if (m.valid(u, v)) box.expand(m.readingPoint(u, v));
-    all.expand(box);
+    all.expand(m.readingBounds());
     readings += m.validCount();
     points += m.sampleCount();
     const openvdb::Vec3d scanner = m.kind() == RangeMap::Kind::kPinhole

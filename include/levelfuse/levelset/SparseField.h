@@ -23,6 +23,7 @@ namespace levelfuse {
 namespace detail {
 struct SparseFieldState;
 }
+struct InvariantReport;
 
 /// Settings of the sparse-field engine.
 struct SparseFieldOptions {
@@ -127,10 +128,11 @@ class SparseField {
   void setGrainSize(std::size_t grainSize);
   SparseFieldStats stats() const;
 
-  /// Engine internals, for the invariant checker and custom speeds.
+ private:
+  /// The invariant checker reads the engine's internals (Invariants.h).
+  friend InvariantReport checkInvariants(const SparseField& field);
   const detail::SparseFieldState& state() const { return *mState; }
 
- private:
   explicit SparseField(std::unique_ptr<detail::SparseFieldState> state);
   std::unique_ptr<detail::SparseFieldState> mState;
 };

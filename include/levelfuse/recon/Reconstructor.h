@@ -207,6 +207,13 @@ class Reconstructor {
   template <typename Field>
   LevelReport evolveLevel(SparseField& field, const Field& data, double h, ReconstructionProgress& state,
                           const std::function<void()>& report) const;
+  /// Grid `level` of run(): `field` resampled from the grid before (if any)
+  /// and evolved; on the finest grid, the result's level set and weight.
+  LevelReport reconstructLevel(int level, std::unique_ptr<SparseField>& field, ReconstructionProgress& state,
+                               const std::function<void()>& report, const Interrupter& interrupter,
+                               ReconstructionResult& result) const;
+  /// The run's parameters as the output grid's levelfuse_* metadata.
+  void describeRun(openvdb::FloatGrid& out, int iterations) const;
   /// Throws InsufficientMemory if accumulating the data term on grid `level`
   /// would not fit (accumulationCost), saying which voxel size would.
   void requireAccumulationMemory(int level) const;

@@ -37,11 +37,17 @@ struct ForceFieldOptions {
   DataWindow dataWindow() const { return DataWindow(window, epsilon, reach); }
 };
 
-/// Options derived from the data for a grid of `voxelSize`: a Gaussian window
-/// of width eps = max(sigma, voxelSize), sigma the range maps' median noise,
-/// so that a reading reaches as far as its own uncertainty and at least a
-/// voxel either side of the surface, and the positional variance of subcell
-/// positioning, voxelSize^2 / 120 (section 6). The Reconstructor's defaults.
+/// The data term's settings on a grid of `voxelSize` for a window of width
+/// `epsilon`: the window never narrows below a voxel of the grid (eps =
+/// max(epsilon, voxelSize)), so that a reading reaches at least a voxel either
+/// side of the surface, and the positional variance is that of subcell
+/// positioning, voxelSize^2 / 120 (Eq. 38, section 6). The one rule the
+/// Reconstructor's grids follow.
+ForceFieldOptions forceFieldOptions(double epsilon, double voxelSize, WindowKind window = WindowKind::kGaussian);
+
+/// forceFieldOptions for a Gaussian window as wide as the range maps' median
+/// noise sigma: a reading reaches as far as its own uncertainty. The
+/// Reconstructor's defaults.
 ForceFieldOptions defaultForceFieldOptions(const std::vector<RangeMap>& maps, double voxelSize);
 
 /// Where the data term reaches, accumulated on a grid: the terms of Eq. 17
@@ -95,7 +101,6 @@ class ForceField {
                                          const Interrupter& interrupter = {}) const;
 
   const std::vector<RangeMap>& maps() const { return *mMaps; }
-  const std::shared_ptr<const std::vector<RangeMap>>& sharedMaps() const { return mMaps; }
   const ForceFieldOptions& options() const { return mOptions; }
 
  private:

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <openvdb/Types.h>
+#include <openvdb/math/BBox.h>
 #include <openvdb/math/Mat4.h>
 #include <openvdb/math/Vec2.h>
 #include <openvdb/math/Vec3.h>
@@ -55,7 +56,12 @@ class RangeMap {
   enum class Kind { kOrthographic, kPinhole };
 
   /// `readings` is row-major, `width * height` values in world units; NaN or
-  /// values <= 0 (pinhole) mean no reading. `mapToWorld` is rigid. Throws
+  /// values <= 0 (pinhole) mean no reading. `mapToWorld` is rigid. A pinhole
+  /// map's readings are depths along the optical axis, and `cameraToWorld`
+  /// takes the camera frame (x right, y down, z along the optical axis:
+  /// OpenCV's) to world, in OpenVDB's row-vector layout (p_world = p_camera *
+  /// M). Open3D's extrinsic (in integrate()) is world-to-camera: pass its
+  /// inverse. Throws
   /// std::invalid_argument for inconsistent sizes or geometry (a pinhole whose
   /// field of view reaches kWidestPinholeView).
   static RangeMap orthographic(int width, int height, std::vector<float> readings, const OrthographicProjection& p,
@@ -149,6 +155,8 @@ class RangeMap {
   std::size_t validCount() const { return mValidCount; }
   /// World position of the surface point a reading measured.
   openvdb::Vec3d readingPoint(int u, int v) const;
+  /// World box of the points the readings measured (empty without readings).
+  openvdb::BBoxd readingBounds() const;
   /// World position of the point at pixel coordinates (u, v) (not necessarily
   /// a pixel centre) with the given reading: depth z along the parallel rays or
   /// the optical axis.
@@ -269,5 +277,9 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
   out.sigma = mSigmas.empty() ? mSigma : mSigmas[nearest];
   return true;
 }
+
+/// The median of the range maps' noise sigma (world units); throws
+/// std::invalid_argument for no maps.
+double medianSigma(const std::vector<RangeMap>& maps);
 
 }  // namespace levelfuse

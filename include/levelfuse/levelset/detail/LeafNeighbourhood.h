@@ -44,7 +44,6 @@ class ValueNeighbourhood {
       mValues[s] = n >= 0 ? table[n].values : emptyLeafValues();
     }
   }
-  const float* values(int slot) const { return mValues[slot]; }
 
   /// The 19-point stencil (Stencil.h) of the voxel at `offset`.
   void gather(unsigned offset, Stencil& s) const {

@@ -72,7 +72,6 @@ class LeafTable {
   std::int32_t find(const openvdb::Coord& origin) const;
 
   std::size_t size() const { return mRecords.size(); }
-  std::size_t liveCount() const { return mRecords.size() - mFree.size(); }
   LeafRecord& operator[](std::size_t i) { return mRecords[i]; }
   const LeafRecord& operator[](std::size_t i) const { return mRecords[i]; }
   std::size_t memoryBytes() const;
