@@ -44,8 +44,6 @@ void ProgressBar::update(const ReconstructionProgress& p) {
     mSecondsPerIteration = (p.seconds - mLevelStart) / p.iteration;
   }
   const bool frequent = p.stage == Stage::kEvolving || (p.stage == Stage::kIntegrating && p.scan < p.scans);
-  if (p.seconds - mLastDraw < 0.1 && frequent) return;  // at most ten lines a second
-  mLastDraw = p.seconds;
   std::ostringstream line;
   line << "grid " << p.level + 1 << "/" << p.levels << " (voxel " << length(p.voxelSize) << ") ";
   switch (p.stage) {
@@ -61,7 +59,20 @@ void ProgressBar::update(const ReconstructionProgress& p) {
   line << " | " << fixed(p.seconds, 3) << " s";
   const double eta = estimateRemaining(p);
   if (eta >= 0.0 && p.stage != Stage::kDone) line << ", about " << fixed(std::ceil(eta), 3) << " s left";
-  std::string text = line.str();
+  draw(line.str(), frequent, p.seconds);
+}
+
+void ProgressBar::loading(std::size_t read, std::size_t total) {
+  if (!mActive) return;
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
+  draw("loading scan " + std::to_string(read) + "/" + std::to_string(total) + " | " + fixed(seconds, 3) + " s",
+       read < total, seconds);
+}
+
+void ProgressBar::draw(const std::string& line, bool frequent, double seconds) {
+  if (seconds - mLastDraw < 0.1 && frequent) return;  // at most ten lines a second
+  mLastDraw = seconds;
+  std::string text = line;
   const std::size_t width = text.size();
   if (text.size() < mLastWidth) text += std::string(mLastWidth - text.size(), ' ');
   mLastWidth = width;

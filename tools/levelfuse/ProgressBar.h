@@ -4,6 +4,8 @@
 
 #include <levelfuse/recon/Reconstructor.h>
 
+#include <chrono>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -14,14 +16,20 @@ class ProgressBar {
   /// Draws on standard error if `enabled` and standard error is a terminal.
   explicit ProgressBar(bool enabled);
   ~ProgressBar();
+  /// While the scans are read: "loading scan 17/500 | 3.2 s".
+  void loading(std::size_t read, std::size_t total);
   void update(const ReconstructionProgress& p);
   /// Clears the line.
   void finish();
 
  private:
   double estimateRemaining(const ReconstructionProgress& p) const;
+  /// Draws `text`, at most ten times a second if `frequent`; `seconds` is the
+  /// time the text reports.
+  void draw(const std::string& text, bool frequent, double seconds);
 
   bool mActive = false;
+  std::chrono::steady_clock::time_point mStart = std::chrono::steady_clock::now();
   std::size_t mLastWidth = 0;
   double mLastDraw = -1.0;
   int mLevel = -1;

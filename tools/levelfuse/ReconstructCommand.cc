@@ -55,22 +55,24 @@ std::string joined(const std::vector<std::string>& items) {
   return s;
 }
 
-int runReconstruct(ReconstructSettings s) {
-  const auto started = std::chrono::steady_clock::now();
-  const ThreadLimit threads(s.threads);
+/// Every option and output, checked before the work starts and before anything is written.
+void checkSettings(ReconstructSettings& s) {
   // The budget of the readers and of the reconstruction.
   if (s.maxMemoryGiB > 0.0) io::setMemoryBudget(static_cast<std::uint64_t>(s.maxMemoryGiB * 1073741824.0));
   if (s.output.empty() && s.mesh.empty() && s.preview.empty())
     throw std::invalid_argument("nothing to write: give -o result.vdb, --mesh result.ply or --preview result.png");
-  // Every option and output is checked before the work starts and before anything is written.
   requireOutputs({s.output, s.mesh, s.preview}, s.inputs);
   if (!s.mesh.empty()) io::requireMeshFileName(s.mesh);
-  io::PreviewOptions preview;
-  if (!s.view.empty()) preview.toward = parseVec3(s.view);
-  if (!s.up.empty()) preview.up = parseVec3(s.up);
   s.options.minIterations = std::min(s.options.minIterations, s.options.maxIterations);
+}
 
-  // The scans.
+/// The scans of every input, and the truth a synthetic manifest records.
+struct Inputs {
+  std::vector<RangeMap> maps;
+  std::optional<shapes::AnalyticShape> truth;
+};
+
+Inputs loadInputs(const ReconstructSettings& s, ProgressBar& bar) {
   enterPhase("loading");
   io::ScanLoadOptions load;
   if (!s.towardScanner.empty()) load.stanford.towardScanner = parseVec3(s.towardScanner);
@@ -82,35 +84,28 @@ int runReconstruct(ReconstructSettings s) {
   if (s.maxDepth > 0.0) load.maxDepth = s.maxDepth;
   load.frameStride = s.frameStride;
   load.interrupter = cancellationInterrupter();
-  std::vector<RangeMap> maps;
-  std::optional<shapes::AnalyticShape> truth;
+  load.progress = [&](std::size_t read, std::size_t total) { bar.loading(read, total); };
+  Inputs in;
   for (const std::string& input : s.inputs) {
-    for (RangeMap& m : io::loadScans(input, load)) maps.push_back(std::move(m));
-    if (std::filesystem::path(input).extension() == ".json" && !truth) truth = io::loadManifestTruth(input);
+    for (RangeMap& m : io::loadScans(input, load)) in.maps.push_back(std::move(m));
+    if (std::filesystem::path(input).extension() == ".json" && !in.truth) in.truth = io::loadManifestTruth(input);
   }
   // The scan files the inputs named are inputs too.
   requireOutputs({s.output, s.mesh, s.preview}, io::inputsRead());
-  std::size_t readings = 0, points = 0;
-  for (const RangeMap& m : maps) {
-    readings += m.validCount();
-    points += m.sampleCount();
-  }
+  return in;
+}
 
-  // The surface. What the data and the options cannot give (a window wider
-  // than the data, a grid that would not fit) is said of the inputs.
-  const auto ofTheInputs = [&](const std::exception& e) {
-    return std::runtime_error(joined(s.inputs) + ": " + e.what());
-  };
-  std::optional<Reconstructor> made;
-  try {
-    made.emplace(maps, s.options);
-  } catch (const std::invalid_argument& e) {
-    throw ofTheInputs(e);
-  }
-  const Reconstructor& reconstructor = *made;
-  const ReconstructionOptions& o = reconstructor.options();
+/// What the data and the options cannot give (a window wider than the data, a
+/// grid that would not fit) is said of the inputs.
+std::runtime_error ofTheInputs(const ReconstructSettings& s, const std::exception& e) {
+  return std::runtime_error(joined(s.inputs) + ": " + e.what());
+}
+
+/// The surface, evolved or (--linear) the linear solution, with its weight
+/// grid where an output needs it, and the run's metadata.
+ReconstructionResult reconstructSurface(const Reconstructor& reconstructor, const ReconstructSettings& s,
+                                        ProgressBar& bar) {
   ReconstructionResult result;
-  ProgressBar bar(!s.quiet && !s.json && !s.linear);
   try {
     if (s.linear) {
       enterPhase("solving");
@@ -124,124 +119,195 @@ int runReconstruct(ReconstructSettings s) {
           },
           cancellationInterrupter());
     }
-  } catch (const Interrupted&) {
-    throw;
   } catch (const InsufficientMemory& e) {
-    throw ofTheInputs(e);
+    throw ofTheInputs(s, e);
   }
   bar.finish();
   enterPhase("measuring");
   openvdb::FloatGrid& surface = *result.levelSet;
-  const bool scene = scansOfAScene(maps);
-  const bool trim = s.trimUnseen.value_or(scene);
-  if (!result.weight && (trim || !s.output.empty()))
+  const bool scene = scansOfAScene(reconstructor.maps());
+  if (!result.weight && (s.trimUnseen.value_or(scene) || !s.output.empty()))
     result.weight = reconstructor.surfaceWeight(surface, cancellationInterrupter());
   surface.insertMeta("levelfuse_inputs", openvdb::StringMetadata(joined(s.inputs)));
   surface.insertMeta("levelfuse_method",
                      openvdb::StringMetadata(s.linear ? "linear solution (zero set of g)" : "MAP level-set evolution"));
   surface.insertMeta("levelfuse_scene", openvdb::BoolMetadata(scene));
-  const int fitSample = fitStride(maps, kFitPointsAtMost);
-  const DataFit fit = measureDataFit(surface, maps, fitSample);
+  return result;
+}
+
+/// What the summary says of the scans and of the surface.
+struct Measures {
+  std::size_t readings = 0, points = 0;
+  int fitSample = 1;  ///< one reading in fitSample along each row and column
+  DataFit fit;
   double truthRms = -1.0;
-  if (truth) truthRms = rmsOver(zeroCrossings(surface), *truth);
+  bool trim = false;  ///< the mesh and preview leave out what no scan observed
+};
+
+Measures measure(const Reconstructor& reconstructor, const openvdb::FloatGrid& surface, const Inputs& in,
+                 const ReconstructSettings& s) {
+  const std::vector<RangeMap>& scans = reconstructor.maps();
+  Measures m;
+  for (const RangeMap& map : scans) {
+    m.readings += map.validCount();
+    m.points += map.sampleCount();
+  }
+  m.fitSample = fitStride(scans, kFitPointsAtMost);
+  m.fit = measureDataFit(surface, scans, m.fitSample);
+  if (in.truth) m.truthRms = rmsOver(zeroCrossings(surface), *in.truth);
+  m.trim = s.trimUnseen.value_or(scansOfAScene(scans));
+  return m;
+}
+
+/// Writes the outputs, committed together once all are written; returns the mesh's triangles.
+std::size_t writeOutputs(const Reconstructor& reconstructor, const ReconstructionResult& result, bool trim,
+                         const ReconstructSettings& s) {
+  const openvdb::FloatGrid& surface = *result.levelSet;
   std::optional<TriangleMesh> mesh;
   if (!s.mesh.empty()) {
     enterPhase("meshing");
     mesh = meshFromLevelSet(surface);
     if (trim) mesh = trimMesh(*mesh, *result.weight, kObservedWeight);
   }
+  io::PreviewOptions preview;
+  if (!s.view.empty()) preview.toward = parseVec3(s.view);
+  if (!s.up.empty()) preview.up = parseVec3(s.up);
   // A scene is seen from where its first frame's camera stood, unless a view is asked for.
-  if (scene && s.view.empty()) preview = io::seenByFrame(maps.front(), preview);
+  if (scansOfAScene(reconstructor.maps()) && s.view.empty())
+    preview = io::seenByFrame(reconstructor.maps().front(), preview);
   if (trim) {
     preview.weight = result.weight;
     preview.minWeight = kObservedWeight;
   }
-
-  // The outputs, committed together once all are written.
   enterPhase("writing");
   io::OutputSet outputs;
   if (!s.output.empty()) io::writeVdb(outputs, s.output, {result.levelSet, result.weight});
   if (mesh) io::writeMesh(outputs, s.mesh, *mesh);
   if (!s.preview.empty()) io::writePreviewPng(outputs, surface, s.preview, preview);
   commitOutputs(outputs);
-  const std::size_t triangles = mesh ? mesh->triangleCount() : 0;
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return mesh ? mesh->triangleCount() : 0;
+}
 
-  const std::size_t active = surface.activeVoxelCount();
-  if (s.json) {
-    nlohmann::json levels = nlohmann::json::array();
-    for (const LevelReport& l : result.levels)
-      levels.push_back({{"voxel_size", l.voxelSize},
-                        {"iterations", l.iterations},
-                        {"converged", l.converged},
-                        {"settled", l.settled},
-                        {"simulated_time", l.simulatedTime},
-                        {"seconds", l.seconds},
-                        {"active_voxels", l.activeVoxels},
-                        {"band_voxels", l.bandVoxels},
-                        {"engine_bytes", l.engineBytes}});
-    nlohmann::json j{{"inputs", s.inputs},
-                     {"scans", maps.size()},
-                     {"points", points},
-                     {"readings", readings},
-                     {"method", s.linear ? "linear" : "evolution"},
-                     {"voxel_size", o.voxelSize},
-                     {"levels", o.levels},
-                     {"beta", o.beta},
-                     {"epsilon", o.epsilon},
-                     {"grids", levels},
-                     {"narrow_band_voxels", active},
-                     {"peak_engine_bytes", result.peakEngineBytes},
-                     {"peak_memory_bytes", peakResidentBytes()},
-                     {"fit",
-                      {{"points", fit.readings},
-                       {"mean", fit.mean},
-                       {"rms", fit.rms},
-                       {"median", fit.median},
-                       {"p90", fit.p90},
-                       {"p99", fit.p99},
-                       {"within_voxel", fit.withinVoxel},
-                       {"beyond_band", fit.beyondBand}}},
-                     {"seconds", seconds},
-                     {"outputs", {{"vdb", s.output}, {"mesh", s.mesh}, {"preview", s.preview}}},
-                     {"triangles", triangles},
-                     {"trimmed_unseen", trim}};
-    if (truth) j["truth"] = {{"shape", truth->name()}, {"rms_error", truthRms}, {"rms_error_voxels", truthRms / o.voxelSize}};
-    std::cout << j.dump(2) << "\n";
-    return kExitSuccess;
-  }
-  if (s.quiet) return kExitSuccess;
-  std::cout << "levelfuse reconstruct: " << maps.size() << " scans, " << withCommas(points) << " points"
-            << (points != readings ? " (" + withCommas(readings) + " readings of their range maps)" : std::string())
+/// The summary of a run, as JSON (lengths in metres) or as text for a person.
+struct Summary {
+  const ReconstructSettings& settings;
+  const Reconstructor& reconstructor;
+  const ReconstructionResult& result;
+  const Inputs& inputs;
+  const Measures& measures;
+  std::size_t triangles = 0;
+  double seconds = 0.0;
+};
+
+void printJson(const Summary& r) {
+  const ReconstructSettings& s = r.settings;
+  const ReconstructionOptions& o = r.reconstructor.options();
+  const DataFit& fit = r.measures.fit;
+  nlohmann::json levels = nlohmann::json::array();
+  for (const LevelReport& l : r.result.levels)
+    levels.push_back({{"voxel_size", l.voxelSize},
+                      {"iterations", l.iterations},
+                      {"converged", l.converged},
+                      {"settled", l.settled},
+                      {"simulated_time", l.simulatedTime},
+                      {"seconds", l.seconds},
+                      {"active_voxels", l.activeVoxels},
+                      {"band_voxels", l.bandVoxels},
+                      {"engine_bytes", l.engineBytes}});
+  nlohmann::json j{{"inputs", s.inputs},
+                   {"scans", r.reconstructor.maps().size()},
+                   {"points", r.measures.points},
+                   {"readings", r.measures.readings},
+                   {"method", s.linear ? "linear" : "evolution"},
+                   {"voxel_size", o.voxelSize},
+                   {"levels", o.levels},
+                   {"beta", o.beta},
+                   {"epsilon", o.epsilon},
+                   {"grids", levels},
+                   {"narrow_band_voxels", r.result.levelSet->activeVoxelCount()},
+                   {"peak_engine_bytes", r.result.peakEngineBytes},
+                   {"peak_memory_bytes", peakResidentBytes()},
+                   {"fit",
+                    {{"points", fit.readings},
+                     {"mean", fit.mean},
+                     {"rms", fit.rms},
+                     {"median", fit.median},
+                     {"p90", fit.p90},
+                     {"p99", fit.p99},
+                     {"within_voxel", fit.withinVoxel},
+                     {"beyond_band", fit.beyondBand}}},
+                   {"seconds", r.seconds},
+                   {"outputs", {{"vdb", s.output}, {"mesh", s.mesh}, {"preview", s.preview}}},
+                   {"triangles", r.triangles},
+                   {"trimmed_unseen", r.measures.trim}};
+  if (r.inputs.truth)
+    j["truth"] = {{"shape", r.inputs.truth->name()},
+                  {"rms_error", r.measures.truthRms},
+                  {"rms_error_voxels", r.measures.truthRms / o.voxelSize}};
+  std::cout << j.dump(2) << "\n";
+}
+
+void printText(const Summary& r) {
+  const ReconstructSettings& s = r.settings;
+  const ReconstructionOptions& o = r.reconstructor.options();
+  const Measures& m = r.measures;
+  const DataFit& fit = m.fit;
+  std::cout << "levelfuse reconstruct: " << r.reconstructor.maps().size() << " scans, " << withCommas(m.points)
+            << " points"
+            << (m.points != m.readings ? " (" + withCommas(m.readings) + " readings of their range maps)"
+                                       : std::string())
             << " (" << joined(s.inputs) << ")\n"
             << "  voxel " << length(o.voxelSize) << ", " << o.levels << (o.levels == 1 ? " grid" : " grids")
             << ", beta " << fixed(o.beta) << " voxels, window " << length(o.epsilon) << "\n";
   if (s.linear) std::cout << "  the linear solution (zero set of g), no evolution\n";
-  for (const LevelReport& l : result.levels)
+  for (const LevelReport& l : r.result.levels)
     std::cout << "  grid " << length(l.voxelSize) << ": " << l.iterations << " iterations ("
               << (l.converged ? "converged" : l.settled ? "settled" : "iteration limit") << "), "
               << withCommas(l.activeVoxels) << " active voxels, " << fixed(l.seconds, 3) << " s\n";
-  std::cout << "  surface: " << withCommas(active) << " narrow-band voxels; memory: engine "
-            << mebibytes(result.peakEngineBytes) << ", process peak " << mebibytes(peakResidentBytes()) << "\n"
+  std::cout << "  surface: " << withCommas(r.result.levelSet->activeVoxelCount())
+            << " narrow-band voxels; memory: engine " << mebibytes(r.result.peakEngineBytes) << ", process peak "
+            << mebibytes(peakResidentBytes()) << "\n"
             << "  fit to the points"
-            << (fitSample > 1 ? " (a sample of " + withCommas(fit.readings) + ": one reading in " + std::to_string(fitSample) +
-                                    " along each row and column of each scan)"
-                              : std::string())
-            << ": mean " << length(fit.mean) << ", median " << length(fit.median) << ", 90% "
-            << length(fit.p90) << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, "
-            << fixed(100.0 * fit.beyondBand, 3) << "% beyond the band\n";
-  if (truth)
-    std::cout << "  error against the true " << truth->name() << ": rms " << length(truthRms) << " ("
-              << fixed(truthRms / o.voxelSize, 3) << " voxel)\n";
-  std::cout << "  " << fixed(seconds, 3) << " s\n";
+            << (m.fitSample > 1 ? " (a sample of " + withCommas(fit.readings) + ": one reading in " +
+                                      std::to_string(m.fitSample) + " along each row and column of each scan)"
+                                : std::string())
+            << ": mean " << length(fit.mean) << ", median " << length(fit.median) << ", 90% " << length(fit.p90)
+            << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, " << fixed(100.0 * fit.beyondBand, 3)
+            << "% beyond the band\n";
+  if (r.inputs.truth)
+    std::cout << "  error against the true " << r.inputs.truth->name() << ": rms " << length(m.truthRms) << " ("
+              << fixed(m.truthRms / o.voxelSize, 3) << " voxel)\n";
+  std::cout << "  " << fixed(r.seconds, 3) << " s\n";
   for (const std::string* path : {&s.output, &s.mesh, &s.preview})
     if (!path->empty())
       std::cout << "  wrote " << *path
-                << (path == &s.mesh ? " (" + withCommas(triangles) + " triangles" +
-                                          (trim ? ", unseen parts left out" : "") + ")"
+                << (path == &s.mesh ? " (" + withCommas(r.triangles) + " triangles" +
+                                          (m.trim ? ", unseen parts left out" : "") + ")"
                     : path == &s.output ? " (the closed level set and its weight grid)"
                                         : "")
                 << "\n";
+}
+
+int runReconstruct(ReconstructSettings s) {
+  const auto started = std::chrono::steady_clock::now();
+  const ThreadLimit threads(s.threads);
+  checkSettings(s);
+  ProgressBar bar(!s.quiet && !s.json);
+  Inputs inputs = loadInputs(s, bar);
+  std::optional<Reconstructor> made;
+  try {
+    made.emplace(std::move(inputs.maps), s.options);  // the scans are held once, by the reconstructor
+  } catch (const std::invalid_argument& e) {
+    throw ofTheInputs(s, e);
+  }
+  const Reconstructor& reconstructor = *made;
+  const ReconstructionResult result = reconstructSurface(reconstructor, s, bar);
+  const Measures measures = measure(reconstructor, *result.levelSet, inputs, s);
+  const std::size_t triangles = writeOutputs(reconstructor, result, measures.trim, s);
+  const Summary summary{s, reconstructor, result, inputs, measures, triangles,
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()};
+  if (s.json) printJson(summary);
+  else if (!s.quiet) printText(summary);
   return kExitSuccess;
 }
 
