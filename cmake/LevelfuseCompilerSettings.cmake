@@ -34,3 +34,9 @@ if(_lf_san)
   add_compile_options(${_lf_san} ${_lf_san_optimisation})
   add_link_options(${_lf_san})
 endif()
+# Internal invariants (core/DebugCheck.h) are checked where bugs are hunted: the
+# sanitizer builds and Debug builds.
+if(_lf_san)
+  add_compile_definitions(LEVELFUSE_DEBUG_CHECKS)
+endif()
+add_compile_definitions($<$<CONFIG:Debug>:LEVELFUSE_DEBUG_CHECKS>)

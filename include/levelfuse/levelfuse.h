@@ -12,6 +12,7 @@
 
 #include <levelfuse/Version.h>
 
+#include <levelfuse/core/DebugCheck.h>
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/core/Parallel.h>
 
@@ -48,6 +49,7 @@
 #include <levelfuse/levelset/SparseFieldStep.h>
 #include <levelfuse/levelset/SpeedTerms.h>
 #include <levelfuse/levelset/Stencil.h>
+#include <levelfuse/levelset/TimeStep.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 
 #include <levelfuse/recon/DataFit.h>

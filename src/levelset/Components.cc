@@ -2,6 +2,7 @@
 
 #include <levelfuse/levelset/Components.h>
 #include <levelfuse/levelset/RequireLevelSet.h>
+#include <levelfuse/levelset/detail/LeafMaskOps.h>
 
 #include <vector>
 
@@ -9,7 +10,6 @@ namespace levelfuse {
 
 int insideComponents(const openvdb::FloatGrid& grid) {
   requireLevelSet(grid, "insideComponents");
-  static constexpr int kStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
   openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
   openvdb::MaskTree seen;
   openvdb::tree::ValueAccessor<openvdb::MaskTree> seenAcc(seen);
@@ -23,7 +23,7 @@ int insideComponents(const openvdb::FloatGrid& grid) {
     while (!stack.empty()) {
       const openvdb::Coord c = stack.back();
       stack.pop_back();
-      for (const auto& e : kStep) {
+      for (const auto& e : detail::kFaceOffset) {
         const openvdb::Coord n = c.offsetBy(e[0], e[1], e[2]);
         if (!acc.isValueOn(n) || acc.getValue(n) >= 0.0f || seenAcc.isValueOn(n)) continue;
         seenAcc.setValueOn(n);

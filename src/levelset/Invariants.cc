@@ -10,7 +10,6 @@
 namespace levelfuse {
 
 namespace {
-constexpr int kAxisStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
 }
 
 InvariantReport checkInvariants(const SparseField& field) {
@@ -56,7 +55,7 @@ InvariantReport checkInvariants(const SparseField& field) {
       }
       // Neighbourhood.
       bool oppositeNeighbour = false, innerNeighbour = false;
-      for (const auto& e : kAxisStep) {
+      for (const auto& e : detail::kFaceOffset) {
         const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
         const float w = acc.getValue(n);
         const int nl = field.layerOf(n);

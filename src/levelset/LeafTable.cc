@@ -27,14 +27,23 @@ NeighbourAddress addressOf(int i, int j, int k, const int d[3]) {
   return NeighbourAddress{static_cast<std::uint16_t>(offset), static_cast<std::uint8_t>(slot)};
 }
 
+/// True if Stencil's points 1 to 6 are the face neighbours in Face order.
+constexpr bool stencilFacesInFaceOrder() {
+  for (int f = 0; f < kFaceCount; ++f)
+    for (int axis = 0; axis < 3; ++axis)
+      if (Stencil::kOffset[1 + f][axis] != kFaceOffset[f][axis]) return false;
+  return true;
+}
+static_assert(stencilFacesInFaceOrder(), "Stencil's face points and kFaceOffset must agree");
+
 struct NeighbourTables {
-  NeighbourAddress face[FloatLeaf::SIZE][6];
+  NeighbourAddress face[FloatLeaf::SIZE][kFaceCount];
   NeighbourAddress stencil[FloatLeaf::SIZE][Stencil::kSize];
   NeighbourTables() {
-    static constexpr int kFace[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
     for (unsigned o = 0; o < FloatLeaf::SIZE; ++o) {
-      const int i = int(o >> 6), j = int((o >> 3) & 7u), k = int(o & 7u);
-      for (int f = 0; f < 6; ++f) face[o][f] = addressOf(i, j, k, kFace[f]);
+      const openvdb::Coord ijk = FloatLeaf::offsetToLocalCoord(o);
+      const int i = ijk.x(), j = ijk.y(), k = ijk.z();
+      for (int f = 0; f < kFaceCount; ++f) face[o][f] = addressOf(i, j, k, kFaceOffset[f]);
       for (int p = 0; p < Stencil::kSize; ++p) stencil[o][p] = addressOf(i, j, k, Stencil::kOffset[p]);
     }
   }

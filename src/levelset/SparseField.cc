@@ -4,6 +4,7 @@
 #include <levelfuse/levelset/Background.h>
 #include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/detail/LeafNeighbourhood.h>
 #include <levelfuse/levelset/detail/SparseFieldState.h>
 
 #include <openvdb/tools/ChangeBackground.h>
@@ -27,7 +28,6 @@ using detail::SparseFieldState;
 
 namespace {
 
-constexpr int kAxisStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
 
 std::string describe(const openvdb::GridBase& grid) {
   return grid.getName().empty() ? std::string("the grid") : "grid '" + grid.getName() + "'";
@@ -182,7 +182,7 @@ SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const 
         // members of a crossing lie outside the range (a steeper function than
         // a distance), the one nearer the crossing joins, clamped. Every sign
         // change then has an active member.
-        for (const auto& e : kAxisStep) {
+        for (const auto& e : detail::kFaceOffset) {
           const float v = acc.getValue(ijk.offsetBy(e[0], e[1], e[2]));
           if ((u < 0.0f) != (v < 0.0f) && (std::fabs(u) <= half || std::fabs(u) <= std::fabs(v))) {
             found[l].emplace_back(ijk, std::clamp(u, -half, half));
@@ -214,7 +214,7 @@ SparseField SparseField::fromMask(const openvdb::MaskGrid& inside, const SparseF
   // Each inside voxel next to an outside one, and that outside voxel, lie half
   // a voxel from the surface.
   const auto visit = [&](const openvdb::Coord& ijk) {
-    for (const auto& e : kAxisStep) {
+    for (const auto& e : detail::kFaceOffset) {
       const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
       if (!acc.isValueOn(n)) {
         seeds.emplace_back(ijk, -half);
@@ -294,9 +294,8 @@ openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::str
   openvdb::FloatGrid::Ptr out = mState->grid->deepCopy();
   openvdb::FloatTree& tree = out->tree();
 
-  // Grow further layers by the sparse field's own rule until they reach the
-  // requested half-width: each new voxel takes its nearest inner neighbour's
-  // value plus (outside) or minus (inside) one voxel.
+  // Grow further layers by the sparse field's own layer rule
+  // (LeafNeighbourhood.h) until they reach the requested half-width.
   const int wanted = static_cast<int>(std::ceil(halfWidth - 0.5));
   std::vector<openvdb::Coord> ring;
   const detail::LeafTable& table = mState->table;
@@ -310,7 +309,7 @@ openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::str
   for (int layer = N + 1; layer <= wanted; ++layer) {
     std::vector<std::pair<openvdb::Coord, float>> next;
     for (const openvdb::Coord& ijk : ring)
-      for (const auto& e : kAxisStep) {
+      for (const auto& e : detail::kFaceOffset) {
         const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
         if (!acc.isValueOn(n)) next.emplace_back(n, 0.0f);
       }
@@ -319,14 +318,12 @@ openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::str
                next.end());
     for (auto& [ijk, value] : next) {
       const bool inside = acc.getValue(ijk) < 0.0f;
-      float best = inside ? -std::numeric_limits<float>::max() : std::numeric_limits<float>::max();
-      for (const auto& e : kAxisStep) {
+      detail::NearestInner nearest(inside);
+      for (const auto& e : detail::kFaceOffset) {
         const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
-        if (!acc.isValueOn(n)) continue;
-        const float v = acc.getValue(n);
-        best = inside ? std::max(best, v) : std::min(best, v);
+        if (acc.isValueOn(n)) nearest.offer(acc.getValue(n));
       }
-      value = inside ? best - static_cast<float>(dx) : best + static_cast<float>(dx);
+      value = detail::layerValue(nearest.value(), inside, static_cast<float>(dx));
     }
     ring.clear();
     for (const auto& [ijk, value] : next) {

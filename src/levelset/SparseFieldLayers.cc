@@ -5,11 +5,14 @@
 // its neighbours' state as the previous phase left it. Reductions are gathered
 // per leaf and summed serially, so results do not depend on the thread count.
 
+#include <levelfuse/core/DebugCheck.h>
+#include <levelfuse/levelset/TimeStep.h>
 #include <levelfuse/levelset/detail/LeafNeighbourhood.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace levelfuse::detail {
 
@@ -20,27 +23,34 @@ LeafMask minus(LeafMask a, const LeafMask& b) {
   return a;
 }
 
-/// The masks selected by `member` of a record's six face neighbours (null where absent).
-template <typename Member>
-void faceMasks(const LeafTable& table, const LeafRecord& record, Member member, const LeafMask* out[kFaceCount]) {
+/// The masks `maskOf(neighbour)` of a record's six face neighbours, in `out`
+/// (null where a neighbour is absent). A mask `maskOf` computes rather than
+/// references is kept in `storage`, kFaceCount masks (null for references).
+template <typename MaskOf>
+void faceMasks(const LeafTable& table, const LeafRecord& record, MaskOf maskOf, LeafMask* storage,
+               const LeafMask* out[kFaceCount]) {
   for (int f = 0; f < kFaceCount; ++f) {
     const std::int32_t n = record.neighbour[kFaceSlot[f]];
-    out[f] = n >= 0 ? &(table[n].*member) : nullptr;
+    if (n < 0) {
+      out[f] = nullptr;
+    } else if constexpr (std::is_lvalue_reference_v<decltype(maskOf(table[n]))>) {
+      out[f] = &maskOf(table[n]);
+    } else {
+      storage[f] = maskOf(table[n]);
+      out[f] = &storage[f];
+    }
   }
 }
 
-/// Value of a voxel entering a layer next to the voxels of `inner`
-/// (section 5, step 3): the nearest inner neighbour's value plus one voxel
-/// outside, minus one voxel inside. In OpenVDB's sign the nearest neighbour is
-/// the one with the smallest value outside and the largest inside.
+/// Value of a voxel entering a layer next to the voxels of `inner` (the layer
+/// rule, LeafNeighbourhood.h). The side is passed on as a constant, so that
+/// each branch compiles to a rule of fixed sign.
 float fromNearestInner(const FaceNeighbourhood& inner, unsigned offset, bool inside, float dx) {
-  return inside ? inner.nearest(offset, true) - dx : inner.nearest(offset, false) + dx;
+  return inside ? layerValue(inner.nearest(offset, true), true, dx) : layerValue(inner.nearest(offset, false), false, dx);
 }
 
 /// Creates the leaves the outermost layer grows into and links their records.
 void allocateRequestedLeaves(SparseFieldState& state) {
-  static constexpr int kStep[kFaceCount][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0},
-                                               {0, 1, 0},  {0, 0, -1}, {0, 0, 1}};
   LeafTable& table = state.table;
   std::vector<openvdb::Coord> origins;
   const int dim = static_cast<int>(FloatLeaf::DIM);
@@ -49,7 +59,7 @@ void allocateRequestedLeaves(SparseFieldState& state) {
     if (request == 0) continue;
     for (int f = 0; f < kFaceCount; ++f)
       if (request & (1u << f))
-        origins.push_back(table[r].origin.offsetBy(kStep[f][0] * dim, kStep[f][1] * dim, kStep[f][2] * dim));
+        origins.push_back(table[r].origin.offsetBy(kFaceOffset[f][0] * dim, kFaceOffset[f][1] * dim, kFaceOffset[f][2] * dim));
     state.faceRequest[r] = 0;
   }
   std::sort(origins.begin(), origins.end());
@@ -76,39 +86,32 @@ std::size_t indexActivePoints(SparseFieldState& state) {
 
 double chooseTimeStep(const SparseFieldState& state, double maxSpeed, double curvatureWeight, double stiffness,
                       double maxDt) {
-  double dt = maxDt;
-  // Eqs. 31-32: the fastest front over the active set may move maxStepChange voxels.
-  if (maxSpeed > 0.0) dt = std::min(dt, state.options.maxStepChange * state.dx / maxSpeed);
-  // Stability of the explicit curvature term (Eq. 26) and of a stiff force,
-  // combined as rates.
-  const double curvatureDt = state.options.curvatureStepLimit * state.dx * state.dx / curvatureWeight;
-  const double stiffnessDt = state.options.stiffnessStepLimit / stiffness;
-  if (curvatureWeight > 0.0 && stiffness > 0.0) dt = std::min(dt, 1.0 / (1.0 / curvatureDt + 1.0 / stiffnessDt));
-  else if (curvatureWeight > 0.0) dt = std::min(dt, curvatureDt);
-  else if (stiffness > 0.0) dt = std::min(dt, stiffnessDt);
-  if (!std::isfinite(dt) || dt < 0.0) dt = 0.0;
-  return dt;
+  const SparseFieldOptions& o = state.options;
+  return stableTimeStep(TimeStepLimits{o.maxStepChange, o.curvatureStepLimit, o.stiffnessStepLimit}, state.dx,
+                        maxSpeed, curvatureWeight, stiffness, maxDt);
 }
 
-StepResult applyRates(SparseFieldState& state, double dt, double maxSpeed) {
-  LeafTable& table = state.table;
-  const std::size_t grain = state.options.grainSize;
+namespace {
+
+/// What one leaf's active points did in a step; each field means one thing.
+struct LeafTally {
+  double sumSq = 0.0;          ///< sum of the squared changes
+  float maxChange = 0.0f;      ///< largest change
+  std::uint32_t points = 0;    ///< active points changed
+  std::uint32_t wantOut = 0;   ///< points whose value left the range outward (up)
+  std::uint32_t wantIn = 0;    ///< ... inward (down)
+  std::uint32_t conflicts = 0; ///< of those, points held because a neighbour left the other way
+  std::uint32_t movedOut = 0;  ///< points that left the active set outward
+  std::uint32_t movedIn = 0;   ///< ... inward
+};
+
+/// Step 2: adds dt times its rate to every active point; the points whose
+/// value leaves [-1/2, 1/2] voxel become candidates to move out (up) or in (down).
+void addChanges(SparseFieldState& state, float dt, std::vector<LeafTally>& tally) {
   const float half = static_cast<float>(0.5 * state.dx);
-  const float fdt = static_cast<float>(dt);
-  const float dx = static_cast<float>(state.dx);
   const float* rates = state.pointValues.data();
-
-  struct LeafTally {
-    double sumSq = 0.0;
-    float maxChange = 0.0f;
-    std::uint32_t points = 0, out = 0, in = 0, conflicts = 0;
-  };
-  std::vector<LeafTally> tally(table.size());
-
-  // Step 2: add the change to every active point; points leaving [-1/2, 1/2]
-  // voxel become candidates to move out (up) or in (down).
-  forEachRecord(table, grain, [&](std::size_t r) {
-    LeafRecord& record = table[r];
+  forEachRecord(state.table, state.options.grainSize, [&](std::size_t r) {
+    LeafRecord& record = state.table[r];
     record.up.setOff();
     record.down.setOff();
     record.conflict.setOff();
@@ -116,7 +119,7 @@ StepResult applyRates(SparseFieldState& state, double dt, double maxSpeed) {
     LeafTally& t = tally[r];
     std::uint32_t slot = state.firstActive[r];
     forEachOn(record.layer[0], [&](unsigned o) {
-      const float change = fdt * rates[slot++];
+      const float change = dt * rates[slot++];
       const float v = values[o] + change;
       values[o] = v;
       t.sumSq += static_cast<double>(change) * change;
@@ -124,30 +127,36 @@ StepResult applyRates(SparseFieldState& state, double dt, double maxSpeed) {
       ++t.points;
       if (v > half) {
         record.up.setOn(o);
-        t.out = 1;
+        ++t.wantOut;
       } else if (v < -half) {
         record.down.setOn(o);
-        t.in = 1;
+        ++t.wantIn;
       }
     });
   });
+}
 
-  // Two adjacent points leaving on opposite sides would leave a sign change
-  // without an active point between them (the Appendix's movements must stay
-  // separate). Both stay active, held at the edge of the range. Nothing to do
-  // unless points leave on both sides somewhere.
+/// Two adjacent points leaving on opposite sides would leave a sign change
+/// without an active point between them (the Appendix's movements must stay
+/// separate). Both stay active, held at the edge of the range. Nothing to do
+/// unless points leave on both sides somewhere. Each task writes only its own
+/// leaf's values and conflict mask and reads its neighbours' up and down masks.
+void holdConflicts(SparseFieldState& state, std::vector<LeafTally>& tally) {
   bool anyOut = false, anyIn = false;
   for (const LeafTally& t : tally) {
-    anyOut = anyOut || t.out;
-    anyIn = anyIn || t.in;
+    anyOut = anyOut || t.wantOut > 0;
+    anyIn = anyIn || t.wantIn > 0;
   }
-  if (anyOut && anyIn) forEachRecord(table, grain, [&](std::size_t r) {
-    LeafRecord& record = table[r];
+  if (!anyOut || !anyIn) return;
+  const float half = static_cast<float>(0.5 * state.dx);
+  const LeafTable& table = state.table;
+  forEachRecord(state.table, state.options.grainSize, [&](std::size_t r) {
+    LeafRecord& record = state.table[r];
     if (!anyOn(record.up) && !anyOn(record.down)) return;
     const LeafMask* ups[kFaceCount];
     const LeafMask* downs[kFaceCount];
-    faceMasks(table, record, &LeafRecord::up, ups);
-    faceMasks(table, record, &LeafRecord::down, downs);
+    faceMasks(table, record, [](const LeafRecord& n) -> const LeafMask& { return n.up; }, nullptr, ups);
+    faceMasks(table, record, [](const LeafRecord& n) -> const LeafMask& { return n.down; }, nullptr, downs);
     LeafMask conflict = record.up & dilateFaces(record.down, downs);
     conflict |= record.down & dilateFaces(record.up, ups);
     if (!anyOn(conflict)) return;
@@ -156,30 +165,29 @@ StepResult applyRates(SparseFieldState& state, double dt, double maxSpeed) {
     record.conflict = conflict;
     tally[r].conflicts = conflict.countOn();
   });
+}
 
-  // Step 4 for the active set: points that leave are replaced by their
-  // neighbours across the zero crossing (the movement of Eq. 42), valued from
-  // the active points next to them (step 3).
-  forEachRecord(table, grain, [&](std::size_t r) {
-    LeafRecord& record = table[r];
+/// Step 4 for the active set: points that leave are replaced by their
+/// neighbours across the zero crossing (the movement of Eq. 42), valued from
+/// the active points next to them (step 3). In place: a task writes only
+/// voxels outside every active set (the candidates) and its own leaf's `next`,
+/// and reads only active points' values and the masks of step 2.
+void replaceLeavingPoints(SparseFieldState& state, std::vector<LeafTally>& tally) {
+  const float dx = static_cast<float>(state.dx);
+  const LeafTable& table = state.table;
+  forEachRecord(state.table, state.options.grainSize, [&](std::size_t r) {
+    LeafRecord& record = state.table[r];
     const LeafMask leavingOut = minus(record.up, record.conflict);
     const LeafMask leavingIn = minus(record.down, record.conflict);
     record.next = minus(minus(record.layer[0], leavingOut), leavingIn);
-    tally[r].out = leavingOut.countOn();
-    tally[r].in = leavingIn.countOn();
+    tally[r].movedOut = leavingOut.countOn();
+    tally[r].movedIn = leavingIn.countOn();
 
     LeafMask faceOut[kFaceCount], faceIn[kFaceCount];
     const LeafMask* outs[kFaceCount];
     const LeafMask* ins[kFaceCount];
-    for (int f = 0; f < kFaceCount; ++f) {
-      const std::int32_t n = record.neighbour[kFaceSlot[f]];
-      outs[f] = ins[f] = nullptr;
-      if (n < 0) continue;
-      faceOut[f] = minus(table[n].up, table[n].conflict);
-      faceIn[f] = minus(table[n].down, table[n].conflict);
-      outs[f] = &faceOut[f];
-      ins[f] = &faceIn[f];
-    }
+    faceMasks(table, record, [](const LeafRecord& n) { return minus(n.up, n.conflict); }, faceOut, outs);
+    faceMasks(table, record, [](const LeafRecord& n) { return minus(n.down, n.conflict); }, faceIn, ins);
     const LeafMask besideOut = dilateFaces(leavingOut, outs);
     const LeafMask besideIn = dilateFaces(leavingIn, ins);
     LeafMask candidates = (besideOut | besideIn) & record.leaf->getValueMask();
@@ -189,15 +197,18 @@ StepResult applyRates(SparseFieldState& state, double dt, double maxSpeed) {
     const FaceNeighbourhood oldActive(table, record, [](const LeafRecord& n) -> const LeafMask& { return n.layer[0]; });
     float* values = record.values;
     forEachOn(candidates, [&](unsigned o) {
+      LEVELFUSE_DEBUG_CHECK(!record.layer[0].isOn(o), "a value the other tasks read is written in place");
       const bool inside = values[o] < 0.0f;
       if (inside ? !besideOut.isOn(o) : !besideIn.isOn(o)) return;
       values[o] = fromNearestInner(oldActive, o, inside, dx);
       record.next.setOn(o);
     });
   });
+}
 
-  rebuildLayers(state);
-
+/// The step's report from the leaves' tallies.
+StepResult summarise(const SparseFieldState& state, const std::vector<LeafTally>& tally, double dt,
+                     double maxSpeed) {
   StepResult result;
   result.dt = dt;
   result.maxSpeed = maxSpeed;
@@ -207,13 +218,24 @@ StepResult applyRates(SparseFieldState& state, double dt, double maxSpeed) {
     sumSq += t.sumSq;
     points += t.points;
     result.maxChange = std::max(result.maxChange, static_cast<double>(t.maxChange));
-    result.movedOut += t.out;
-    result.movedIn += t.in;
+    result.movedOut += t.movedOut;
+    result.movedIn += t.movedIn;
     result.conflicts += t.conflicts;
   }
   result.rmsChange = points ? std::sqrt(sumSq / static_cast<double>(points)) : 0.0;
   for (const std::uint32_t n : state.activeCount) result.activeVoxels += n;
   return result;
+}
+
+}  // namespace
+
+StepResult applyRates(SparseFieldState& state, double dt, double maxSpeed) {
+  std::vector<LeafTally> tally(state.table.size());
+  addChanges(state, static_cast<float>(dt), tally);  // step 2
+  holdConflicts(state, tally);
+  replaceLeavingPoints(state, tally);                // step 4 for the active set
+  rebuildLayers(state);                              // steps 3 and 4 for the layers
+  return summarise(state, tally, dt, maxSpeed);
 }
 
 void rebuildLayers(SparseFieldState& state) {
@@ -240,10 +262,7 @@ void rebuildLayers(SparseFieldState& state) {
     forEachRecord(table, grain, [&](std::size_t r) {
       LeafRecord& record = table[r];
       const LeafMask* innerFaces[kFaceCount];
-      for (int f = 0; f < kFaceCount; ++f) {
-        const std::int32_t n = record.neighbour[kFaceSlot[f]];
-        innerFaces[f] = n >= 0 ? &innerOf(table[n]) : nullptr;
-      }
+      faceMasks(table, record, innerOf, nullptr, innerFaces);
       LeafMask ring = dilateFaces(innerOf(record), innerFaces);
       ring -= record.next;
       for (int j = 1; j < i; ++j) ring -= record.layer[j];
@@ -264,6 +283,8 @@ void rebuildLayers(SparseFieldState& state) {
         LeafMask band = record.next;
         for (int j = 1; j <= layers; ++j) band |= record.layer[j];
         const LeafMask retired = minus(record.leaf->getValueMask(), band);
+        LEVELFUSE_DEBUG_CHECK(layers >= 2 && !anyOn(retired & record.layer[layers - 1]),
+                              "the commit writes what the other tasks of its pass read");
         forEachOn(retired, [&](unsigned o) { values[o] = values[o] < 0.0f ? -background : background; });
         record.leaf->setValueMask(band);
         record.layer[0] = record.next;

@@ -16,10 +16,16 @@
 
 namespace levelfuse {
 
+/// The dense field takes its time steps by the sparse field's rule
+/// (stableTimeStep) with the same limits but one: its curvature term acts on
+/// every voxel of the box, as diffusion in three dimensions, whose explicit
+/// limit is 1/6 (the sparse field's active points see it within the surface,
+/// in two: 1/4).
 struct DenseFieldOptions {
-  double maxStepChange = 0.45;             ///< largest change of a value in one step, in voxels
-  double curvatureStepLimit = 1.0 / 6.0;   ///< dt <= this * dx^2 / beta
-  std::size_t grainSize = 1;               ///< x slabs per task; 0 runs serially
+  double maxStepChange = 0.45;            ///< largest change of a value in one step, in voxels
+  double curvatureStepLimit = 1.0 / 6.0;  ///< dt <= this * dx^2 / beta
+  double stiffnessStepLimit = 0.5;        ///< dt k <= this for a force of stiffness k
+  std::size_t grainSize = 1;              ///< x slabs per task; 0 runs serially
 };
 
 class DenseField {

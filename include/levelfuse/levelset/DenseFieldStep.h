@@ -3,6 +3,7 @@
 
 #include <levelfuse/levelset/DenseField.h>
 #include <levelfuse/levelset/SpeedTerms.h>
+#include <levelfuse/levelset/TimeStep.h>
 
 #include <levelfuse/core/Parallel.h>
 
@@ -49,11 +50,9 @@ StepResult DenseField::step(const Speed& speed, double maxDt) {
   });
 
   const double maxSpeed = *std::max_element(slabMax.begin(), slabMax.end());
-  double dt = maxDt;
-  if (maxSpeed > 0.0) dt = std::min(dt, mOptions.maxStepChange * mDx / maxSpeed);
-  if (speed.curvatureWeight() > 0.0)
-    dt = std::min(dt, mOptions.curvatureStepLimit * mDx * mDx / speed.curvatureWeight());
-  if (!std::isfinite(dt) || dt < 0.0) dt = 0.0;
+  const double dt = stableTimeStep(
+      TimeStepLimits{mOptions.maxStepChange, mOptions.curvatureStepLimit, mOptions.stiffnessStepLimit}, mDx, maxSpeed,
+      speed.curvatureWeight(), speedStiffness(speed), maxDt);
 
   std::vector<double> slabSumSq(static_cast<std::size_t>(nx), 0.0);
   std::vector<float> slabMaxChange(static_cast<std::size_t>(nx), 0.0f);

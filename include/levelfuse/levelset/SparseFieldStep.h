@@ -36,9 +36,7 @@ double computeRates(SparseFieldState& state, const Speed& speed) {
     std::uint32_t slot = state.firstActive[r];
     forEachOn(record.layer[0], [&](unsigned offset) {
       neighbourhood.gather(offset, stencil);
-      const openvdb::Coord ijk = record.origin + openvdb::Coord(static_cast<int>(offset >> 6),
-                                                                static_cast<int>((offset >> 3) & 7u),
-                                                                static_cast<int>(offset & 7u));
+      const openvdb::Coord ijk = record.origin + FloatLeaf::offsetToLocalCoord(offset);
       float rate = speed(ActivePoint{stencil, ijk, transform});
       if (!std::isfinite(rate)) rate = 0.0f;  // a speed undefined here does not move the point
       rates[slot++] = rate;

@@ -15,6 +15,11 @@ using LeafMask = openvdb::util::NodeMask<3>;
 /// Faces of a leaf, in the order -x, +x, -y, +y, -z, +z.
 enum Face : int { kFaceXm = 0, kFaceXp, kFaceYm, kFaceYp, kFaceZm, kFaceZp, kFaceCount };
 
+/// The index offsets of a voxel's (or a leaf's, in leaves) six face
+/// neighbours, in Face order: every per-face table follows it.
+inline constexpr int kFaceOffset[kFaceCount][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0},
+                                                   {0, 1, 0},  {0, 0, -1}, {0, 0, 1}};
+
 inline std::uint64_t maskWord(const LeafMask& m, int x) { return m.getWord<std::uint64_t>(x); }
 inline std::uint64_t& maskWord(LeafMask& m, int x) { return m.getWord<std::uint64_t>(x); }
 /// The mask's eight words (a NodeMask holds nothing else).

@@ -29,8 +29,29 @@ struct NeighbourAddress {
 };
 
 /// Table of the six face neighbours of every voxel offset: entries 6 * offset
-/// to 6 * offset + 5, in the order -x, +x, -y, +y, -z, +z.
+/// to 6 * offset + 5, in Face order (kFaceOffset).
 const NeighbourAddress* faceNeighbourTable();
+
+/// The layer rule of section 5, step 3: a voxel entering a layer takes the
+/// value of its nearest inner neighbour plus one voxel outside, minus one
+/// voxel inside. NearestInner chooses that neighbour among the values offered
+/// one by one: in OpenVDB's sign the smallest value outside and the largest
+/// inside (the smallest signed distance from the front); -+max float (inside,
+/// outside) if none is offered.
+class NearestInner {
+ public:
+  explicit NearestInner(bool inside) : mSign(inside ? -1.0f : 1.0f) {}
+  void offer(float value) { mBest = std::min(mBest, mSign * value); }
+  float value() const { return mSign * mBest; }
+
+ private:
+  float mSign;
+  float mBest = std::numeric_limits<float>::max();
+};
+/// The value the rule gives a voxel whose nearest inner neighbour holds `nearestInner`.
+inline float layerValue(float nearestInner, bool inside, float dx) {
+  return inside ? nearestInner - dx : nearestInner + dx;
+}
 /// Table of the 19 stencil points (Stencil::Index order) of every voxel offset:
 /// entries Stencil::kSize * offset onward.
 const NeighbourAddress* stencilNeighbourTable();
@@ -72,19 +93,17 @@ class FaceNeighbourhood {
     set(table, record.neighbour[kSelfSlot], kSelfSlot, maskOf);
   }
 
-  /// Value of the neighbour in the mask nearest the front: the smallest value
-  /// outside, the largest inside; +-max float where no neighbour is in the mask.
+  /// Value of the neighbour in the mask nearest the front (NearestInner).
   float nearest(unsigned offset, bool inside) const {
-    const NeighbourAddress* at = mFace + 6 * offset;
-    const float sign = inside ? -1.0f : 1.0f;  // nearest = smallest signed distance
-    float best = std::numeric_limits<float>::max();
+    const NeighbourAddress* at = mFace + kFaceCount * offset;
+    NearestInner best(inside);
 #pragma GCC unroll 6
-    for (int k = 0; k < 6; ++k) {
+    for (int k = 0; k < kFaceCount; ++k) {
       const unsigned slot = at[k].slot, o = at[k].offset;
       // Only neighbours in the mask are read: the others' leaves are often cold.
-      if ((mMask[slot][o >> 6] >> (o & 63u)) & 1u) best = std::min(best, sign * mValues[slot][o]);
+      if ((mMask[slot][o >> 6] >> (o & 63u)) & 1u) best.offer(mValues[slot][o]);
     }
-    return sign * best;
+    return best.value();
   }
 
  private:
