@@ -99,11 +99,7 @@ void RangeMap::setDiscontinuityFactor(double factor) {
 
 RangeMap RangeMap::orthographic(int width, int height, std::vector<float> readings, const OrthographicProjection& p,
                                 const openvdb::math::Mat4d& mapToWorld, double sigma, std::string name) {
-  RangeMap m;
-  m.mKind = Kind::kOrthographic;
-  m.mWidth = width;
-  m.mHeight = height;
-  m.mName = std::move(name);
+  RangeMap m(Kind::kOrthographic, width, height, std::move(name));
   if (!(p.pixelSize > 0.0) || !std::isfinite(p.pixelSize) || !std::isfinite(p.origin.x()) ||
       !std::isfinite(p.origin.y()))
     throw std::invalid_argument("range map '" + m.mName + "': the pixel size must be positive and finite");
@@ -116,11 +112,7 @@ RangeMap RangeMap::orthographic(int width, int height, std::vector<float> readin
 
 RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
                            const openvdb::math::Mat4d& cameraToWorld, double sigma, std::string name) {
-  RangeMap m;
-  m.mKind = Kind::kPinhole;
-  m.mWidth = width;
-  m.mHeight = height;
-  m.mName = std::move(name);
+  RangeMap m(Kind::kPinhole, width, height, std::move(name));
   if (!(p.fx > 0.0) || !(p.fy > 0.0) || !std::isfinite(p.fx) || !std::isfinite(p.fy) || !std::isfinite(p.cx) ||
       !std::isfinite(p.cy))
     throw std::invalid_argument("range map '" + m.mName + "': focal lengths must be positive and finite");

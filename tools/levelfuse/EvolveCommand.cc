@@ -138,7 +138,7 @@ int runEvolve(const EvolveSettings& s) {
     std::cout << "levelfuse evolve: " << s.shape << " under " << s.flow << " flow, voxel " << length(voxelSize) << "\n"
               << "  " << steps << " steps to t = " << t << " in " << seconds << " s\n"
               << "  " << stats.activeVoxels << " active voxels, " << stats.bandVoxels << " in the layers, "
-              << stats.memoryBytes / 1048576.0 << " MiB\n"
+              << mebibytes(stats.memoryBytes) << "\n"
               << "  inside components: " << componentsBefore << " -> " << componentsAfter << "\n"
               << "  wrote " << s.output << "\n";
   }

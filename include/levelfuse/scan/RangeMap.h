@@ -24,6 +24,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace levelfuse {
@@ -169,7 +170,8 @@ class RangeMap {
   double maxRaySpacing() const;
 
  private:
-  RangeMap() = default;
+  RangeMap(Kind kind, int width, int height, std::string name)
+      : mKind(kind), mWidth(width), mHeight(height), mName(std::move(name)) {}
   std::size_t index(int u, int v) const {
     return static_cast<std::size_t>(v) * static_cast<std::size_t>(mWidth) + static_cast<std::size_t>(u);
   }
