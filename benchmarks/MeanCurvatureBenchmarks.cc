@@ -65,7 +65,7 @@ void sparseField(benchmark::State& state, int radius, int threads) {
   for (auto _ : state) field.step(flow);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   const SparseFieldStats stats = field.stats();
-  report(state, r0, meanRadius(field.grid(), centre), seconds, stats.activeVoxels,
+  report(state, r0, meanRadius(field.grid(), centre), seconds, stats.activeSetVoxels,
          double(stats.memoryBytes) / double(stats.bandVoxels));
 }
 
@@ -81,7 +81,7 @@ void denseField(benchmark::State& state, int radius, int threads) {
   const double r0 = meanRadius(*field.toGrid(), centre);
   std::size_t active = 0;
   const auto start = Clock::now();
-  for (auto _ : state) active = field.step(flow).activeVoxels;
+  for (auto _ : state) active = field.step(flow).activeSetVoxels;
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   const double voxels = static_cast<double>(field.box().volume());
   report(state, r0, meanRadius(*field.toGrid(), centre), seconds, active, double(field.memoryBytes()) / voxels);
@@ -123,7 +123,7 @@ void itkSparseField(benchmark::State& state, int radius, int threads) {
   const double r1 = field.meanRadius();
   // sim_time per reported iteration is per ITK iteration: ten ran per report.
   const double simTime = simulatedTimePerIteration(r0, r1, 10 * static_cast<std::size_t>(state.iterations()));
-  state.counters["active"] = static_cast<double>(field.activeVoxels());
+  state.counters["active"] = static_cast<double>(field.activeSetVoxels());
   state.counters["bytes_per_voxel"] = double(field.imageBytes()) / double(field.layerNodes());
   state.counters["sim_time"] = simTime;
   state.counters["sec_per_sim_time"] = simTime > 0.0 ? seconds / (simTime * double(state.iterations())) : 0.0;

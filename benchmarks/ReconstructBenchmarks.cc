@@ -107,7 +107,7 @@ void reconstruct(benchmark::State& state, double voxelSize, int threads, double 
   const std::vector<openvdb::Vec3d> points = bunnyPoints();
   const DataFit fit = measureDataFit(*result.levelSet, points);
   state.counters["engine_mb"] = static_cast<double>(result.peakEngineBytes) / 1048576.0;
-  state.counters["active"] = static_cast<double>(result.levels.back().activeVoxels);
+  state.counters["active"] = static_cast<double>(result.levels.back().activeSetVoxels);
   state.counters["fit_mean_mm"] = 1000.0 * fit.mean;
   state.counters["fit_median_mm"] = 1000.0 * fit.median;
   state.counters["fit_p90_mm"] = 1000.0 * fit.p90;

@@ -159,7 +159,7 @@ double ItkSparseField::meanRadius() const {
 }
 
 double ItkSparseField::simulatedTime() const { return mImpl->filter->simulatedTime(); }
-std::size_t ItkSparseField::activeVoxels() const { return mImpl->filter->layerSize(0); }
+std::size_t ItkSparseField::activeSetVoxels() const { return mImpl->filter->layerSize(0); }
 std::size_t ItkSparseField::layerNodes() const {
   std::size_t n = 0;
   for (std::size_t l = 0; l < mImpl->filter->layerCount(); ++l) n += mImpl->filter->layerSize(l);

@@ -36,7 +36,7 @@ class ItkSparseField {
   double meanRadius() const;
   /// Sum of ITK's time steps so far.
   double simulatedTime() const;
-  std::size_t activeVoxels() const;
+  std::size_t activeSetVoxels() const;
   /// Nodes of all layers, the active one included.
   std::size_t layerNodes() const;
   /// Bytes of the images the filter holds (input, output and status images).

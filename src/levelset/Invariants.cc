@@ -44,7 +44,7 @@ InvariantReport checkInvariants(const SparseField& field) {
       if (inBand != record.leaf->isValueOn(o)) note(report.structureViolations, ijk, "band and layers disagree");
       // Value ranges.
       if (layer == 0) {
-        ++report.activeVoxels;
+        ++report.activeSetVoxels;
         if (std::fabs(v) > 0.5 * dx + tol) note(report.rangeViolations, ijk, "active value outside [-1/2, 1/2]");
       } else if (inBand) {
         const double lo = (std::abs(layer) - 0.5) * dx - tol, hi = (std::abs(layer) + 0.5) * dx + tol;

@@ -277,7 +277,7 @@ SparseFieldStats SparseField::stats() const {
   const detail::LeafTable& table = mState->table;
   for (std::size_t r = 0; r < table.size(); ++r) {
     if (!table[r].live()) continue;
-    s.activeVoxels += table[r].layer[0].countOn();
+    s.activeSetVoxels += table[r].layer[0].countOn();
     s.bandVoxels += table[r].leaf->onVoxelCount();
     ++s.leafNodes;
   }

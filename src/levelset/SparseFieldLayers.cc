@@ -223,7 +223,7 @@ StepResult summarise(const SparseFieldState& state, const std::vector<LeafTally>
     result.conflicts += t.conflicts;
   }
   result.rmsChange = points ? std::sqrt(sumSq / static_cast<double>(points)) : 0.0;
-  for (const std::uint32_t n : state.activeCount) result.activeVoxels += n;
+  for (const std::uint32_t n : state.activeCount) result.activeSetVoxels += n;
   return result;
 }
 

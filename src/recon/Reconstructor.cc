@@ -180,7 +180,7 @@ void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) co
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
-  if (mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter).stats().activeVoxels);
+  if (mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter).stats().activeSetVoxels);
   else requireCoarsestGridMemory();
   requireAccumulationMemory(mOptions.levels - 1);
   const ForceField force(mMaps, forceOptions(mOptions.levels - 1));
@@ -234,7 +234,7 @@ LevelReport Reconstructor::evolveLevel(SparseField& field, const Field& data, do
     const StepResult step = field.step(speed);
     done.simulatedTime += step.dt;
     state.iteration = iteration;
-    state.activeVoxels = step.activeVoxels;
+    state.activeSetVoxels = step.activeSetVoxels;
     state.speed = step.dt > 0.0 ? step.rmsChange / step.dt / h : 0.0;
     done.iterations = iteration;
     report();
@@ -282,7 +282,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   report();
   // 1. The initial model: the linear solution on the coarsest grid.
   std::unique_ptr<SparseField> field = std::make_unique<SparseField>(initialModel(interrupter));
-  requireFinestGridMemory(field->stats().activeVoxels);
+  requireFinestGridMemory(field->stats().activeSetVoxels);
   // 2-3. Each grid evolved, then refined for the next.
   int iterations = 0;
   for (int level = 0; level < mOptions.levels; ++level) {
@@ -337,7 +337,7 @@ LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseFie
   } else
     done = evolveAndWeigh(ForceField(mMaps, forceOptions(level)));
   const SparseFieldStats stats = field->stats();
-  done.activeVoxels = stats.activeVoxels;
+  done.activeSetVoxels = stats.activeSetVoxels;
   done.bandVoxels = stats.bandVoxels;
   done.engineBytes = stats.memoryBytes;
   done.voxelSize = h;

@@ -34,9 +34,9 @@ TEST(SparseFieldConstruction, FromSphereKeepsTheSurfaceAndTheInvariants) {
   // L0 is the one-voxel slab |u| <= 1/2: about one voxel per voxel^2 of surface.
   const double area = 4.0 * M_PI * 400.0;
   const SparseFieldStats stats = field.stats();
-  EXPECT_GT(stats.activeVoxels, 0.8 * area);
-  EXPECT_LT(stats.activeVoxels, 1.3 * area);
-  EXPECT_EQ(report.activeVoxels, stats.activeVoxels);
+  EXPECT_GT(stats.activeSetVoxels, 0.8 * area);
+  EXPECT_LT(stats.activeSetVoxels, 1.3 * area);
+  EXPECT_EQ(report.activeSetVoxels, stats.activeSetVoxels);
 }
 
 TEST(SparseFieldConstruction, FromAMeshLevelSet) {

@@ -70,9 +70,9 @@ TEST_P(RandomRun, InvariantsHoldAfterEveryStep) {
     ASSERT_LT(r.maxChange, 0.5 * field.voxelSize()) << "step " << step;
     const InvariantReport report = checkInvariants(field);
     ASSERT_TRUE(report.ok()) << "step " << step << ": " << report.firstViolation;
-    ASSERT_EQ(report.activeVoxels, r.activeVoxels);
+    ASSERT_EQ(report.activeSetVoxels, r.activeSetVoxels);
     // Efficient except at singularities: a small fraction at most.
-    ASSERT_LE(report.inefficientActive, report.activeVoxels / 50 + 8) << "step " << step;
+    ASSERT_LE(report.inefficientActive, report.activeSetVoxels / 50 + 8) << "step " << step;
   }
   EXPECT_GT(moves, 100u) << "the surface hardly moved; the run tests nothing";
   RecordProperty("conflicts", static_cast<int>(conflicts));
@@ -83,12 +83,12 @@ INSTANTIATE_TEST_SUITE_P(Seeds, RandomRun, ::testing::Range(1u, 9u));
 TEST(SparseFieldInvariants, ShrinkingToNothingLeavesNoSurface) {
   SparseField field = SparseField::fromLevelSet(*test::makeSphere(4.0, openvdb::Vec3d(0.3, 0.1, -0.2)));
   const ConstantSpeed shrink{ConstantForce{-1.0}};
-  for (int step = 0; step < 40 && field.stats().activeVoxels > 0; ++step) {
+  for (int step = 0; step < 40 && field.stats().activeSetVoxels > 0; ++step) {
     field.step(shrink);
     const InvariantReport report = checkInvariants(field);
     ASSERT_TRUE(report.ok()) << "step " << step << ": " << report.firstViolation;
   }
-  EXPECT_EQ(field.stats().activeVoxels, 0u);
+  EXPECT_EQ(field.stats().activeSetVoxels, 0u);
   EXPECT_EQ(field.stats().leafNodes, 0u);
   EXPECT_GT(field.grid().tree().getValue(openvdb::Coord(0)), 0.0f);
 }

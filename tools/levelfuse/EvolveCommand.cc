@@ -98,7 +98,7 @@ int runEvolve(const EvolveSettings& s) {
       break;
     }
     const StepResult r = step(duration - t);
-    if (r.dt <= 0.0 || r.activeVoxels == 0) break;
+    if (r.dt <= 0.0 || r.activeSetVoxels == 0) break;
     t += r.dt;
     ++steps;
   }
@@ -126,7 +126,7 @@ int runEvolve(const EvolveSettings& s) {
                      {"voxel_size", voxelSize},
                      {"steps", steps},
                      {"simulated_time", t},
-                     {"active_voxels", stats.activeVoxels},
+                     {"active_set_voxels", stats.activeSetVoxels},
                      {"band_voxels", stats.bandVoxels},
                      {"memory_bytes", stats.memoryBytes},
                      {"components_before", componentsBefore},
@@ -137,7 +137,7 @@ int runEvolve(const EvolveSettings& s) {
   } else {
     std::cout << "levelfuse evolve: " << s.shape << " under " << s.flow << " flow, voxel " << length(voxelSize) << "\n"
               << "  " << steps << " steps to t = " << t << " in " << seconds << " s\n"
-              << "  " << stats.activeVoxels << " active voxels, " << stats.bandVoxels << " in the layers, "
+              << "  " << withCommas(stats.activeSetVoxels) << " voxels in the active set, " << withCommas(stats.bandVoxels) << " in the layers, "
               << mebibytes(stats.memoryBytes) << "\n"
               << "  inside components: " << componentsBefore << " -> " << componentsAfter << "\n"
               << "  wrote " << s.output << "\n";

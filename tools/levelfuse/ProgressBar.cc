@@ -52,7 +52,7 @@ void ProgressBar::update(const ReconstructionProgress& p) {
     case Stage::kIntegrating: line << "integrating scan " << p.scan << "/" << p.scans; break;
     case Stage::kDone: line << "done"; break;
     case Stage::kEvolving:
-      line << "iteration " << p.iteration << " | " << withCommas(p.activeVoxels) << " active | speed "
+      line << "iteration " << p.iteration << " | " << withCommas(p.activeSetVoxels) << " in the active set | speed "
            << fixed(p.speed, 2);
       break;
   }

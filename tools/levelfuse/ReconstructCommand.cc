@@ -211,7 +211,7 @@ void printJson(const Summary& r) {
                       {"settled", l.settled},
                       {"simulated_time", l.simulatedTime},
                       {"seconds", l.seconds},
-                      {"active_voxels", l.activeVoxels},
+                      {"active_set_voxels", l.activeSetVoxels},
                       {"band_voxels", l.bandVoxels},
                       {"engine_bytes", l.engineBytes}});
   nlohmann::json j{{"inputs", s.inputs},
@@ -263,7 +263,7 @@ void printText(const Summary& r) {
   for (const LevelReport& l : r.result.levels)
     std::cout << "  grid " << length(l.voxelSize) << ": " << l.iterations << " iterations ("
               << (l.converged ? "converged" : l.settled ? "settled" : "iteration limit") << "), "
-              << withCommas(l.activeVoxels) << " active voxels, " << fixed(l.seconds, 3) << " s\n";
+              << withCommas(l.activeSetVoxels) << " voxels in the active set, " << fixed(l.seconds, 3) << " s\n";
   std::cout << "  surface: " << withCommas(r.result.levelSet->activeVoxelCount())
             << " narrow-band voxels; memory: engine " << mebibytes(r.result.peakEngineBytes) << ", process peak "
             << mebibytes(peakResidentBytes()) << "\n"

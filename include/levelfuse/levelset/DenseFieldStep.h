@@ -82,7 +82,7 @@ StepResult DenseField::step(const Speed& speed, double maxDt) {
   }
   result.rmsChange = std::sqrt(sumSq / static_cast<double>(mValues.size()));
   const float half = static_cast<float>(0.5 * mDx);
-  result.activeVoxels = static_cast<std::size_t>(
+  result.activeSetVoxels = static_cast<std::size_t>(
       std::count_if(mValues.begin(), mValues.end(), [half](float v) { return std::fabs(v) <= half; }));
   return result;
 }

@@ -23,7 +23,7 @@ struct InvariantReport {
   std::size_t structureViolations = 0;
   /// Active points with no neighbour of opposite sign (an "inefficient" active set).
   std::size_t inefficientActive = 0;
-  std::size_t activeVoxels = 0;
+  std::size_t activeSetVoxels = 0;
   std::string firstViolation;  ///< a readable description of the first problem found
 
   bool ok() const { return separationViolations == 0 && rangeViolations == 0 && structureViolations == 0; }

@@ -53,7 +53,7 @@ struct StepResult {
   double maxSpeed = 0.0;           ///< largest |d psi/dt| over the active set (world units per time)
   double maxChange = 0.0;          ///< largest change of an active value (world units)
   double rmsChange = 0.0;          ///< rms change of the active values (world units)
-  std::size_t activeVoxels = 0;    ///< |L0| after the step
+  std::size_t activeSetVoxels = 0;    ///< |L0| after the step
   std::size_t movedOut = 0;        ///< points that left L0 outward (into L+1)
   std::size_t movedIn = 0;         ///< points that left L0 inward (into L-1)
   std::size_t conflicts = 0;       ///< adjacent points that tried to leave L0 on opposite sides
@@ -61,7 +61,7 @@ struct StepResult {
 
 /// Counts and bytes of a sparse field.
 struct SparseFieldStats {
-  std::size_t activeVoxels = 0;    ///< |L0|
+  std::size_t activeSetVoxels = 0;    ///< |L0|
   std::size_t bandVoxels = 0;      ///< voxels in all layers, L0 included
   std::size_t leafNodes = 0;
   std::size_t memoryBytes = 0;     ///< values, layers and the engine's bookkeeping

@@ -96,7 +96,7 @@ struct ReconstructionProgress {
   double voxelSize = 0.0;
   int iteration = 0;       ///< within the grid
   int maxIterations = 0;
-  std::size_t activeVoxels = 0;
+  std::size_t activeSetVoxels = 0;  ///< the active set L0 (|psi| <= half a voxel), not the whole band
   double speed = 0.0;      ///< rms speed of the active values in the last iteration (voxels per unit time)
   double drift = 0.0;      ///< the largest local drift last measured (voxels per iteration)
   double seconds = 0.0;    ///< since the start
@@ -141,8 +141,8 @@ struct LevelReport {
   bool settled = false;    ///< its speed stopped falling
   double simulatedTime = 0.0;
   double seconds = 0.0;
-  std::size_t activeVoxels = 0;
-  std::size_t bandVoxels = 0;
+  std::size_t activeSetVoxels = 0;  ///< the active set L0 at the end of the grid
+  std::size_t bandVoxels = 0;       ///< every layer, L0 included: the narrow band
   std::size_t engineBytes = 0;  ///< the sparse field's memory at the end of the grid
 };
 
