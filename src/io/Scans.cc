@@ -41,6 +41,7 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
   const PinholeProjection intrinsics = readIntrinsics(intrinsicsFile.string());
   std::vector<RangeMap> maps;
   const std::size_t stride = static_cast<std::size_t>(options.frameStride);
+  const std::size_t total = (frames.size() + stride - 1) / stride;  // the frames of the stride
   for (std::size_t i = 0; i < frames.size(); i += stride) {
     checkInterrupter(options.interrupter);
     const std::string image = frames[i].string();
@@ -48,7 +49,7 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
     const std::string pose = stem + ".pose.txt";
     if (!fs::exists(pose, ec)) throw InputError(image, "no pose beside it (expected " + pose + ")");
     maps.push_back(loadDepthFrame(image, intrinsics, readPose(pose), options, 0.001));
-    reportLoaded(options.progress, maps.size(), (frames.size() + stride - 1) / stride);
+    reportLoaded(options.progress, maps.size(), total);
   }
   return maps;
 }

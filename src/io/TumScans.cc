@@ -103,6 +103,7 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
   const PinholeProjection intrinsics = tumIntrinsics(folder);
   std::vector<RangeMap> maps;
   const std::size_t stride = static_cast<std::size_t>(options.frameStride);
+  const std::size_t total = (frames.size() + stride - 1) / stride;  // the frames of the stride
   for (std::size_t i = 0; i < frames.size(); i += stride) {
     checkInterrupter(options.interrupter);
     const TumFrame& frame = frames[i];
@@ -117,7 +118,7 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
                                   " s of the frame's time " + seconds(frame.time, true) + " (the nearest, line " +
                                   std::to_string(pose.line) + ", is " + seconds(gap, false) + " s away)");
     maps.push_back(loadDepthFrame(image, intrinsics, pose.cameraToWorld, options, 1.0 / kTumDepthUnitsPerMetre));
-    reportLoaded(options.progress, maps.size(), (frames.size() + stride - 1) / stride);
+    reportLoaded(options.progress, maps.size(), total);
   }
   return maps;
 }

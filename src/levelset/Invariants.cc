@@ -9,9 +9,6 @@
 
 namespace levelfuse {
 
-namespace {
-}
-
 InvariantReport checkInvariants(const SparseField& field) {
   const detail::SparseFieldState& state = field.state();
   const detail::LeafTable& table = state.table;

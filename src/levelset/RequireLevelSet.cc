@@ -7,26 +7,28 @@
 
 namespace levelfuse {
 
-namespace {
-
-std::string describe(const openvdb::GridBase& grid) {
+std::string describeGrid(const openvdb::GridBase& grid) {
   return grid.getName().empty() ? std::string("the grid") : "the grid '" + grid.getName() + "'";
 }
 
-}  // namespace
+std::string transformProblem(const openvdb::GridBase& grid) {
+  if (!grid.transform().isLinear())
+    return describeGrid(grid) + " has a non-linear (frustum) transform; resample it to a linear one first "
+                                "(openvdb::tools::resampleToMatch)";
+  if (!grid.hasUniformVoxels())
+    return describeGrid(grid) + " has non-uniform voxels; resample it to cubic voxels first "
+                                "(openvdb::tools::resampleToMatch)";
+  return {};
+}
 
 std::string levelSetProblem(const openvdb::FloatGrid& grid) {
-  const std::string what = describe(grid);
+  const std::string what = describeGrid(grid);
   if (grid.getGridClass() == openvdb::GRID_FOG_VOLUME)
     return what + " is a fog volume, not a level set; convert it with openvdb::tools::fogToSdf";
   if (grid.getGridClass() != openvdb::GRID_LEVEL_SET)
     return what + " is not a level set (its class is " + openvdb::GridBase::gridClassToString(grid.getGridClass()) +
            "); if it holds signed distances, negative inside, set its class to openvdb::GRID_LEVEL_SET";
-  if (!grid.transform().isLinear())
-    return what + " has a non-linear (frustum) transform; resample it to a linear one first "
-                  "(openvdb::tools::resampleToMatch)";
-  if (!grid.hasUniformVoxels())
-    return what + " has non-uniform voxels; resample it to cubic voxels first (openvdb::tools::resampleToMatch)";
+  if (std::string problem = transformProblem(grid); !problem.empty()) return problem;
   if (!(grid.background() > 0.0f) || !std::isfinite(grid.background()))
     return what + " has a background of " + std::to_string(grid.background()) +
            "; a level set's background is its narrow band's half-width in world units, positive "

@@ -28,11 +28,6 @@ using detail::SparseFieldState;
 
 namespace {
 
-
-std::string describe(const openvdb::GridBase& grid) {
-  return grid.getName().empty() ? std::string("the grid") : "grid '" + grid.getName() + "'";
-}
-
 void validateOptions(const SparseFieldOptions& options) {
   if (options.layers < 2 || options.layers > detail::kMaxLayers)
     throw std::invalid_argument("SparseFieldOptions::layers must be between 2 and " +
@@ -43,13 +38,6 @@ void validateOptions(const SparseFieldOptions& options) {
     throw std::invalid_argument("SparseFieldOptions::curvatureStepLimit must be positive");
   if (!(options.stiffnessStepLimit > 0.0))
     throw std::invalid_argument("SparseFieldOptions::stiffnessStepLimit must be positive");
-}
-
-void validateTransform(const openvdb::GridBase& grid) {
-  if (!grid.hasUniformVoxels())
-    throw std::invalid_argument(describe(grid) + " has non-uniform voxels; resample it to cubic voxels first");
-  if (!grid.transform().isLinear())
-    throw std::invalid_argument(describe(grid) + " has a non-linear (frustum) transform; resample it to a linear one");
 }
 
 /// A seed of the active set: a voxel on a zero crossing and its value.
@@ -193,11 +181,12 @@ SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const 
     }
   });
   if (std::any_of(nonFinite.begin(), nonFinite.end(), [](char c) { return c != 0; }))
-    throw std::invalid_argument(describe(levelSet) + " holds NaN or infinite values");
+    throw std::invalid_argument("SparseField::fromLevelSet: " + describeGrid(levelSet) + " holds NaN or infinite values");
   std::vector<Seed> seeds;
   for (auto& f : found) seeds.insert(seeds.end(), f.begin(), f.end());
   if (seeds.empty())
-    throw std::invalid_argument(describe(levelSet) + " has no zero crossing: there is no surface to evolve");
+    throw std::invalid_argument("SparseField::fromLevelSet: " + describeGrid(levelSet) +
+                                " has no zero crossing: there is no surface to evolve");
 
   auto state = buildFromSeeds(levelSet.transform(), options, std::move(seeds),
                               [&] { return LevelSetProbe{levelSet.getConstAccessor()}; });
@@ -207,7 +196,8 @@ SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const 
 
 SparseField SparseField::fromMask(const openvdb::MaskGrid& inside, const SparseFieldOptions& options) {
   validateOptions(options);
-  validateTransform(inside);
+  if (const std::string problem = transformProblem(inside); !problem.empty())
+    throw std::invalid_argument("SparseField::fromMask: " + problem);
   const float half = static_cast<float>(0.5 * inside.voxelSize()[0]);
   std::vector<Seed> seeds;
   openvdb::MaskGrid::ConstAccessor acc = inside.getConstAccessor();
@@ -245,7 +235,8 @@ SparseField SparseField::fromMask(const openvdb::MaskGrid& inside, const SparseF
   std::sort(seeds.begin(), seeds.end());
   seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
   if (seeds.empty())
-    throw std::invalid_argument(describe(inside) + " is empty: there is no inside to build a surface around");
+    throw std::invalid_argument("SparseField::fromMask: " + describeGrid(inside) +
+                                " is empty: there is no inside to build a surface around");
 
   auto state = buildFromSeeds(inside.transform(), options, std::move(seeds),
                               [&] { return MaskProbe{inside.getConstAccessor()}; });

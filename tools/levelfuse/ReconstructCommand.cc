@@ -101,10 +101,23 @@ std::runtime_error ofTheInputs(const ReconstructSettings& s, const std::exceptio
   return std::runtime_error(joined(s.inputs) + ": " + e.what());
 }
 
+/// How the outputs show the surface: scans of a scene (depth frames) are seen
+/// from their first camera, and what no scan observed is left out of the mesh
+/// and preview (trimmed) for scenes, unless the options say otherwise.
+struct Presentation {
+  bool scene = false;
+  bool trim = false;
+};
+
+Presentation presentationOf(const Reconstructor& reconstructor, const ReconstructSettings& s) {
+  const bool scene = scansOfAScene(reconstructor.maps());
+  return {scene, s.trimUnseen.value_or(scene)};
+}
+
 /// The surface, evolved or (--linear) the linear solution, with its weight
 /// grid where an output needs it, and the run's metadata.
 ReconstructionResult reconstructSurface(const Reconstructor& reconstructor, const ReconstructSettings& s,
-                                        ProgressBar& bar) {
+                                        const Presentation& shown, ProgressBar& bar) {
   ReconstructionResult result;
   try {
     if (s.linear) {
@@ -125,13 +138,12 @@ ReconstructionResult reconstructSurface(const Reconstructor& reconstructor, cons
   bar.finish();
   enterPhase("measuring");
   openvdb::FloatGrid& surface = *result.levelSet;
-  const bool scene = scansOfAScene(reconstructor.maps());
-  if (!result.weight && (s.trimUnseen.value_or(scene) || !s.output.empty()))
+  if (!result.weight && (shown.trim || !s.output.empty()))
     result.weight = reconstructor.surfaceWeight(surface, cancellationInterrupter());
   surface.insertMeta("levelfuse_inputs", openvdb::StringMetadata(joined(s.inputs)));
   surface.insertMeta("levelfuse_method",
                      openvdb::StringMetadata(s.linear ? "linear solution (zero set of g)" : "MAP level-set evolution"));
-  surface.insertMeta("levelfuse_scene", openvdb::BoolMetadata(scene));
+  surface.insertMeta("levelfuse_scene", openvdb::BoolMetadata(shown.scene));
   return result;
 }
 
@@ -141,11 +153,9 @@ struct Measures {
   int fitSample = 1;  ///< one reading in fitSample along each row and column
   DataFit fit;
   double truthRms = -1.0;
-  bool trim = false;  ///< the mesh and preview leave out what no scan observed
 };
 
-Measures measure(const Reconstructor& reconstructor, const openvdb::FloatGrid& surface, const Inputs& in,
-                 const ReconstructSettings& s) {
+Measures measure(const Reconstructor& reconstructor, const openvdb::FloatGrid& surface, const Inputs& in) {
   const std::vector<RangeMap>& scans = reconstructor.maps();
   Measures m;
   for (const RangeMap& map : scans) {
@@ -155,27 +165,25 @@ Measures measure(const Reconstructor& reconstructor, const openvdb::FloatGrid& s
   m.fitSample = fitStride(scans, kFitPointsAtMost);
   m.fit = measureDataFit(surface, scans, m.fitSample);
   if (in.truth) m.truthRms = rmsOver(zeroCrossings(surface), *in.truth);
-  m.trim = s.trimUnseen.value_or(scansOfAScene(scans));
   return m;
 }
 
 /// Writes the outputs, committed together once all are written; returns the mesh's triangles.
-std::size_t writeOutputs(const Reconstructor& reconstructor, const ReconstructionResult& result, bool trim,
-                         const ReconstructSettings& s) {
+std::size_t writeOutputs(const Reconstructor& reconstructor, const ReconstructionResult& result,
+                         const Presentation& shown, const ReconstructSettings& s) {
   const openvdb::FloatGrid& surface = *result.levelSet;
   std::optional<TriangleMesh> mesh;
   if (!s.mesh.empty()) {
     enterPhase("meshing");
     mesh = meshFromLevelSet(surface);
-    if (trim) mesh = trimMesh(*mesh, *result.weight, kObservedWeight);
+    if (shown.trim) mesh = trimMesh(*mesh, *result.weight, kObservedWeight);
   }
   io::PreviewOptions preview;
   if (!s.view.empty()) preview.toward = parseVec3(s.view);
   if (!s.up.empty()) preview.up = parseVec3(s.up);
   // A scene is seen from where its first frame's camera stood, unless a view is asked for.
-  if (scansOfAScene(reconstructor.maps()) && s.view.empty())
-    preview = io::seenByFrame(reconstructor.maps().front(), preview);
-  if (trim) {
+  if (shown.scene && s.view.empty()) preview = io::seenByFrame(reconstructor.maps().front(), preview);
+  if (shown.trim) {
     preview.weight = result.weight;
     preview.minWeight = kObservedWeight;
   }
@@ -195,6 +203,7 @@ struct Summary {
   const ReconstructionResult& result;
   const Inputs& inputs;
   const Measures& measures;
+  bool trimmed = false;  ///< the mesh and preview left out what no scan observed
   std::size_t triangles = 0;
   double seconds = 0.0;
 };
@@ -239,7 +248,7 @@ void printJson(const Summary& r) {
                    {"seconds", r.seconds},
                    {"outputs", {{"vdb", s.output}, {"mesh", s.mesh}, {"preview", s.preview}}},
                    {"triangles", r.triangles},
-                   {"trimmed_unseen", r.measures.trim}};
+                   {"trimmed_unseen", r.trimmed}};
   if (r.inputs.truth)
     j["truth"] = {{"shape", r.inputs.truth->name()},
                   {"rms_error", r.measures.truthRms},
@@ -282,7 +291,7 @@ void printText(const Summary& r) {
     if (!path->empty())
       std::cout << "  wrote " << *path
                 << (path == &s.mesh ? " (" + withCommas(r.triangles) + " triangles" +
-                                          (m.trim ? ", unseen parts left out" : "") + ")"
+                                          (r.trimmed ? ", unseen parts left out" : "") + ")"
                     : path == &s.output ? " (the closed level set and its weight grid)"
                                         : "")
                 << "\n";
@@ -301,10 +310,11 @@ int runReconstruct(ReconstructSettings s) {
     throw ofTheInputs(s, e);
   }
   const Reconstructor& reconstructor = *made;
-  const ReconstructionResult result = reconstructSurface(reconstructor, s, bar);
-  const Measures measures = measure(reconstructor, *result.levelSet, inputs, s);
-  const std::size_t triangles = writeOutputs(reconstructor, result, measures.trim, s);
-  const Summary summary{s, reconstructor, result, inputs, measures, triangles,
+  const Presentation shown = presentationOf(reconstructor, s);
+  const ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
+  const Measures measures = measure(reconstructor, *result.levelSet, inputs);
+  const std::size_t triangles = writeOutputs(reconstructor, result, shown, s);
+  const Summary summary{s, reconstructor, result, inputs, measures, shown.trim, triangles,
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()};
   if (s.json) printJson(summary);
   else if (!s.quiet) printText(summary);

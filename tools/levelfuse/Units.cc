@@ -25,9 +25,8 @@ double roundToDigits(double value, int digits) {
 }
 
 /// `value` of dimension `power` (1 length, 2 area, 3 volume) in metres^power,
-/// to `digits` significant digits, in the largest of `units` in which it is
-/// the first of `units` whose range it falls in (the last if none), with
-/// its trailing zeros: "0.50 mm".
+/// to `digits` significant digits, in the first of `units` whose range it
+/// falls in (the last if none), with its trailing zeros: "0.50 mm".
 template <std::size_t N>
 std::string withUnit(double value, int power, int digits, const Unit (&units)[N], const char* suffix) {
   if (!std::isfinite(value)) {

@@ -8,6 +8,14 @@
 
 namespace levelfuse {
 
+/// "the grid 'name'", or "the grid" for an unnamed one: how messages name a grid.
+std::string describeGrid(const openvdb::GridBase& grid);
+
+/// What keeps `grid`'s voxels from being the uniform, linearly placed cubes
+/// the engine works on (a frustum or a stretched transform), with a hint;
+/// empty if nothing. Part of levelSetProblem; masks need it too.
+std::string transformProblem(const openvdb::GridBase& grid);
+
 /// What keeps `grid` from being a narrow-band level set as OpenVDB's tools
 /// make them, with a hint of what to do; empty if nothing. A level set has
 /// class GRID_LEVEL_SET (a fog volume: convert it with
