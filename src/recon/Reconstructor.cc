@@ -164,7 +164,10 @@ SparseField Reconstructor::initialModel(const Interrupter& interrupter) const {
   requireCoarsestGridMemory();
   requireAccumulationMemory(0);
   const ForceField force(mMaps, forceOptions(0));
-  return SparseField::fromLevelSet(*force.linearSolution(voxelSize(0), 3.0, "surface", interrupter), mOptions.engine);
+  // Structures thinner than a voxel of a coarse grid are noise against it; the
+  // finest grid keeps all it resolves (ForceField.h, LinearBand).
+  const LinearBand band = mOptions.levels > 1 ? LinearBand::kRebuilt : LinearBand::kZeroCrossings;
+  return force.linearSolutionField(voxelSize(0), band, mOptions.engine, interrupter);
 }
 
 void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) const {

@@ -2,6 +2,8 @@
 
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/levelset/Background.h>
+#include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/detail/LeafMaskOps.h>
 #include <levelfuse/scan/ForceField.h>
 
 #include <openvdb/tools/ChangeBackground.h>
@@ -42,6 +44,104 @@ bool carvedInside(const std::vector<RangeMap>& maps, const Vec3d& x, double marg
   return 2 * behind > speaking;
 }
 
+/// The distance from each voxel on a zero crossing of `raw` to the zero set,
+/// from where the zero set crosses the voxel's edges: along each axis on
+/// which a face neighbour has the other sign, the crossing lies t = u / (u - v)
+/// voxels away (linear interpolation), and the plane through the crossings
+/// lies 1 / sqrt(sum 1 / t^2) voxels away. Only where the zero set crosses
+/// the edges matters, not the values' scale: the weighted mean distances
+/// along the lines of sight (longer than to the surface by 1 / cos of the
+/// angle between sight and normal) and carving's steps (+-width) both give
+/// distances to the surface, as the sparse field's active set holds them. The
+/// other voxels keep their values; `raw`'s leaves are replaced.
+void distancesAtZeroCrossings(openvdb::FloatGrid& raw) {
+  const float h = static_cast<float>(raw.voxelSize()[0]);
+  openvdb::tree::LeafManager<openvdb::FloatTree> leaves(raw.tree());
+  std::vector<std::unique_ptr<LeafT>> out(leaves.leafCount());
+  parallelFor(out.size(), 1, [&](std::size_t begin, std::size_t end) {
+    openvdb::FloatGrid::ConstAccessor acc = raw.getConstAccessor();
+    for (std::size_t i = begin; i < end; ++i) {
+      const LeafT& in = leaves.leaf(i);
+      out[i] = std::make_unique<LeafT>(in);
+      for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
+        const float u = in.getValue(o);
+        const Coord ijk = in.offsetToGlobalCoord(o);
+        double inverseSquares = 0.0;
+        for (int axis = 0; axis < 3; ++axis) {
+          double nearest = 0.0;  // the crossing's distance along the axis, in voxels; 0: none
+          for (const int side : {-1, 1}) {
+            Coord n = ijk;
+            n[axis] += side;
+            const float v = acc.getValue(n);
+            if ((u < 0.0f) == (v < 0.0f)) continue;
+            const double t = static_cast<double>(u) / (static_cast<double>(u) - v);
+            if (nearest == 0.0 || t < nearest) nearest = t;
+          }
+          if (nearest > 0.0) inverseSquares += 1.0 / (nearest * nearest);
+        }
+        if (inverseSquares > 0.0)
+          out[i]->setValueOnly(o, std::copysign(static_cast<float>(h / std::sqrt(inverseSquares)), u));
+      }
+    }
+  });
+  for (std::size_t i = 0; i < out.size(); ++i) leaves.leaf(i).swap(out[i]->buffer());
+}
+
+/// Components of one sign smaller than this many voxels are specks.
+constexpr std::size_t kSpeckVoxels = 8;
+
+/// True if `ijk` lies in a face-connected component of its sign of fewer
+/// than kSpeckVoxels voxels; `component` is then left holding it.
+bool inSpeck(const openvdb::FloatGrid::ConstAccessor& acc, const Coord& ijk, std::vector<Coord>& component) {
+  const bool negative = acc.getValue(ijk) < 0.0f;
+  component.assign(1, ijk);
+  for (std::size_t next = 0; next < component.size(); ++next)
+    for (const auto& e : detail::kFaceOffset) {
+      const Coord n = component[next].offsetBy(e[0], e[1], e[2]);
+      if ((acc.getValue(n) < 0.0f) != negative || std::find(component.begin(), component.end(), n) != component.end())
+        continue;
+      if (component.size() + 1 >= kSpeckVoxels) return false;
+      component.push_back(n);
+    }
+  return true;
+}
+
+/// True if a face neighbour of `ijk` has the other sign.
+bool onZeroCrossing(const openvdb::FloatGrid::ConstAccessor& acc, const Coord& ijk) {
+  const bool negative = acc.getValue(ijk) < 0.0f;
+  for (const auto& e : detail::kFaceOffset)
+    if ((acc.getValue(ijk.offsetBy(e[0], e[1], e[2])) < 0.0f) != negative) return true;
+  return false;
+}
+
+/// A component of one sign smaller than 2 x 2 x 2 voxels, inside or outside,
+/// cannot be told from noise on the grid: its voxels take the other sign (a
+/// rebuild through a mesh leaves such specks out too). Every speck has a
+/// voxel on a zero crossing, where the search starts; the specks are found on
+/// the field as it is, then changed.
+void removeSpecks(openvdb::FloatGrid& raw) {
+  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(raw.tree());
+  std::vector<std::vector<Coord>> found(leaves.leafCount());
+  parallelFor(found.size(), 1, [&](std::size_t begin, std::size_t end) {
+    openvdb::FloatGrid::ConstAccessor acc = raw.getConstAccessor();
+    std::vector<Coord> component;
+    for (std::size_t i = begin; i < end; ++i) {
+      const LeafT& leaf = leaves.leaf(i);
+      for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
+        const Coord ijk = leaf.offsetToGlobalCoord(o);
+        if (onZeroCrossing(acc, ijk) && inSpeck(acc, ijk, component))
+          found[i].insert(found[i].end(), component.begin(), component.end());
+      }
+    }
+  });
+  std::vector<Coord> specks;
+  for (const std::vector<Coord>& voxels : found) specks.insert(specks.end(), voxels.begin(), voxels.end());
+  std::sort(specks.begin(), specks.end());
+  specks.erase(std::unique(specks.begin(), specks.end()), specks.end());
+  openvdb::FloatGrid::Accessor acc = raw.getAccessor();
+  for (const Coord& ijk : specks) acc.setValueOnly(ijk, -acc.getValue(ijk));
+}
+
 /// The origin (in voxels) of the leaf-sized block `b`: scaled, not shifted, as
 /// a left shift of a negative coordinate is undefined.
 Coord blockOrigin(const Coord& b) {
@@ -79,13 +179,12 @@ class BlockClasses {
 
 }  // namespace
 
-openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double halfWidth, const std::string& name,
-                                                   const Interrupter& interrupter) const {
-  if (!(halfWidth >= 1.0)) throw std::invalid_argument("ForceField::linearSolution: half-width below one voxel");
+SparseField ForceField::linearSolutionField(double voxelSize, LinearBand band, const SparseFieldOptions& engine,
+                                            const Interrupter& interrupter) const {
   const AccumulatedField field = accumulate(voxelSize, interrupter);
   if (field.g->tree().leafCount() == 0)
     throw std::invalid_argument("ForceField::linearSolution: no reading reaches any voxel");
-  const float width = levelSetBackground(halfWidth, voxelSize);
+  const float width = levelSetBackground(3.0, voxelSize);
   const double margin = mWindow.reach();
   const openvdb::math::Transform& xform = field.g->transform();
   const auto inside = [&](const Coord& ijk) { return carvedInside(*mMaps, xform.indexToWorld(ijk), margin); };
@@ -102,13 +201,12 @@ openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double half
       const LeafT& w = *field.weight->tree().probeConstLeaf(g.origin());
       auto leaf = std::make_unique<LeafT>(g.origin(), width);
       for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
-        leaf->setValueOn(o, g.isValueOn(o) ? clamp(-g.getValue(o) / w.getValue(o))
-                                           : (inside(g.offsetToGlobalCoord(o)) ? -width : width));
+        const Coord ijk = g.offsetToGlobalCoord(o);
+        leaf->setValueOn(o, g.isValueOn(o) ? clamp(-g.getValue(o) / w.getValue(o)) : (inside(ijk) ? -width : width));
       }
       leaves[i] = std::move(leaf);
     }
   });
-
   checkInterrupter(interrupter);
   // 2. The blocks around the data, carved at their centres.
   openvdb::CoordBBox box;
@@ -153,21 +251,33 @@ openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double half
   });
 
   checkInterrupter(interrupter);
-  // 4. Together they make a level set whose values are distances along the
-  //    lines of sight, and steps where carving closes what no scan saw:
-  //    rebuilt into a true narrow band of Euclidean distances. (Every voxel of
-  //    the leaves is active: the mesher of the rebuild sees only active ones.)
+  // 4. Together they make a field whose zero set is the linear solution, with
+  //    steps where carving closes what no scan saw. (Every voxel of the leaves
+  //    is active: the mesher of a rebuild sees only active ones.)
   openvdb::FloatGrid::Ptr raw = openvdb::FloatGrid::create(width);
   raw->setTransform(xform.copy());
   raw->setGridClass(openvdb::GRID_LEVEL_SET);
+  raw->setName("surface");
   for (auto* set : {&leaves, &carved})
     for (auto& leaf : *set) raw->tree().addLeaf(leaf.release());
   for (const Coord& origin : insideTiles) raw->tree().addTile(1, origin, -width, false);
-  openvdb::FloatGrid::Ptr psi = openvdb::tools::levelSetRebuild(*raw, 0.0f, static_cast<float>(halfWidth));
+  if (band == LinearBand::kZeroCrossings) {
+    removeSpecks(*raw);
+    distancesAtZeroCrossings(*raw);
+    return SparseField::fromLevelSet(*raw, engine);
+  }
+  // 5. Rebuilt into a true narrow band of Euclidean distances.
+  openvdb::FloatGrid::Ptr psi = openvdb::tools::levelSetRebuild(*raw, 0.0f, 3.0f);
   openvdb::tools::changeLevelSetBackground(psi->tree(), width);
   psi->setGridClass(openvdb::GRID_LEVEL_SET);
-  psi->setName(name);
-  return psi;
+  return SparseField::fromLevelSet(*psi, engine);
+}
+
+openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double halfWidth, const std::string& name,
+                                                   const Interrupter& interrupter) const {
+  if (!(halfWidth >= 1.0)) throw std::invalid_argument("ForceField::linearSolution: half-width below one voxel");
+  return linearSolutionField(voxelSize, LinearBand::kZeroCrossings, SparseFieldOptions{}, interrupter)
+      .toLevelSet(halfWidth, name);
 }
 
 }  // namespace levelfuse

@@ -3,6 +3,7 @@
 #include "support/TestSupport.h"
 
 #include <levelfuse/geometry/Shapes.h>
+#include <levelfuse/levelset/Components.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/Synth.h>
@@ -112,7 +113,10 @@ TEST_P(LinearSolution, LiesOnTheTrueSurface) {
   ASSERT_GT(points.size(), 10000u);
   const double rms = rmsOver(points, t.distance) / voxel;
   RecordProperty("rms_voxels", std::to_string(rms));
+  // With noise of a voxel, -g / w changes sign in specks off the surface
+  // (0.17 and 0.31 voxels rms with them): they are left out.
   EXPECT_LT(rms, 0.1) << t.name;
+  EXPECT_EQ(insideComponents(*solution), 1) << t.name;
   // Negative inside, positive outside (the torus's hole is outside).
   const auto at = [&](const Vec3d& p) {
     return solution->tree().getValue(openvdb::Coord::round(solution->worldToIndex(p)));
@@ -123,6 +127,35 @@ TEST_P(LinearSolution, LiesOnTheTrueSurface) {
 
 INSTANTIATE_TEST_SUITE_P(SixViews, LinearSolution, ::testing::Values(0, 1),
                          [](const auto& param) { return param.param == 0 ? "Sphere" : "Torus"; });
+
+TEST(LinearSolution, ActiveValuesAreDistancesToTheSurfaceNotAlongTheLinesOfSight) {
+  // A plane at 50 degrees to the rays: the readings' distances along the
+  // rays are 1 / cos 50 = 1.56 times the distances to the plane. The active
+  // set holds the distances to the plane, on the finest grid (zero crossings)
+  // and on a coarse one (rebuilt).
+  const double angle = 50.0 * M_PI / 180.0, voxel = 0.02;
+  const Vec3d normal(std::sin(angle), 0.0, std::cos(angle));
+  const auto plane = [&normal](const Vec3d& p) { return p.dot(normal) - 0.003; };
+  const synth::View view = synth::orthographicView(Vec3d(0, 0, -1), Vec3d(0.0), 2.0, 200);
+  const ForceField field({synth::renderDistanceFunction(plane, view, synth::Noise{}, 0.001)}, optionsFor(voxel));
+  for (const LinearBand band : {LinearBand::kZeroCrossings, LinearBand::kRebuilt}) {
+    const SparseField solution = field.linearSolutionField(voxel, band);
+    const openvdb::FloatGrid& grid = solution.grid();
+    std::size_t checked = 0;
+    double largest = 0.0;
+    for (auto it = grid.tree().cbeginValueOn(); it; ++it) {
+      const Vec3d p = grid.indexToWorld(it.getCoord());
+      // The active set near the plane, not where carving closes the solid behind it.
+      if (solution.layerOf(it.getCoord()) != 0 || std::fabs(p.x()) > 0.5 || std::fabs(p.y()) > 0.5 ||
+          std::fabs(plane(p)) > voxel)
+        continue;
+      largest = std::max(largest, std::fabs(*it - plane(p)) / voxel);
+      ++checked;
+    }
+    EXPECT_GT(checked, 1000u);
+    EXPECT_LT(largest, 0.05) << (band == LinearBand::kRebuilt ? "rebuilt" : "zero crossings");
+  }
+}
 
 TEST(LinearSolution, CarvingClosesWhatNoScanSaw) {
   // From the six axis directions no ray reaches the torus's inner equator: the

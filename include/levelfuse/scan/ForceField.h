@@ -10,6 +10,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/DataWindow.h>
 #include <levelfuse/scan/RangeMap.h>
@@ -58,6 +59,22 @@ struct AccumulatedField {
   std::size_t evaluations = 0;     ///< (voxel, range map) pairs evaluated
 };
 
+/// How the linear solution's narrow band is made from its field: the
+/// distances to the data where a window reaches, and carving's steps.
+enum class LinearBand {
+  /// The sparse field's active set at the field's zero crossings, the
+  /// distances along the lines of sight divided by their gradient's length:
+  /// everything the grid resolves is kept, structures a voxel thin included.
+  /// The finest grid's linear solution.
+  kZeroCrossings,
+  /// Rebuilt through a mesh of the zero set into Euclidean distances
+  /// (tools::levelSetRebuild), which leaves out structures thinner than a
+  /// voxel: the initial model on the coarsest grid of a coarse-to-fine run,
+  /// where they are noise against the grid, and the finer grids bring back
+  /// what the data support.
+  kRebuilt,
+};
+
 class ForceField {
  public:
   ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& options);
@@ -95,10 +112,15 @@ class ForceField {
   /// lines of sight); elsewhere space carving decides: a point some line of
   /// sight saw as empty is outside, else a point behind some reading is inside,
   /// else outside. Surfaces no scan saw thus close along the boundary of the
-  /// observed empty space. The result is rebuilt into a true narrow band.
+  /// observed empty space. The narrow band is the sparse field's, built at the
+  /// zero crossings (LinearBand::kZeroCrossings).
   openvdb::FloatGrid::Ptr linearSolution(double voxelSize, double halfWidth = 3.0,
                                          const std::string& name = "surface",
                                          const Interrupter& interrupter = {}) const;
+  /// The linear solution as a sparse field with the engine's settings
+  /// `engine`, ready to evolve, its narrow band made as `band` says.
+  SparseField linearSolutionField(double voxelSize, LinearBand band, const SparseFieldOptions& engine = {},
+                                  const Interrupter& interrupter = {}) const;
 
   const std::vector<RangeMap>& maps() const { return *mMaps; }
   const ForceFieldOptions& options() const { return mOptions; }
