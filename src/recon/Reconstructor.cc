@@ -160,13 +160,17 @@ void Reconstructor::requireAccumulationMemory(int level) const {
                 advice);
 }
 
-SparseField Reconstructor::initialModel(const Interrupter& interrupter) const {
+SparseField Reconstructor::initialModel(const Interrupter& interrupter, const DataTermGrids* grids) const {
   requireCoarsestGridMemory();
-  requireAccumulationMemory(0);
-  const ForceField force(mMaps, forceOptions(0));
   // Structures thinner than a voxel of a coarse grid are noise against it; the
   // finest grid keeps all it resolves (ForceField.h, LinearBand).
   const LinearBand band = mOptions.levels > 1 ? LinearBand::kRebuilt : LinearBand::kZeroCrossings;
+  if (grids) {
+    const AccumulatedField data{grids->gGrid(), grids->weightGrid(), 0};
+    return linearSolutionField(data, *mMaps, grids->window().reach(), band, mOptions.engine, interrupter);
+  }
+  requireAccumulationMemory(0);
+  const ForceField force(mMaps, forceOptions(0));
   return force.linearSolutionField(voxelSize(0), band, mOptions.engine, interrupter);
 }
 
@@ -283,13 +287,22 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   ReconstructionResult result;
   state.voxelSize = voxelSize(0);
   report();
-  // 1. The initial model: the linear solution on the coarsest grid.
-  std::unique_ptr<SparseField> field = std::make_unique<SparseField>(initialModel(interrupter));
+  // 1. The initial model: the linear solution on the coarsest grid, from the
+  //    grid's data term when the evolution takes it from grids, which are
+  //    then integrated once for both.
+  std::unique_ptr<DataTermGrids> grids;
+  if (mOptions.dataTerm == DataTermSource::kGrids) {
+    grids = integrateLevel(0, state, report, interrupter);
+    state.stage = ReconstructionProgress::Stage::kInitialModel;
+    report();
+  }
+  std::unique_ptr<SparseField> field = std::make_unique<SparseField>(initialModel(interrupter, grids.get()));
   requireFinestGridMemory(field->stats().activeSetVoxels);
   // 2-3. Each grid evolved, then refined for the next.
   int iterations = 0;
   for (int level = 0; level < mOptions.levels; ++level) {
-    result.levels.push_back(reconstructLevel(level, field, state, report, interrupter, result));
+    result.levels.push_back(
+        reconstructLevel(level, field, std::move(grids), state, report, interrupter, result));
     iterations += result.levels.back().iterations;
     result.peakEngineBytes = std::max(result.peakEngineBytes, result.levels.back().engineBytes);
   }
@@ -300,9 +313,23 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   return result;
 }
 
+std::unique_ptr<DataTermGrids> Reconstructor::integrateLevel(int level, ReconstructionProgress& state,
+                                                             const std::function<void()>& report,
+                                                             const Interrupter& interrupter) const {
+  state.stage = ReconstructionProgress::Stage::kIntegrating;
+  state.scan = 0;
+  state.scans = mMaps->size();
+  const auto integrated = [&](std::size_t scans) {
+    state.scan = scans;
+    report();
+  };
+  return std::make_unique<DataTermGrids>(dataTermGrids(level, interrupter, integrated));
+}
+
 LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseField>& field,
-                                            ReconstructionProgress& state, const std::function<void()>& report,
-                                            const Interrupter& interrupter, ReconstructionResult& result) const {
+                                            std::unique_ptr<DataTermGrids> grids, ReconstructionProgress& state,
+                                            const std::function<void()>& report, const Interrupter& interrupter,
+                                            ReconstructionResult& result) const {
   const auto levelStart = Clock::now();
   const double h = voxelSize(level);
   state.level = level;
@@ -330,13 +357,9 @@ LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseFie
   };
   LevelReport done;
   if (mOptions.dataTerm == DataTermSource::kGrids) {
-    state.stage = ReconstructionProgress::Stage::kIntegrating;
-    state.scans = mMaps->size();
-    const auto integrated = [&](std::size_t scans) {
-      state.scan = scans;
-      report();
-    };
-    done = evolveAndWeigh(dataTermGrids(level, interrupter, integrated));
+    if (!grids) grids = integrateLevel(level, state, report, interrupter);
+    done = evolveAndWeigh(*grids);
+    grids.reset();
   } else
     done = evolveAndWeigh(ForceField(mMaps, forceOptions(level)));
   const SparseFieldStats stats = field->stats();

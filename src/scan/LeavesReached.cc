@@ -97,4 +97,27 @@ bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, 
   return m.readingBounds(u0, v0, u1 + 1.0, v1 + 1.0, lo, hi) && z0 - hi <= reach && z1 - lo >= -reach;
 }
 
+bool leafMayBeSeen(const RangeMap& m, const Coord& origin, double voxelSize) {
+  const openvdb::math::Mat4d& toMap = m.worldToMap();
+  const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
+  const double span = voxelSize * (kLeafDim - 1);
+  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300;
+  int inFront = 0;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3d q = base + toMap.transform3x3(Vec3d((c & 1) * span, ((c >> 1) & 1) * span, (c >> 2) * span));
+    if (m.kind() == RangeMap::Kind::kPinhole && !(q.z() > 0.0)) continue;
+    ++inFront;
+    const openvdb::math::Vec2d uv = m.project(q);
+    u0 = std::min(u0, uv.x());
+    u1 = std::max(u1, uv.x());
+    v0 = std::min(v0, uv.y());
+    v1 = std::max(v1, uv.y());
+  }
+  if (inFront == 0) return false;  // wholly behind the camera
+  if (inFront < 8) return true;    // straddles the camera plane: the projection is unbounded
+  // In front of a camera, or along parallel rays, the leaf projects into the
+  // convex hull of its corners' projections.
+  return u1 >= 0.0 && v1 >= 0.0 && u0 <= m.width() - 1 && v0 <= m.height() - 1;
+}
+
 }  // namespace levelfuse::detail

@@ -30,4 +30,9 @@ double leafMarks(const RangeMap& map, double voxelSize, double reach, openvdb::B
 /// are more than `reach` apart.
 bool leafMayBeReached(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double reach);
 
+/// Whether some line of sight of `map` passes the leaf at `origin`: false if
+/// the leaf lies wholly behind a camera or projects wholly beside the map's
+/// pixels, so that RangeMap::sight says kOutside at every voxel of it.
+bool leafMayBeSeen(const RangeMap& map, const openvdb::Coord& origin, double voxelSize);
+
 }  // namespace levelfuse::detail

@@ -6,6 +6,8 @@
 #include <levelfuse/levelset/detail/LeafMaskOps.h>
 #include <levelfuse/scan/ForceField.h>
 
+#include "LeavesReached.h"
+
 #include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/LevelSetRebuild.h>
 #include <openvdb/tree/LeafManager.h>
@@ -25,6 +27,31 @@ using openvdb::Coord;
 using openvdb::Vec3d;
 using LeafT = openvdb::FloatTree::LeafNodeType;
 
+/// The range maps that may say something of the voxels of a leaf-sized
+/// block: those some of whose lines of sight pass it. Of the others, which
+/// see none of its voxels, the orthographic ones still speak for them.
+struct Witnesses {
+  std::vector<const RangeMap*> seeing;
+  std::size_t speakingUnseen = 0;
+};
+
+/// Every range map, for a point alone.
+Witnesses allWitnesses(const std::vector<RangeMap>& maps) {
+  Witnesses w;
+  for (const RangeMap& m : maps) w.seeing.push_back(&m);
+  return w;
+}
+
+/// The witnesses of the leaf-sized block at `origin` (detail::leafMayBeSeen).
+Witnesses witnessesOf(const std::vector<RangeMap>& maps, const Coord& origin, double voxelSize) {
+  Witnesses w;
+  for (const RangeMap& m : maps) {
+    if (detail::leafMayBeSeen(m, origin, voxelSize)) w.seeing.push_back(&m);
+    else w.speakingUnseen += m.kind() != RangeMap::Kind::kPinhole;
+  }
+  return w;
+}
+
 /// Space carving: outside if some line of sight saw x as empty; inside if
 /// more than half of the range maps that speak for x see it behind their
 /// readings; else outside. (A point one range map sees behind a grazing
@@ -33,13 +60,13 @@ using LeafT = openvdb::FloatTree::LeafNodeType;
 /// is a window onto a scene that goes on beyond it, and speaks only for the
 /// points its lines of sight pass: behind a room's wall, which few of the
 /// room's frames see, is solid, not a sheet as thin as the window's reach.
-bool carvedInside(const std::vector<RangeMap>& maps, const Vec3d& x, double margin) {
-  std::size_t behind = 0, speaking = 0;
-  for (const RangeMap& m : maps) {
-    const RangeMap::Sight s = m.sight(x, margin);
+bool carvedInside(const Witnesses& witnesses, const Vec3d& x, double margin) {
+  std::size_t behind = 0, speaking = witnesses.speakingUnseen;
+  for (const RangeMap* m : witnesses.seeing) {
+    const RangeMap::Sight s = m->sight(x, margin);
     if (s == RangeMap::Sight::kEmpty) return false;
     behind += s == RangeMap::Sight::kBehind;
-    speaking += s != RangeMap::Sight::kOutside || m.kind() != RangeMap::Kind::kPinhole;
+    speaking += s != RangeMap::Sight::kOutside || m->kind() != RangeMap::Kind::kPinhole;
   }
   return 2 * behind > speaking;
 }
@@ -179,15 +206,16 @@ class BlockClasses {
 
 }  // namespace
 
-SparseField ForceField::linearSolutionField(double voxelSize, LinearBand band, const SparseFieldOptions& engine,
-                                            const Interrupter& interrupter) const {
-  const AccumulatedField field = accumulate(voxelSize, interrupter);
+SparseField linearSolutionField(const AccumulatedField& field, const std::vector<RangeMap>& maps, double margin,
+                                LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
   if (field.g->tree().leafCount() == 0)
-    throw std::invalid_argument("ForceField::linearSolution: no reading reaches any voxel");
+    throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
+  const double voxelSize = field.g->voxelSize()[0];
   const float width = levelSetBackground(3.0, voxelSize);
-  const double margin = mWindow.reach();
   const openvdb::math::Transform& xform = field.g->transform();
-  const auto inside = [&](const Coord& ijk) { return carvedInside(*mMaps, xform.indexToWorld(ijk), margin); };
+  const auto inside = [&](const Witnesses& witnesses, const Coord& ijk) {
+    return carvedInside(witnesses, xform.indexToWorld(ijk), margin);
+  };
   const auto clamp = [width](float value) { return std::max(-width, std::min(width, value)); };
 
   // 1. Where the data reaches, the weighted mean signed distance along the
@@ -199,10 +227,11 @@ SparseField ForceField::linearSolutionField(double voxelSize, LinearBand band, c
     for (std::size_t i = begin; i < end; ++i) {
       const LeafT& g = dataLeaves.leaf(i);
       const LeafT& w = *field.weight->tree().probeConstLeaf(g.origin());
+      const Witnesses witnesses = witnessesOf(maps, g.origin(), voxelSize);
       auto leaf = std::make_unique<LeafT>(g.origin(), width);
       for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
         const Coord ijk = g.offsetToGlobalCoord(o);
-        leaf->setValueOn(o, g.isValueOn(o) ? clamp(-g.getValue(o) / w.getValue(o)) : (inside(ijk) ? -width : width));
+        leaf->setValueOn(o, g.isValueOn(o) ? clamp(-g.getValue(o) / w.getValue(o)) : (inside(witnesses, ijk) ? -width : width));
       }
       leaves[i] = std::move(leaf);
     }
@@ -216,10 +245,11 @@ SparseField ForceField::linearSolutionField(double voxelSize, LinearBand band, c
   for (std::size_t i = 0; i < dataLeaves.leafCount(); ++i)
     classes[classes.index(dataLeaves.leaf(i).origin() >> LeafT::LOG2DIM)] = BlockClasses::kData;
   const Coord centre(LeafT::DIM / 2);
+  const Witnesses everyMap = allWitnesses(maps);
   parallelFor(classes.size(), 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       if (classes[i] != BlockClasses::kData)
-        classes[i] = inside(blockOrigin(classes.block(i)) + centre) ? BlockClasses::kInside : BlockClasses::kOutside;
+        classes[i] = inside(everyMap, blockOrigin(classes.block(i)) + centre) ? BlockClasses::kInside : BlockClasses::kOutside;
   });
 
   // 3. Blocks beside a block of the other class hold the carved surface: carve
@@ -244,8 +274,9 @@ SparseField ForceField::linearSolutionField(double voxelSize, LinearBand band, c
   parallelFor(boundary.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       auto leaf = std::make_unique<LeafT>(boundary[i], width);
+      const Witnesses witnesses = witnessesOf(maps, boundary[i], voxelSize);
       for (openvdb::Index o = 0; o < LeafT::SIZE; ++o)
-        leaf->setValueOn(o, inside(leaf->offsetToGlobalCoord(o)) ? -width : width);
+        leaf->setValueOn(o, inside(witnesses, leaf->offsetToGlobalCoord(o)) ? -width : width);
       carved[i] = std::move(leaf);
     }
   });
@@ -271,6 +302,12 @@ SparseField ForceField::linearSolutionField(double voxelSize, LinearBand band, c
   openvdb::tools::changeLevelSetBackground(psi->tree(), width);
   psi->setGridClass(openvdb::GRID_LEVEL_SET);
   return SparseField::fromLevelSet(*psi, engine);
+}
+
+SparseField ForceField::linearSolutionField(double voxelSize, LinearBand band, const SparseFieldOptions& engine,
+                                            const Interrupter& interrupter) const {
+  return levelfuse::linearSolutionField(accumulate(voxelSize, interrupter), *mMaps, mWindow.reach(), band, engine,
+                                        interrupter);
 }
 
 openvdb::FloatGrid::Ptr ForceField::linearSolution(double voxelSize, double halfWidth, const std::string& name,

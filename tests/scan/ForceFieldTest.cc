@@ -5,6 +5,7 @@
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/levelset/Components.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
+#include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/Synth.h>
 
@@ -154,6 +155,30 @@ TEST(LinearSolution, ActiveValuesAreDistancesToTheSurfaceNotAlongTheLinesOfSight
     }
     EXPECT_GT(checked, 1000u);
     EXPECT_LT(largest, 0.05) << (band == LinearBand::kRebuilt ? "rebuilt" : "zero crossings");
+  }
+}
+
+TEST(LinearSolution, FromTheDataTermGridsAsFromTheScans) {
+  // The evolution's grids hold g and its weight per bin of the lines of
+  // sight: summed, they give the linear solution that accumulating the scans
+  // gives, up to the order of the float sums.
+  const Target t = target(1);
+  const double voxel = t.size / 50.0;
+  const ForceFieldOptions options = optionsFor(voxel);
+  const std::vector<RangeMap> maps = render(t.distance, t.views, 0.01 * t.size);
+  DataTermGrids grids(voxel, options.dataWindow(), options.positionVariance);
+  for (const RangeMap& m : maps) grids.integrate(m);
+  const AccumulatedField summed{grids.gGrid(), grids.weightGrid(), 0};
+  for (const LinearBand band : {LinearBand::kZeroCrossings, LinearBand::kRebuilt}) {
+    const openvdb::FloatGrid::Ptr fromGrids =
+        linearSolutionField(summed, maps, options.dataWindow().reach(), band).toLevelSet(3.0);
+    const openvdb::FloatGrid::Ptr fromScans = ForceField(maps, options).linearSolutionField(voxel, band).toLevelSet(3.0);
+    EXPECT_EQ(fromGrids->activeVoxelCount(), fromScans->activeVoxelCount());
+    openvdb::FloatGrid::ConstAccessor scans = fromScans->getConstAccessor();
+    double largest = 0.0;
+    for (auto it = fromGrids->cbeginValueOn(); it; ++it)
+      largest = std::max(largest, std::fabs(*it - scans.getValue(it.getCoord())) / voxel);
+    EXPECT_LT(largest, 1e-3);
   }
 }
 

@@ -1,7 +1,8 @@
 // levelfuse: surfaces from range maps, the pipeline of section 6 of the paper.
 //
 //  1. The linear solution (the zero set of g, Eq. 17) on a coarse grid is the
-//     initial model.
+//     initial model (from that grid's data term when the evolution samples
+//     grids: the scans are integrated once for both).
 //  2. A sparse field evolves it under the facing-checked data term sampled at
 //     subcell positions plus the surface-area prior (DataSpeed.h) until the
 //     change per iteration falls below a threshold.
@@ -200,8 +201,10 @@ class Reconstructor {
  private:
   /// Throws InsufficientMemory if the coarsest grid's box would not fit.
   void requireCoarsestGridMemory() const;
-  /// The linear solution on the coarsest grid, as a sparse field.
-  SparseField initialModel(const Interrupter& interrupter) const;
+  /// The linear solution on the coarsest grid, as a sparse field: from the
+  /// coarsest grid's data term if it is given (`grids`), else accumulated
+  /// from the scans.
+  SparseField initialModel(const Interrupter& interrupter, const DataTermGrids* grids = nullptr) const;
   /// Evolves `field`, of voxel size h, under the data term and the prior
   /// until it converges, settles or reaches the iteration limit (section 6).
   template <typename Field>
@@ -209,9 +212,14 @@ class Reconstructor {
                           const std::function<void()>& report) const;
   /// Grid `level` of run(): `field` resampled from the grid before (if any)
   /// and evolved; on the finest grid, the result's level set and weight.
-  LevelReport reconstructLevel(int level, std::unique_ptr<SparseField>& field, ReconstructionProgress& state,
-                               const std::function<void()>& report, const Interrupter& interrupter,
-                               ReconstructionResult& result) const;
+  /// `grids`, if set, is the grid's data term, integrated already.
+  LevelReport reconstructLevel(int level, std::unique_ptr<SparseField>& field, std::unique_ptr<DataTermGrids> grids,
+                               ReconstructionProgress& state, const std::function<void()>& report,
+                               const Interrupter& interrupter, ReconstructionResult& result) const;
+  /// dataTermGrids(level) with the progress reported scan by scan.
+  std::unique_ptr<DataTermGrids> integrateLevel(int level, ReconstructionProgress& state,
+                                                const std::function<void()>& report,
+                                                const Interrupter& interrupter) const;
   /// The run's parameters as the output grid's levelfuse_* metadata.
   void describeRun(openvdb::FloatGrid& out, int iterations) const;
   /// Throws InsufficientMemory if accumulating the data term on grid `level`

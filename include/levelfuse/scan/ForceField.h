@@ -75,6 +75,17 @@ enum class LinearBand {
   kRebuilt,
 };
 
+/// The linear solution of an accumulated data term (ForceField::accumulate,
+/// or DataTermGrids' gGrid and weightGrid) as a sparse field with the
+/// engine's settings `engine`, ready to evolve, its narrow band made as `band`
+/// says: where the data reach, the sign of -g; elsewhere space carving
+/// against `maps` with readings `margin` thick (the window's reach) decides
+/// (ForceField::linearSolution). Throws std::invalid_argument if no reading
+/// reaches any voxel, Interrupted if `interrupter` asks to stop.
+SparseField linearSolutionField(const AccumulatedField& data, const std::vector<RangeMap>& maps, double margin,
+                                LinearBand band, const SparseFieldOptions& engine = {},
+                                const Interrupter& interrupter = {});
+
 class ForceField {
  public:
   ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& options);
