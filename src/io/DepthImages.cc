@@ -407,16 +407,9 @@ openvdb::math::Mat4d readPose(const std::string& path) { return poseFromRowMajor
 
 RangeMap depthFrame(const DepthImage& image, const PinholeProjection& intrinsics,
                     const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, const std::string& name) {
-  std::vector<float> sigmas(image.depth.size());
-  for (std::size_t i = 0; i < image.depth.size(); ++i) {
-    const double z = image.depth[i] == image.depth[i] ? image.depth[i] : 1.0;
-    // Readings so far away that their sigma overflows a float carry no weight anyway.
-    const double sigma = std::max(noise.minimum, noise.perSquareMetre * z * z);
-    sigmas[i] = static_cast<float>(std::min(sigma, double(std::numeric_limits<float>::max())));
-  }
   RangeMap map = RangeMap::pinhole(image.width, image.height, image.depth, intrinsics, cameraToWorld,
                                    std::max(noise.minimum, noise.perSquareMetre), name);
-  map.setSigmas(std::move(sigmas));
+  map.setDepthNoise(noise);
   return map;
 }
 

@@ -79,15 +79,13 @@ void RangeMap::findUsableCells() {
       // The distance between neighbouring rays at the readings, and the noise:
       // two readings of one surface differ by sqrt(2) sigma typically.
       const double spacing = mKind == Kind::kOrthographic ? mOrtho.pixelSize : hi / std::min(mPinhole.fx, mPinhole.fy);
-      double sigma = mSigma;
-      if (!mSigmas.empty())
-        sigma = std::max(std::max(mSigmas[at], mSigmas[at + 1]),
-                         std::max(mSigmas[at + static_cast<std::size_t>(mWidth)],
-                                  mSigmas[at + static_cast<std::size_t>(mWidth) + 1]));
+      const std::size_t below = at + static_cast<std::size_t>(mWidth);
+      const double sigma = std::max(std::max(sigmaAt(at), sigmaAt(at + 1)), std::max(sigmaAt(below), sigmaAt(below + 1)));
       mUsableCell[at] = hi - lo <= mJumpFactor * spacing + kJumpNoise * sigma;
     }
   double largestSigma = mSigma;
-  for (float sigma : mSigmas) largestSigma = std::max(largestSigma, static_cast<double>(sigma));
+  if (!mSigmas.empty() || mHasDepthNoise)
+    for (std::size_t at = 0; at < mReadings.size(); ++at) largestSigma = std::max(largestSigma, sigmaAt(at));
   mLargestStep = mJumpFactor * mOrtho.pixelSize + kJumpNoise * largestSigma;
 }
 
@@ -154,7 +152,26 @@ void RangeMap::setSigmas(std::vector<float> sigmas) {
     if (!(s > 0.0f) || !std::isfinite(s))
       throw std::invalid_argument("range map '" + mName + "': sigmas must be positive and finite");
   mSigmas = std::move(sigmas);
+  mHasDepthNoise = false;
   findUsableCells();
+}
+
+void RangeMap::setDepthNoise(const DepthNoise& noise) {
+  if (!(noise.minimum > 0.0) || !std::isfinite(noise.minimum) || !(noise.perSquareMetre >= 0.0) ||
+      !std::isfinite(noise.perSquareMetre))
+    throw std::invalid_argument("range map '" + mName + "': the depth noise must be positive and finite");
+  mSigmas.clear();
+  mSigmas.shrink_to_fit();
+  mDepthNoise = noise;
+  mHasDepthNoise = true;
+  findUsableCells();
+}
+
+float RangeMap::depthNoiseSigma(float reading) const {
+  const double z = reading == reading ? reading : 1.0;
+  // Readings so far away that their sigma overflows a float carry no weight anyway.
+  const double sigma = std::max(mDepthNoise.minimum, mDepthNoise.perSquareMetre * z * z);
+  return static_cast<float>(std::min(sigma, double(std::numeric_limits<float>::max())));
 }
 
 void RangeMap::setSamples(std::vector<openvdb::Vec3d> worldPoints, double raySpacing) {
@@ -273,7 +290,7 @@ bool RangeMap::sample(const openvdb::Vec3d& x, RangeSample& out) const {
   if (!mDirections.empty()) los = Vec3d(mDirections[index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1)]);
   out.gradD = mMapToWorld.transform3x3(grad);
   out.lineOfSight = mMapToWorld.transform3x3(los);
-  out.sigma = mSigmas.empty() ? mSigma : mSigmas[index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1)];
+  out.sigma = sigmaAt(index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1));
   return true;
 }
 

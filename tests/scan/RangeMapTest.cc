@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <vector>
 
 namespace levelfuse {
 namespace {
@@ -129,6 +132,42 @@ TEST(RangeMap, PinholeGeometry) {
   depths[7] = 0.0f;
   depths[8] = -2.0f;
   EXPECT_EQ(RangeMap::pinhole(40, 30, depths, k, c2w, 0.002).validCount(), 40u * 30u - 2u);
+}
+
+TEST(RangeMap, DepthNoiseIsTheSigmaPerPixelOfTheReadingsDepth) {
+  // A floor seen from 1 to 3.4 m, a few readings missing: the sigmas computed
+  // from the depth are those a sigma per pixel gives, at every sample.
+  const PinholeProjection k{50.0, 50.0, 19.5, 14.5};
+  const Mat4d c2w = pose(-0.2, Vec3d(0.1, 0.2, 0.3));
+  std::vector<float> depths(40 * 30);
+  for (std::size_t i = 0; i < depths.size(); ++i) depths[i] = 1.0f + 0.08f * static_cast<float>(i / 40);
+  depths[101] = std::numeric_limits<float>::quiet_NaN();
+  const DepthNoise noise{0.001, 0.0015};
+  std::vector<float> sigmas(depths.size());
+  for (std::size_t i = 0; i < depths.size(); ++i) {
+    const double z = depths[i] == depths[i] ? depths[i] : 1.0;
+    sigmas[i] = static_cast<float>(std::max(noise.minimum, noise.perSquareMetre * z * z));
+  }
+  RangeMap perPixel = RangeMap::pinhole(40, 30, depths, k, c2w, 0.002, "floor");
+  RangeMap modelled = perPixel;
+  perPixel.setSigmas(sigmas);
+  modelled.setDepthNoise(noise);
+  std::size_t sampled = 0;
+  for (int u = 0; u < 39; ++u)
+    for (int v = 0; v < 29; ++v) {
+      const Vec3d ray((u + 0.3 - 19.5) / 50.0, (v + 0.6 - 14.5) / 50.0, 1.0);
+      const Vec3d x = c2w.transform(ray * (1.0 + 0.08 * v + 0.01));
+      RangeSample a, b;
+      const bool seen = perPixel.sample(x, a);
+      ASSERT_EQ(seen, modelled.sample(x, b)) << u << " " << v;
+      if (!seen) continue;
+      EXPECT_EQ(a.sigma, b.sigma) << u << " " << v;
+      ++sampled;
+    }
+  EXPECT_GT(sampled, 900u);
+  EXPECT_GT(modelled.sigma(), 0.0);
+  EXPECT_THROW(modelled.setDepthNoise(DepthNoise{0.0, 0.0015}), std::invalid_argument);
+  EXPECT_THROW(modelled.setDepthNoise(DepthNoise{0.001, -1.0}), std::invalid_argument);
 }
 
 TEST(RangeMap, FastPathAgreesWithTheFullSample) {

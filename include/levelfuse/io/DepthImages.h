@@ -55,12 +55,8 @@ openvdb::math::Mat4d readPose(const std::string& path);
 openvdb::math::Mat4d poseFromRowMajor(const std::vector<double>& values, const std::string& file,
                                       const std::string& where);
 
-/// Per-reading noise of a depth camera: sigma(z) = max(minimum, perSquareMetre z^2)
-/// (structured-light cameras lose precision with the square of the depth).
-struct DepthNoise {
-  double minimum = 0.001;
-  double perSquareMetre = 0.0015;
-};
+/// Per-reading noise of a depth camera (scan/RangeMap.h).
+using DepthNoise = levelfuse::DepthNoise;
 
 /// One depth frame as a pinhole range map.
 RangeMap depthFrame(const DepthImage& image, const PinholeProjection& intrinsics,
