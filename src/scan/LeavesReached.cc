@@ -97,14 +97,17 @@ bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, 
   return m.readingBounds(u0, v0, u1 + 1.0, v1 + 1.0, lo, hi) && z0 - hi <= reach && z1 - lo >= -reach;
 }
 
-bool leafMayBeSeen(const RangeMap& m, const Coord& origin, double voxelSize) {
+RangeMap::Sight leafSight(const RangeMap& m, const Coord& origin, double voxelSize, double margin) {
+  using Sight = RangeMap::Sight;
   const openvdb::math::Mat4d& toMap = m.worldToMap();
   const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
   const double span = voxelSize * (kLeafDim - 1);
-  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300;
+  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300, z0 = 1e300, z1 = -1e300;
   int inFront = 0;
   for (int c = 0; c < 8; ++c) {
     const Vec3d q = base + toMap.transform3x3(Vec3d((c & 1) * span, ((c >> 1) & 1) * span, (c >> 2) * span));
+    z0 = std::min(z0, q.z());
+    z1 = std::max(z1, q.z());
     if (m.kind() == RangeMap::Kind::kPinhole && !(q.z() > 0.0)) continue;
     ++inFront;
     const openvdb::math::Vec2d uv = m.project(q);
@@ -113,11 +116,29 @@ bool leafMayBeSeen(const RangeMap& m, const Coord& origin, double voxelSize) {
     v0 = std::min(v0, uv.y());
     v1 = std::max(v1, uv.y());
   }
-  if (inFront == 0) return false;  // wholly behind the camera
-  if (inFront < 8) return true;    // straddles the camera plane: the projection is unbounded
+  if (inFront == 0) return Sight::kOutside;  // wholly behind the camera
+  if (inFront < 8) return Sight::kUnknown;   // straddles the camera plane: the projection is unbounded
   // In front of a camera, or along parallel rays, the leaf projects into the
-  // convex hull of its corners' projections.
-  return u1 >= 0.0 && v1 >= 0.0 && u0 <= m.width() - 1 && v0 <= m.height() - 1;
+  // convex hull of its corners' projections; its depths lie between its
+  // corners'. A little slack leaves ties within rounding to the voxels.
+  constexpr double kPixelSlack = 1e-6;
+  const double depthSlack = 1e-9 * (std::fabs(z0) + std::fabs(z1) + margin);
+  u0 -= kPixelSlack;
+  v0 -= kPixelSlack;
+  u1 += kPixelSlack;
+  v1 += kPixelSlack;
+  if (u1 < 0.0 || v1 < 0.0 || u0 > m.width() - 1 || v0 > m.height() - 1) return Sight::kOutside;
+  if (u0 < 0.0 || v0 < 0.0 || u1 > m.width() - 1 || v1 > m.height() - 1) return Sight::kUnknown;
+  // The four pixels around every voxel: from floor(u0) to floor(u1) + 1.
+  double lo, hi;
+  bool complete = false;
+  if (!m.readingBounds(std::floor(u0), std::floor(v0), std::floor(u1) + 1.0, std::floor(v1) + 1.0, lo, hi,
+                       &complete) ||
+      !complete)
+    return Sight::kUnknown;
+  if (z0 - hi > margin + depthSlack) return Sight::kBehind;
+  if (z1 - lo < -margin - depthSlack) return Sight::kEmpty;
+  return Sight::kUnknown;
 }
 
 }  // namespace levelfuse::detail

@@ -30,9 +30,13 @@ double leafMarks(const RangeMap& map, double voxelSize, double reach, openvdb::B
 /// are more than `reach` apart.
 bool leafMayBeReached(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double reach);
 
-/// Whether some line of sight of `map` passes the leaf at `origin`: false if
-/// the leaf lies wholly behind a camera or projects wholly beside the map's
-/// pixels, so that RangeMap::sight says kOutside at every voxel of it.
-bool leafMayBeSeen(const RangeMap& map, const openvdb::Coord& origin, double voxelSize);
+/// What RangeMap::sight(x, margin) says at every voxel centre x of the leaf at
+/// `origin`, when it says the same everywhere and that can be told from the
+/// leaf's corners and the bounds of the readings over its footprint: kOutside
+/// (wholly behind a camera or beside the map's pixels), kEmpty (in front of
+/// complete readings by more than the margin), kBehind (behind them by more);
+/// else kUnknown, and each voxel must be asked. Never says what a voxel's own
+/// sight would not (ties within rounding are left to the voxels).
+RangeMap::Sight leafSight(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double margin);
 
 }  // namespace levelfuse::detail

@@ -27,27 +27,42 @@ using openvdb::Coord;
 using openvdb::Vec3d;
 using LeafT = openvdb::FloatTree::LeafNodeType;
 
-/// The range maps that may say something of the voxels of a leaf-sized
-/// block: those some of whose lines of sight pass it. Of the others, which
-/// see none of its voxels, the orthographic ones still speak for them.
+/// What the range maps say of the voxels of a leaf-sized block: those that
+/// say the same of every voxel (detail::leafSight) are counted once, the
+/// others are asked voxel by voxel.
 struct Witnesses {
-  std::vector<const RangeMap*> seeing;
-  std::size_t speakingUnseen = 0;
+  bool seenEmpty = false;       ///< some map sees the whole block empty
+  std::size_t behind = 0;       ///< maps that see the whole block behind their readings
+  std::size_t speaking = 0;     ///< maps that speak for every voxel of the block
+  std::vector<const RangeMap*> asked;  ///< maps to ask voxel by voxel
 };
 
-/// Every range map, for a point alone.
+/// Every range map asked, for a point alone.
 Witnesses allWitnesses(const std::vector<RangeMap>& maps) {
   Witnesses w;
-  for (const RangeMap& m : maps) w.seeing.push_back(&m);
+  for (const RangeMap& m : maps) w.asked.push_back(&m);
   return w;
 }
 
-/// The witnesses of the leaf-sized block at `origin` (detail::leafMayBeSeen).
-Witnesses witnessesOf(const std::vector<RangeMap>& maps, const Coord& origin, double voxelSize) {
+/// The witnesses of the leaf-sized block at `origin`.
+Witnesses witnessesOf(const std::vector<RangeMap>& maps, const Coord& origin, double voxelSize, double margin) {
   Witnesses w;
   for (const RangeMap& m : maps) {
-    if (detail::leafMayBeSeen(m, origin, voxelSize)) w.seeing.push_back(&m);
-    else w.speakingUnseen += m.kind() != RangeMap::Kind::kPinhole;
+    switch (detail::leafSight(m, origin, voxelSize, margin)) {
+      case RangeMap::Sight::kEmpty:
+        w.seenEmpty = true;
+        return w;
+      case RangeMap::Sight::kBehind:
+        ++w.behind;
+        ++w.speaking;
+        break;
+      case RangeMap::Sight::kOutside:
+        w.speaking += m.kind() != RangeMap::Kind::kPinhole;
+        break;
+      case RangeMap::Sight::kUnknown:
+        w.asked.push_back(&m);
+        break;
+    }
   }
   return w;
 }
@@ -61,8 +76,9 @@ Witnesses witnessesOf(const std::vector<RangeMap>& maps, const Coord& origin, do
 /// points its lines of sight pass: behind a room's wall, which few of the
 /// room's frames see, is solid, not a sheet as thin as the window's reach.
 bool carvedInside(const Witnesses& witnesses, const Vec3d& x, double margin) {
-  std::size_t behind = 0, speaking = witnesses.speakingUnseen;
-  for (const RangeMap* m : witnesses.seeing) {
+  if (witnesses.seenEmpty) return false;
+  std::size_t behind = witnesses.behind, speaking = witnesses.speaking;
+  for (const RangeMap* m : witnesses.asked) {
     const RangeMap::Sight s = m->sight(x, margin);
     if (s == RangeMap::Sight::kEmpty) return false;
     behind += s == RangeMap::Sight::kBehind;
@@ -227,7 +243,7 @@ SparseField linearSolutionField(const AccumulatedField& field, const std::vector
     for (std::size_t i = begin; i < end; ++i) {
       const LeafT& g = dataLeaves.leaf(i);
       const LeafT& w = *field.weight->tree().probeConstLeaf(g.origin());
-      const Witnesses witnesses = witnessesOf(maps, g.origin(), voxelSize);
+      const Witnesses witnesses = witnessesOf(maps, g.origin(), voxelSize, margin);
       auto leaf = std::make_unique<LeafT>(g.origin(), width);
       for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
         const Coord ijk = g.offsetToGlobalCoord(o);
@@ -274,7 +290,7 @@ SparseField linearSolutionField(const AccumulatedField& field, const std::vector
   parallelFor(boundary.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       auto leaf = std::make_unique<LeafT>(boundary[i], width);
-      const Witnesses witnesses = witnessesOf(maps, boundary[i], voxelSize);
+      const Witnesses witnesses = witnessesOf(maps, boundary[i], voxelSize, margin);
       for (openvdb::Index o = 0; o < LeafT::SIZE; ++o)
         leaf->setValueOn(o, inside(witnesses, leaf->offsetToGlobalCoord(o)) ? -width : width);
       carved[i] = std::move(leaf);

@@ -53,11 +53,15 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
   mBlocksY = (mHeight + kBlock - 1) / kBlock;
   mBlockMin.assign(static_cast<std::size_t>(mBlocksX) * mBlocksY, nan);
   mBlockMax.assign(mBlockMin.size(), nan);
+  mBlockComplete.assign(mBlockMin.size(), 1);
   for (int v = 0; v < mHeight; ++v)
     for (int u = 0; u < mWidth; ++u) {
       const float r = mReadings[index(u, v)];
-      if (!(r == r)) continue;
       const std::size_t b = static_cast<std::size_t>(v / kBlock) * mBlocksX + static_cast<std::size_t>(u / kBlock);
+      if (!(r == r)) {
+        mBlockComplete[b] = 0;
+        continue;
+      }
       if (!(mBlockMin[b] <= r)) mBlockMin[b] = r;
       if (!(mBlockMax[b] >= r)) mBlockMax[b] = r;
     }
@@ -236,7 +240,8 @@ openvdb::math::Vec2d RangeMap::project(const Vec3d& p) const {
   return {mPinhole.fx * p.x() / p.z() + mPinhole.cx, mPinhole.fy * p.y() / p.z() + mPinhole.cy};
 }
 
-bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi) const {
+bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi,
+                             bool* complete) const {
   const int b0 = std::max(0, static_cast<int>(std::floor(u0)) / kBlock);
   const int b1 = std::min(mBlocksX - 1, static_cast<int>(std::ceil(u1)) / kBlock);
   const int c0 = std::max(0, static_cast<int>(std::floor(v0)) / kBlock);
@@ -245,9 +250,11 @@ bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double&
   bool any = false;
   lo = std::numeric_limits<double>::max();
   hi = -lo;
+  if (complete) *complete = true;
   for (int c = c0; c <= c1; ++c)
     for (int b = b0; b <= b1; ++b) {
       const std::size_t at = static_cast<std::size_t>(c) * mBlocksX + b;
+      if (complete && !mBlockComplete[at]) *complete = false;
       if (!(mBlockMin[at] == mBlockMin[at])) continue;
       lo = std::min(lo, static_cast<double>(mBlockMin[at]));
       hi = std::max(hi, static_cast<double>(mBlockMax[at]));

@@ -150,7 +150,10 @@ class RangeMap {
   const openvdb::math::Mat4d& worldToMap() const { return mWorldToMap; }
   /// Smallest and largest reading over the pixels of the window [u0, u1] x
   /// [v0, v1] (clamped to the map), from per-block bounds; false if none is valid.
-  bool readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi) const;
+  /// `complete`, if given, is told whether every pixel of the window has a
+  /// reading (false when unsure: the blocks around the window are asked).
+  bool readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi,
+                     bool* complete = nullptr) const;
   /// Pixel coordinates of a point in the map's frame (may lie outside the map).
   openvdb::math::Vec2d project(const openvdb::Vec3d& p) const;
 
@@ -205,6 +208,7 @@ class RangeMap {
   static constexpr int kBlock = 8;  ///< pixels per side of a block of reading bounds
   int mBlocksX = 0, mBlocksY = 0;
   std::vector<float> mBlockMin, mBlockMax;  ///< per block, NaN if it has no reading
+  std::vector<std::uint8_t> mBlockComplete;  ///< per block, 1 if every pixel of it has a reading
 
   Kind mKind = Kind::kOrthographic;
   int mWidth = 0, mHeight = 0;
