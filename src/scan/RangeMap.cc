@@ -71,7 +71,7 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
 }
 
 void RangeMap::findUsableCells() {
-  mUsableCell.assign(mReadings.size(), 0);
+  mUsableCell.assign(mReadings.size(), false);
   for (int j = 0; j + 1 < mHeight; ++j)
     for (int i = 0; i + 1 < mWidth; ++i) {
       const std::size_t at = index(i, j);

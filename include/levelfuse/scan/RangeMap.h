@@ -214,9 +214,10 @@ class RangeMap {
   int mWidth = 0, mHeight = 0;
   std::string mName;
   std::vector<float> mReadings;  ///< NaN where there is no reading
-  /// Per cell (i, j) between pixels i..i+1, j..j+1: 1 if its four readings are
-  /// valid and span no depth discontinuity (indexed like the pixels).
-  std::vector<std::uint8_t> mUsableCell;
+  /// Per cell (i, j) between pixels i..i+1, j..j+1: true if its four readings
+  /// are valid and span no depth discontinuity (indexed like the pixels; a bit
+  /// per cell).
+  std::vector<bool> mUsableCell;
   std::vector<openvdb::Vec3f> mDirections;
   std::vector<float> mSigmas;
   bool mHasDepthNoise = false;  ///< the sigmas follow mDepthNoise
