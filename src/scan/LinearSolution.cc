@@ -212,6 +212,7 @@ class BlockClasses {
     return (static_cast<std::size_t>(d.x()) * mDim.y() + d.y()) * mDim.z() + d.z();
   }
   std::uint8_t& operator[](std::size_t i) { return mClass[i]; }
+  std::uint8_t operator[](std::size_t i) const { return mClass[i]; }
   std::uint8_t at(const Coord& b) const { return mBox.isInside(b) ? mClass[index(b)] : std::uint8_t(kOutside); }
 
  private:
@@ -220,40 +221,58 @@ class BlockClasses {
   std::vector<std::uint8_t> mClass;
 };
 
-}  // namespace
+/// Space carving on a grid: what the range maps say of its voxels.
+class Carver {
+ public:
+  Carver(const std::vector<RangeMap>& maps, double margin, const openvdb::math::Transform& xform)
+      : mMaps(maps), mMargin(margin), mTransform(xform), mEveryMap(allWitnesses(maps)) {}
 
-SparseField linearSolutionField(const AccumulatedField& field, const std::vector<RangeMap>& maps, double margin,
-                                LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
-  if (field.g->tree().leafCount() == 0)
-    throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
-  const double voxelSize = field.g->voxelSize()[0];
-  const float width = levelSetBackground(3.0, voxelSize);
-  const openvdb::math::Transform& xform = field.g->transform();
-  const auto inside = [&](const Witnesses& witnesses, const Coord& ijk) {
-    return carvedInside(witnesses, xform.indexToWorld(ijk), margin);
-  };
-  const auto clamp = [width](float value) { return std::max(-width, std::min(width, value)); };
+  /// The witnesses of the leaf-sized block at `origin`.
+  Witnesses witnesses(const Coord& origin) const {
+    return witnessesOf(mMaps, origin, mTransform.voxelSize()[0], mMargin);
+  }
+  /// Whether carving puts voxel `ijk` of a block with these witnesses inside.
+  bool inside(const Witnesses& witnesses, const Coord& ijk) const {
+    return carvedInside(witnesses, mTransform.indexToWorld(ijk), mMargin);
+  }
+  /// Whether carving puts voxel `ijk`, alone, inside.
+  bool inside(const Coord& ijk) const { return inside(mEveryMap, ijk); }
 
-  // 1. Where the data reaches, the weighted mean signed distance along the
-  //    lines of sight, -g / w: its zero set is the zero set of g (Eq. 17).
-  //    Voxels of these leaves that no window reaches are carved.
-  openvdb::tree::LeafManager<const openvdb::FloatTree> dataLeaves(field.g->tree());
-  std::vector<std::unique_ptr<LeafT>> leaves(dataLeaves.leafCount());
+ private:
+  const std::vector<RangeMap>& mMaps;
+  double mMargin;
+  const openvdb::math::Transform& mTransform;
+  Witnesses mEveryMap;
+};
+
+using Leaves = std::vector<std::unique_ptr<LeafT>>;
+
+/// 1. The leaves the data reach: where a window reaches, the weighted mean
+///    signed distance along the lines of sight, -g / w, whose zero set is the
+///    zero set of g (Eq. 17), clamped to +-width; elsewhere in them, carved.
+Leaves dataLeafValues(const openvdb::tree::LeafManager<const openvdb::FloatTree>& dataLeaves,
+                      const openvdb::FloatGrid& weight, const Carver& carver, float width) {
+  Leaves leaves(dataLeaves.leafCount());
   parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const LeafT& g = dataLeaves.leaf(i);
-      const LeafT& w = *field.weight->tree().probeConstLeaf(g.origin());
-      const Witnesses witnesses = witnessesOf(maps, g.origin(), voxelSize, margin);
+      const LeafT& w = *weight.tree().probeConstLeaf(g.origin());
+      const Witnesses witnesses = carver.witnesses(g.origin());
       auto leaf = std::make_unique<LeafT>(g.origin(), width);
       for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
-        const Coord ijk = g.offsetToGlobalCoord(o);
-        leaf->setValueOn(o, g.isValueOn(o) ? clamp(-g.getValue(o) / w.getValue(o)) : (inside(witnesses, ijk) ? -width : width));
+        const float value = g.isValueOn(o) ? std::clamp(-g.getValue(o) / w.getValue(o), -width, width)
+                                           : (carver.inside(witnesses, g.offsetToGlobalCoord(o)) ? -width : width);
+        leaf->setValueOn(o, value);
       }
       leaves[i] = std::move(leaf);
     }
   });
-  checkInterrupter(interrupter);
-  // 2. The blocks around the data, carved at their centres.
+  return leaves;
+}
+
+/// 2. The blocks around the data (their box, one block wider), carved at their centres.
+BlockClasses classifyBlocks(const openvdb::tree::LeafManager<const openvdb::FloatTree>& dataLeaves,
+                            const Carver& carver) {
   openvdb::CoordBBox box;
   for (std::size_t i = 0; i < dataLeaves.leafCount(); ++i) box.expand(dataLeaves.leaf(i).origin() >> LeafT::LOG2DIM);
   box.expand(1);
@@ -261,43 +280,66 @@ SparseField linearSolutionField(const AccumulatedField& field, const std::vector
   for (std::size_t i = 0; i < dataLeaves.leafCount(); ++i)
     classes[classes.index(dataLeaves.leaf(i).origin() >> LeafT::LOG2DIM)] = BlockClasses::kData;
   const Coord centre(LeafT::DIM / 2);
-  const Witnesses everyMap = allWitnesses(maps);
   parallelFor(classes.size(), 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       if (classes[i] != BlockClasses::kData)
-        classes[i] = inside(everyMap, blockOrigin(classes.block(i)) + centre) ? BlockClasses::kInside : BlockClasses::kOutside;
+        classes[i] = carver.inside(blockOrigin(classes.block(i)) + centre) ? BlockClasses::kInside
+                                                                            : BlockClasses::kOutside;
   });
+  return classes;
+}
 
-  // 3. Blocks beside a block of the other class hold the carved surface: carve
-  //    their every voxel. The others are uniform: inside ones become tiles.
-  std::vector<Coord> boundary, insideTiles;
+/// The carved blocks away from the data.
+struct CarvedBlocks {
+  Leaves boundary;                 ///< beside a block of the other class: carved voxel by voxel
+  std::vector<Coord> insideTiles;  ///< uniformly inside: tiles
+};
+
+/// 3. Blocks beside a block of the other class hold the carved surface: carve
+///    their every voxel. The others are uniform: inside ones become tiles.
+CarvedBlocks carveBlocks(const BlockClasses& classes, const Carver& carver, float width) {
+  std::vector<Coord> boundary;
+  CarvedBlocks carved;
   for (std::size_t i = 0; i < classes.size(); ++i) {
     const std::uint8_t c = classes[i];
     if (c == BlockClasses::kData) continue;
     const Coord b = classes.block(i);
     bool differs = false;
-    for (int axis = 0; axis < 3 && !differs; ++axis)
-      for (int side = -1; side <= 1; side += 2) {
-        Coord n = b;
-        n[axis] += side;
-        const std::uint8_t nc = classes.at(n);
-        if (nc != BlockClasses::kData && nc != c) differs = true;
-      }
+    for (const auto& e : detail::kFaceOffset) {
+      const std::uint8_t nc = classes.at(b.offsetBy(e[0], e[1], e[2]));
+      if (nc != BlockClasses::kData && nc != c) differs = true;
+    }
     if (differs) boundary.push_back(blockOrigin(b));
-    else if (c == BlockClasses::kInside) insideTiles.push_back(blockOrigin(b));
+    else if (c == BlockClasses::kInside) carved.insideTiles.push_back(blockOrigin(b));
   }
-  std::vector<std::unique_ptr<LeafT>> carved(boundary.size());
+  carved.boundary.resize(boundary.size());
   parallelFor(boundary.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       auto leaf = std::make_unique<LeafT>(boundary[i], width);
-      const Witnesses witnesses = witnessesOf(maps, boundary[i], voxelSize, margin);
+      const Witnesses witnesses = carver.witnesses(boundary[i]);
       for (openvdb::Index o = 0; o < LeafT::SIZE; ++o)
-        leaf->setValueOn(o, inside(witnesses, leaf->offsetToGlobalCoord(o)) ? -width : width);
-      carved[i] = std::move(leaf);
+        leaf->setValueOn(o, carver.inside(witnesses, leaf->offsetToGlobalCoord(o)) ? -width : width);
+      carved.boundary[i] = std::move(leaf);
     }
   });
+  return carved;
+}
 
+}  // namespace
+
+SparseField linearSolutionField(const AccumulatedField& field, const std::vector<RangeMap>& maps, double margin,
+                                LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
+  if (field.g->tree().leafCount() == 0)
+    throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
+  const float width = levelSetBackground(3.0, field.g->voxelSize()[0]);
+  const openvdb::math::Transform& xform = field.g->transform();
+  const Carver carver(maps, margin, xform);
+  const openvdb::tree::LeafManager<const openvdb::FloatTree> dataLeaves(field.g->tree());
+  Leaves leaves = dataLeafValues(dataLeaves, *field.weight, carver, width);
   checkInterrupter(interrupter);
+  CarvedBlocks carved = carveBlocks(classifyBlocks(dataLeaves, carver), carver, width);
+  checkInterrupter(interrupter);
+
   // 4. Together they make a field whose zero set is the linear solution, with
   //    steps where carving closes what no scan saw. (Every voxel of the leaves
   //    is active: the mesher of a rebuild sees only active ones.)
@@ -305,9 +347,9 @@ SparseField linearSolutionField(const AccumulatedField& field, const std::vector
   raw->setTransform(xform.copy());
   raw->setGridClass(openvdb::GRID_LEVEL_SET);
   raw->setName("surface");
-  for (auto* set : {&leaves, &carved})
+  for (Leaves* set : {&leaves, &carved.boundary})
     for (auto& leaf : *set) raw->tree().addLeaf(leaf.release());
-  for (const Coord& origin : insideTiles) raw->tree().addTile(1, origin, -width, false);
+  for (const Coord& origin : carved.insideTiles) raw->tree().addTile(1, origin, -width, false);
   if (band == LinearBand::kZeroCrossings) {
     removeSpecks(*raw);
     distancesAtZeroCrossings(*raw);
