@@ -77,45 +77,51 @@ double leafMarks(const RangeMap& m, double voxelSize, double reach, openvdb::BBo
   return marks;
 }
 
-bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {
+namespace {
+
+/// Where the voxel centres of the leaf at `origin` lie in a map's frame: the
+/// bounds of its eight corners' depths, and of the pixel coordinates of those
+/// in front of the map (all of them for parallel rays).
+struct LeafFootprint {
+  int inFront = 0;  ///< corners in front of the camera
+  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300, z0 = 1e300, z1 = -1e300;
+};
+
+LeafFootprint leafFootprint(const RangeMap& m, const Coord& origin, double voxelSize) {
   const openvdb::math::Mat4d& toMap = m.worldToMap();
   const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
   const double span = voxelSize * (kLeafDim - 1);
-  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300, z0 = 1e300, z1 = -1e300;
+  LeafFootprint f;
   for (int c = 0; c < 8; ++c) {
     const Vec3d q = base + toMap.transform3x3(Vec3d((c & 1) * span, ((c >> 1) & 1) * span, (c >> 2) * span));
-    if (m.kind() == RangeMap::Kind::kPinhole && !(q.z() > 0.0)) return true;  // straddles the camera plane
+    f.z0 = std::min(f.z0, q.z());
+    f.z1 = std::max(f.z1, q.z());
+    if (m.kind() == RangeMap::Kind::kPinhole && !(q.z() > 0.0)) continue;
+    ++f.inFront;
     const openvdb::math::Vec2d uv = m.project(q);
-    u0 = std::min(u0, uv.x());
-    u1 = std::max(u1, uv.x());
-    v0 = std::min(v0, uv.y());
-    v1 = std::max(v1, uv.y());
-    z0 = std::min(z0, q.z());
-    z1 = std::max(z1, q.z());
+    f.u0 = std::min(f.u0, uv.x());
+    f.u1 = std::max(f.u1, uv.x());
+    f.v0 = std::min(f.v0, uv.y());
+    f.v1 = std::max(f.v1, uv.y());
   }
+  return f;
+}
+
+}  // namespace
+
+bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {
+  const LeafFootprint f = leafFootprint(m, origin, voxelSize);
+  if (f.inFront < 8) return true;  // straddles the camera plane
   double lo, hi;
-  return m.readingBounds(u0, v0, u1 + 1.0, v1 + 1.0, lo, hi) && z0 - hi <= reach && z1 - lo >= -reach;
+  return m.readingBounds(f.u0, f.v0, f.u1 + 1.0, f.v1 + 1.0, lo, hi) && f.z0 - hi <= reach && f.z1 - lo >= -reach;
 }
 
 RangeMap::Sight leafSight(const RangeMap& m, const Coord& origin, double voxelSize, double margin) {
   using Sight = RangeMap::Sight;
-  const openvdb::math::Mat4d& toMap = m.worldToMap();
-  const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
-  const double span = voxelSize * (kLeafDim - 1);
-  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300, z0 = 1e300, z1 = -1e300;
-  int inFront = 0;
-  for (int c = 0; c < 8; ++c) {
-    const Vec3d q = base + toMap.transform3x3(Vec3d((c & 1) * span, ((c >> 1) & 1) * span, (c >> 2) * span));
-    z0 = std::min(z0, q.z());
-    z1 = std::max(z1, q.z());
-    if (m.kind() == RangeMap::Kind::kPinhole && !(q.z() > 0.0)) continue;
-    ++inFront;
-    const openvdb::math::Vec2d uv = m.project(q);
-    u0 = std::min(u0, uv.x());
-    u1 = std::max(u1, uv.x());
-    v0 = std::min(v0, uv.y());
-    v1 = std::max(v1, uv.y());
-  }
+  LeafFootprint f = leafFootprint(m, origin, voxelSize);
+  double &u0 = f.u0, &v0 = f.v0, &u1 = f.u1, &v1 = f.v1;
+  const double z0 = f.z0, z1 = f.z1;
+  const int inFront = f.inFront;
   if (inFront == 0) return Sight::kOutside;  // wholly behind the camera
   if (inFront < 8) return Sight::kUnknown;   // straddles the camera plane: the projection is unbounded
   // In front of a camera, or along parallel rays, the leaf projects into the

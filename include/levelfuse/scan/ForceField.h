@@ -62,10 +62,11 @@ struct AccumulatedField {
 /// How the linear solution's narrow band is made from its field: the
 /// distances to the data where a window reaches, and carving's steps.
 enum class LinearBand {
-  /// The sparse field's active set at the field's zero crossings, the
-  /// distances along the lines of sight divided by their gradient's length:
-  /// everything the grid resolves is kept, structures a voxel thin included.
-  /// The finest grid's linear solution.
+  /// The sparse field's active set at the field's zero crossings, each value
+  /// the distance to the plane through the points where the zero set crosses
+  /// the voxel's edges; specks of one sign under 2 x 2 x 2 voxels are left
+  /// out, everything else the grid resolves is kept, structures a voxel thin
+  /// included. The finest grid's linear solution.
   kZeroCrossings,
   /// Rebuilt through a mesh of the zero set into Euclidean distances
   /// (tools::levelSetRebuild), which leaves out structures thinner than a
