@@ -1,5 +1,6 @@
 // levelfuse: Stanford range scans and their .conf placements.
 
+#include <levelfuse/core/Median.h>
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Ply.h>
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 namespace levelfuse::io {
 
@@ -27,13 +29,6 @@ namespace {
 constexpr double kMaxRangeMapPixels = 6.4e7;
 constexpr double kMaxPixelsPerSample = 64.0;
 constexpr double kMinPixelLimit = 4096.0;
-
-/// The median of `values` (destroys their order); 0 for none.
-double median(std::vector<double>& values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
 
 /// The finer of the range grid's two median sample spacings as seen along
 /// the line of sight (`local`: the points in the map frame, z along the line
@@ -53,7 +48,7 @@ double finerSampleSpacing(const RangeGridScan& scan, const std::vector<Vec3d>& l
         along[dir].push_back(std::sqrt(d.x() * d.x() + d.y() * d.y()));
       }
     }
-  const double m0 = median(along[0]), m1 = median(along[1]);
+  const double m0 = median(std::move(along[0])), m1 = median(std::move(along[1]));
   return std::min(m0 > 0.0 ? m0 : m1, m1 > 0.0 ? m1 : m0);
 }
 
@@ -197,7 +192,7 @@ double rangeGridSpacing(const RangeGridScan& scan) {
         if (b >= 0) d.push_back((scan.points[a] - scan.points[b]).length());
       }
     }
-  return median(d);
+  return median(std::move(d));
 }
 
 RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, const StanfordScanOptions& options,

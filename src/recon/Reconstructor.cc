@@ -1,6 +1,7 @@
 // levelfuse: the reconstruction pipeline (section 6).
 
 #include <levelfuse/Version.h>
+#include <levelfuse/core/Median.h>
 #include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/levelset/Refine.h>
 #include <levelfuse/recon/DataSpeed.h>
@@ -14,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace levelfuse {
@@ -62,9 +64,65 @@ std::string shortNumber(double value) {
   return text.str();
 }
 
-double median(std::vector<double> values) {
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
+/// What the scans tell the derived settings.
+struct ScanFacts {
+  double raySpacing = 0.0;  ///< the median distance between neighbouring rays
+  double sigma = 0.0;       ///< the median noise
+  double extent = 0.0;      ///< the largest side of the readings' box
+  bool depthFrames = false; ///< scans of a scene (Scenes.h)
+};
+
+/// The voxel size: as given, or the scans' ray spacing; checked.
+double resolveVoxelSize(const std::optional<double>& given, const ScanFacts& scans) {
+  const double voxelSize = given.value_or(scans.raySpacing);
+  const bool derived = !given;
+  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
+    throw std::invalid_argument("reconstruction: the voxel size must be positive");
+  if (voxelSize < kSmallestVoxelSize)
+    throw std::invalid_argument(
+        "reconstruction: a voxel size of " + shortNumber(voxelSize) +
+        (derived ? " (the scans' median distance between rays)" : "") +
+        " is below the smallest a grid can have, " + shortNumber(kSmallestVoxelSize) +
+        (derived ? ": the scans' coordinates are in units too small (give them in metres), or choose "
+                   "--voxel-size of at least "
+                 : ": choose --voxel-size of at least ") +
+        shortNumber(kSmallestVoxelSize));
+  if (scans.extent / voxelSize > 1e5)
+    throw std::invalid_argument("reconstruction: a voxel size of " + std::to_string(voxelSize) +
+                                " makes the data " + std::to_string(scans.extent / voxelSize) +
+                                " voxels across; choose a voxel size of at least " + std::to_string(scans.extent / 1e5));
+  return voxelSize;
+}
+
+/// The number of grids: as given, or a coarsest grid about 64 voxels across (one for depth frames); checked.
+int resolveLevels(const std::optional<int>& given, double voxelSize, const ScanFacts& scans) {
+  const int levels = given.value_or(
+      scans.depthFrames ? 1 : 1 + std::max(0, static_cast<int>(std::lround(std::log2(scans.extent / (64.0 * voxelSize))))));
+  if (levels < 1 || levels > 12) throw std::invalid_argument("reconstruction: the number of grids must be 1 to 12");
+  return levels;
+}
+
+/// The window width: as given, or the scans' median sigma; checked against the data's extent.
+double resolveEpsilon(const std::optional<double>& given, const ScanFacts& scans) {
+  const double epsilon = given.value_or(scans.sigma);
+  const bool derived = !given;
+  if (!(epsilon > 0.0) || !std::isfinite(epsilon))
+    throw std::invalid_argument("reconstruction: the window width epsilon must be positive");
+  if (epsilon > scans.extent)
+    throw std::invalid_argument(
+        "reconstruction: a window width epsilon of " + shortNumber(epsilon) +
+        (derived ? " (the scans' median sigma)" : "") + " is wider than the data, which span " +
+        shortNumber(scans.extent) + ": a reading would speak for the whole scene; choose a window width (--epsilon) of " +
+        "at most " + shortNumber(scans.extent) + (derived ? ", or check the scans' sigma" : ""));
+  return epsilon;
+}
+
+/// The prior's weight: as given, or max(0.5, sigma / voxel) (0 for depth frames); checked.
+double resolveBeta(const std::optional<double>& given, double voxelSize, const ScanFacts& scans) {
+  const double beta = given.value_or(scans.depthFrames ? 0.0 : std::max(0.5, scans.sigma / voxelSize));
+  if (!(beta >= 0.0) || !std::isfinite(beta))
+    throw std::invalid_argument("reconstruction: beta must be finite and not negative (0 turns the prior off)");
+  return beta;
 }
 
 }  // namespace
@@ -79,47 +137,23 @@ Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOpt
     mBounds.expand(m.readingBounds());
     spacings.push_back(m.maxRaySpacing());
   }
-  const double sigma = medianSigma(*mMaps);
   // Counted, not judged by the box: the readings of one frame facing a wall square on may lie in a plane.
   if (readings == 0) throw std::invalid_argument("reconstruction: the range maps hold no readings");
   if (!(mBounds.extents()[mBounds.maxExtent()] > 0.0))
     throw std::invalid_argument("reconstruction: every reading lies at one point: there is no surface to reconstruct");
 
+  ScanFacts facts;
+  facts.raySpacing = median(std::move(spacings));
+  facts.sigma = medianSigma(*mMaps);
+  facts.extent = mBounds.extents()[mBounds.maxExtent()];
+  facts.depthFrames = scansOfAScene(*mMaps);
   ReconstructionOptions& o = mOptions;
-  if (o.voxelSize == 0.0) o.voxelSize = median(spacings);
-  if (!(o.voxelSize > 0.0) || !std::isfinite(o.voxelSize))
-    throw std::invalid_argument("reconstruction: the voxel size must be positive");
-  if (o.voxelSize < kSmallestVoxelSize)
-    throw std::invalid_argument(
-        "reconstruction: a voxel size of " + shortNumber(o.voxelSize) +
-        (options.voxelSize == 0.0 ? " (the scans' median distance between rays)" : "") +
-        " is below the smallest a grid can have, " + shortNumber(kSmallestVoxelSize) +
-        (options.voxelSize == 0.0 ? ": the scans' coordinates are in units too small (give them in metres), or choose "
-                                    "--voxel-size of at least "
-                                  : ": choose --voxel-size of at least ") +
-        shortNumber(kSmallestVoxelSize));
-  const double extent = mBounds.extents()[mBounds.maxExtent()];
-  if (extent / o.voxelSize > 1e5)
-    throw std::invalid_argument("reconstruction: a voxel size of " + std::to_string(o.voxelSize) +
-                                " makes the data " + std::to_string(extent / o.voxelSize) +
-                                " voxels across; choose a voxel size of at least " + std::to_string(extent / 1e5));
-  const bool depthFrames = scansOfAScene(*mMaps);
-  if (o.levels == 0)
-    o.levels = depthFrames ? 1 : 1 + std::max(0, static_cast<int>(std::lround(std::log2(extent / (64.0 * o.voxelSize)))));
-  if (o.levels < 1 || o.levels > 12) throw std::invalid_argument("reconstruction: the number of grids must be 1 to 12");
-  if (o.epsilon == 0.0) o.epsilon = sigma;
-  if (!(o.epsilon > 0.0) || !std::isfinite(o.epsilon))
-    throw std::invalid_argument("reconstruction: the window width epsilon must be positive");
-  if (o.epsilon > extent)
-    throw std::invalid_argument(
-        "reconstruction: a window width epsilon of " + shortNumber(o.epsilon) +
-        (options.epsilon == 0.0 ? " (the scans' median sigma)" : "") + " is wider than the data, which span " +
-        shortNumber(extent) + ": a reading would speak for the whole scene; choose a window width (--epsilon) of " +
-        "at most " + shortNumber(extent) + (options.epsilon == 0.0 ? ", or check the scans' sigma" : ""));
-  if (o.beta < 0.0) o.beta = depthFrames ? 0.0 : std::max(0.5, sigma / o.voxelSize);
+  o.voxelSize = resolveVoxelSize(options.voxelSize, facts);
+  o.levels = resolveLevels(options.levels, *o.voxelSize, facts);
+  o.epsilon = resolveEpsilon(options.epsilon, facts);
+  o.beta = resolveBeta(options.beta, *o.voxelSize, facts);
   if (o.dataTerm == DataTermSource::kAuto)
     o.dataTerm = mMaps->size() > kGridsFromScans ? DataTermSource::kGrids : DataTermSource::kPerMap;
-  if (!(o.beta >= 0.0) || !std::isfinite(o.beta)) throw std::invalid_argument("reconstruction: beta must be finite");
   if (!(o.tolerance > 0.0)) throw std::invalid_argument("reconstruction: the tolerance must be positive");
   if (o.patience < 1) throw std::invalid_argument("reconstruction: the patience must be at least one iteration");
   if (!(o.drift > 0.0)) throw std::invalid_argument("reconstruction: the drift tolerance must be positive");
@@ -137,17 +171,17 @@ void Reconstructor::requireCoarsestGridMemory() const {
 
 void Reconstructor::requireAccumulationMemory(int level) const {
   const auto costAt = [&](double finest) {
-    const double h = std::ldexp(finest, mOptions.levels - 1 - level);
-    return accumulationCost(*mMaps, h, forceFieldOptions(mOptions.epsilon, h, mOptions.window).dataWindow().reach());
+    const double h = std::ldexp(finest, *mOptions.levels - 1 - level);
+    return accumulationCost(*mMaps, h, forceFieldOptions(*mOptions.epsilon, h, mOptions.window).dataWindow().reach());
   };
-  const AccumulationCost cost = costAt(mOptions.voxelSize);
+  const AccumulationCost cost = costAt(*mOptions.voxelSize);
   const double budget = static_cast<double>(io::memoryBudget());
   if (cost.bytes <= budget) return;
   // What would fit: the finest voxel size doubled until the data term's leaves do (a window of
   // a fixed width reaches fewer, larger leaves), if some size within a million times does.
   std::string advice = "no voxel size up to a million times this one fits: check the scans' geometry (focal "
                        "lengths, depth scale, pixel size) and the window width (--epsilon)";
-  for (double finest = 2.0 * mOptions.voxelSize; finest <= 1e6 * mOptions.voxelSize; finest *= 2.0)
+  for (double finest = 2.0 * *mOptions.voxelSize; finest <= 1e6 * *mOptions.voxelSize; finest *= 2.0)
     if (costAt(finest).bytes <= 0.9 * budget) {
       advice = "choose a voxel size (--voxel-size) of at least " + shortNumber(finest) +
                " or a narrower window (--epsilon)";
@@ -164,7 +198,7 @@ SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Da
   requireCoarsestGridMemory();
   // Structures thinner than a voxel of a coarse grid are noise against it; the
   // finest grid keeps all it resolves (ForceField.h, LinearBand).
-  const LinearBand band = mOptions.levels > 1 ? LinearBand::kRebuilt : LinearBand::kZeroCrossings;
+  const LinearBand band = *mOptions.levels > 1 ? LinearBand::kRebuilt : LinearBand::kZeroCrossings;
   if (grids) {
     const AccumulatedField data{grids->gGrid(), grids->weightGrid(), 0};
     return linearSolutionField(data, *mMaps, grids->window().reach(), band, mOptions.engine, interrupter);
@@ -176,38 +210,38 @@ SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Da
 
 void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) const {
   // The surface's area, and so the active set, grows four times with each grid.
-  const double finestActive = static_cast<double>(coarsestActiveVoxels) * std::pow(4.0, mOptions.levels - 1);
+  const double finestActive = static_cast<double>(coarsestActiveVoxels) * std::pow(4.0, *mOptions.levels - 1);
   const double bytes = kPeakBytesPerActiveVoxel * finestActive;
   const double budget = static_cast<double>(io::memoryBudget());
   requireMemory(bytes,
-                "a voxel size of " + shortNumber(mOptions.voxelSize) + " (about " + shortNumber(finestActive / 1e6) +
+                "a voxel size of " + shortNumber(*mOptions.voxelSize) + " (about " + shortNumber(finestActive / 1e6) +
                     " million voxels on the surface)",
                 "choose a voxel size of at least " +
-                    shortNumber(mOptions.voxelSize * std::sqrt(1.1 * bytes / budget)) + " or allow more memory");
+                    shortNumber(*mOptions.voxelSize * std::sqrt(1.1 * bytes / budget)) + " or allow more memory");
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
-  if (mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter).stats().activeSetVoxels);
+  if (*mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter).stats().activeSetVoxels);
   else requireCoarsestGridMemory();
-  requireAccumulationMemory(mOptions.levels - 1);
-  const ForceField force(mMaps, forceOptions(mOptions.levels - 1));
-  return force.linearSolution(mOptions.voxelSize, 3.0, mOptions.name, interrupter);
+  requireAccumulationMemory(*mOptions.levels - 1);
+  const ForceField force(mMaps, forceOptions(*mOptions.levels - 1));
+  return force.linearSolution(*mOptions.voxelSize, 3.0, mOptions.name, interrupter);
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::surfaceWeight(const openvdb::FloatGrid& levelSet,
                                                      const Interrupter& interrupter) const {
-  const int finest = mOptions.levels - 1;
+  const int finest = *mOptions.levels - 1;
   if (mOptions.dataTerm == DataTermSource::kGrids)
     return levelfuse::surfaceWeight(levelSet, dataTermGrids(finest, interrupter), interrupter);
   return levelfuse::surfaceWeight(levelSet, ForceField(mMaps, forceOptions(finest)), interrupter);
 }
 
 double Reconstructor::voxelSize(int level) const {
-  return std::ldexp(mOptions.voxelSize, mOptions.levels - 1 - level);
+  return std::ldexp(*mOptions.voxelSize, *mOptions.levels - 1 - level);
 }
 
 ForceFieldOptions Reconstructor::forceOptions(int level) const {
-  ForceFieldOptions f = forceFieldOptions(mOptions.epsilon, voxelSize(level), mOptions.window);
+  ForceFieldOptions f = forceFieldOptions(*mOptions.epsilon, voxelSize(level), mOptions.window);
   f.grainSize = mOptions.engine.grainSize == 0 ? 0 : 1;
   return f;
 }
@@ -230,8 +264,8 @@ LevelReport Reconstructor::evolveLevel(SparseField& field, const Field& data, do
                                        const std::function<void()>& report) const {
   DataSpeed<Field> speed;
   speed.force = DataForce<Field>{&data};
-  const double finest = mOptions.voxelSize;
-  speed.beta = mOptions.beta * finest * finest;  // beta in voxels of the finest grid
+  const double finest = *mOptions.voxelSize;
+  speed.beta = *mOptions.beta * finest * finest;  // beta in voxels of the finest grid
   speed.sampling = ForceSampling::kSubcell;      // Eqs. 34-36
   LevelReport done;
   double slowest = std::numeric_limits<double>::infinity();
@@ -277,7 +311,7 @@ LevelReport Reconstructor::evolveLevel(SparseField& field, const Field& data, do
 ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const Interrupter& interrupter) const {
   const auto start = Clock::now();
   ReconstructionProgress state;
-  state.levels = mOptions.levels;
+  state.levels = *mOptions.levels;
   state.maxIterations = mOptions.maxIterations;
   const std::function<void()> report = [&] {
     state.seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -300,7 +334,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   requireFinestGridMemory(field->stats().activeSetVoxels);
   // 2-3. Each grid evolved, then refined for the next.
   int iterations = 0;
-  for (int level = 0; level < mOptions.levels; ++level) {
+  for (int level = 0; level < *mOptions.levels; ++level) {
     result.levels.push_back(
         reconstructLevel(level, field, std::move(grids), state, report, interrupter, result));
     iterations += result.levels.back().iterations;
@@ -345,7 +379,7 @@ LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseFie
   }
   // 2. Evolve under the data term and the prior until the surface settles.
   // On the finest grid, the surface's weight is taken while its data term is at hand.
-  const bool finestGrid = level + 1 == mOptions.levels;
+  const bool finestGrid = level + 1 == *mOptions.levels;
   const auto evolveAndWeigh = [&](const auto& data) {
     state.stage = ReconstructionProgress::Stage::kEvolving;
     const LevelReport evolved = evolveLevel(*field, data, h, state, report);
@@ -373,10 +407,10 @@ LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseFie
 
 void Reconstructor::describeRun(openvdb::FloatGrid& out, int iterations) const {
   out.insertMeta("levelfuse_version", openvdb::StringMetadata(version()));
-  out.insertMeta("levelfuse_voxel_size", openvdb::DoubleMetadata(mOptions.voxelSize));
-  out.insertMeta("levelfuse_levels", openvdb::Int32Metadata(mOptions.levels));
-  out.insertMeta("levelfuse_beta", openvdb::DoubleMetadata(mOptions.beta));
-  out.insertMeta("levelfuse_epsilon", openvdb::DoubleMetadata(mOptions.epsilon));
+  out.insertMeta("levelfuse_voxel_size", openvdb::DoubleMetadata(*mOptions.voxelSize));
+  out.insertMeta("levelfuse_levels", openvdb::Int32Metadata(*mOptions.levels));
+  out.insertMeta("levelfuse_beta", openvdb::DoubleMetadata(*mOptions.beta));
+  out.insertMeta("levelfuse_epsilon", openvdb::DoubleMetadata(*mOptions.epsilon));
   out.insertMeta("levelfuse_window",
                  openvdb::StringMetadata(mOptions.window == WindowKind::kGaussian ? "gaussian" : "binary"));
   out.insertMeta("levelfuse_data_term",

@@ -1,5 +1,6 @@
 // levelfuse: range maps.
 
+#include <levelfuse/core/Median.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <algorithm>
@@ -344,8 +345,7 @@ double medianSigma(const std::vector<RangeMap>& maps) {
   if (maps.empty()) throw std::invalid_argument("medianSigma: no range maps");
   std::vector<double> sigmas;
   for (const RangeMap& m : maps) sigmas.push_back(m.sigma());
-  std::nth_element(sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end());
-  return sigmas[sigmas.size() / 2];
+  return median(std::move(sigmas));
 }
 
 }  // namespace levelfuse

@@ -116,6 +116,7 @@ TEST_F(ReliabilityCli, NumericOptionsAreCheckedAtParseTime) {
       reconstruct + "--tolerance nan",  reconstruct + "--depth-scale nan", reconstruct + "--sigma nan",
       reconstruct + "--max-memory nan", reconstruct + "--voxel-size inf",  reconstruct + "--beta -1",
       reconstruct + "--tolerance 0",    reconstruct + "--depth-scale 2",   reconstruct + "--view 1,nan,0",
+      reconstruct + "--voxel-size 0",   reconstruct + "--levels 0",        reconstruct + "--epsilon 0",
       "mesh " + path("x.vdb") + " -o " + path("m.ply") + " --adaptivity nan",
       "evolve -o " + path("e.vdb") + " --beta nan",       "evolve -o " + path("e.vdb") + " --time nan",
       "evolve -o " + path("e.vdb") + " --speed inf",      "synth -o " + path("s") + " --noise nan",
@@ -126,7 +127,7 @@ TEST_F(ReliabilityCli, NumericOptionsAreCheckedAtParseTime) {
   }
   EXPECT_EQ(outputsInDir(), 0u);
   const CliRun help = levelfuse("reconstruct --help");
-  for (const std::string range : {"--voxel-size FLOAT:in [0, 1e+06]", "--beta FLOAT:in [0, 1000]",
+  for (const std::string range : {"--voxel-size FLOAT:in (0, 1e+06]", "--beta FLOAT:in [0, 1000]",
                                   "--depth-scale FLOAT:in (0, 1]", "--tolerance FLOAT:in (0, 1000]"})
     EXPECT_NE(help.output.find(range), std::string::npos) << range << "\n" << help.output;
   // Iteration limits below the default minimum work: the minimum follows the maximum.

@@ -19,6 +19,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <functional>
 
 namespace levelfuse {
 namespace {
@@ -49,19 +50,42 @@ ReconstructionOptions smallOptions() {
 TEST(Reconstructor, ResolvesItsDefaultsFromTheData) {
   const Reconstructor r(noisySphere(0.01));
   const ReconstructionOptions& o = r.options();
-  EXPECT_NEAR(o.voxelSize, 0.02, 1e-9);            // the views' ray spacing, 2.4 / 120
-  EXPECT_NEAR(o.epsilon, 0.01, 1e-9);              // sigma
-  EXPECT_NEAR(o.beta, 0.5, 1e-9);                  // sigma is half a voxel: the floor
-  EXPECT_EQ(o.levels, 2);                          // 100 voxels across: the coarsest grid about 64
-  EXPECT_NEAR(r.voxelSize(0), 2.0 * o.voxelSize, 1e-12);
-  EXPECT_NEAR(r.voxelSize(1), o.voxelSize, 1e-12);
+  ASSERT_TRUE(o.voxelSize && o.epsilon && o.beta && o.levels);  // every derived setting resolved
+  EXPECT_NEAR(*o.voxelSize, 0.02, 1e-9);           // the views' ray spacing, 2.4 / 120
+  EXPECT_NEAR(*o.epsilon, 0.01, 1e-9);             // sigma
+  EXPECT_NEAR(*o.beta, 0.5, 1e-9);                 // sigma is half a voxel: the floor
+  EXPECT_EQ(*o.levels, 2);                         // 100 voxels across: the coarsest grid about 64
+  EXPECT_NEAR(r.voxelSize(0), 2.0 * *o.voxelSize, 1e-12);
+  EXPECT_NEAR(r.voxelSize(1), *o.voxelSize, 1e-12);
   EXPECT_GT(r.bounds().extents().x(), 1.9);
   EXPECT_THROW(Reconstructor({}), std::invalid_argument);
   ReconstructionOptions bad;
   bad.voxelSize = 1e-9;
   EXPECT_THROW(Reconstructor(noisySphere(0.01), bad), std::invalid_argument);  // 10^9 voxels across
-  EXPECT_NEAR(Reconstructor(noisySphere(0.08)).options().beta, 4.0, 1e-9);  // sigma / voxel
-  bad = ReconstructionOptions();
+  EXPECT_NEAR(*Reconstructor(noisySphere(0.08)).options().beta, 4.0, 1e-9);  // sigma / voxel
+}
+
+TEST(Reconstructor, KeepsWhatItIsGivenAndRefusesWhatCannotBeUsed) {
+  ReconstructionOptions given;
+  given.voxelSize = 0.05;
+  given.levels = 3;
+  given.epsilon = 0.03;
+  given.beta = 0.0;  // the prior off, not derived
+  const ReconstructionOptions& o = Reconstructor(noisySphere(0.01), given).options();
+  EXPECT_EQ(o.voxelSize, 0.05);
+  EXPECT_EQ(o.levels, 3);
+  EXPECT_EQ(o.epsilon, 0.03);
+  EXPECT_EQ(o.beta, 0.0);
+  for (const auto& spoil : std::vector<std::function<void(ReconstructionOptions&)>>{
+           [](ReconstructionOptions& b) { b.voxelSize = 0.0; }, [](ReconstructionOptions& b) { b.voxelSize = -0.1; },
+           [](ReconstructionOptions& b) { b.levels = 0; }, [](ReconstructionOptions& b) { b.levels = 13; },
+           [](ReconstructionOptions& b) { b.epsilon = 0.0; }, [](ReconstructionOptions& b) { b.beta = -1.0; },
+           [](ReconstructionOptions& b) { b.beta = std::nan(""); }}) {
+    ReconstructionOptions bad;
+    spoil(bad);
+    EXPECT_THROW(Reconstructor(noisySphere(0.01), bad), std::invalid_argument);
+  }
+  ReconstructionOptions bad;
   bad.patience = 0;
   EXPECT_THROW(Reconstructor(noisySphere(0.01), bad), std::invalid_argument);
 }
@@ -142,7 +166,7 @@ TEST(Reconstructor, TakesReadingsThatLieInOnePlane) {
                                                openvdb::math::Mat4d::identity(), 0.0015, "wall")};
   const Reconstructor wall(maps);
   EXPECT_DOUBLE_EQ(wall.bounds().extents().z(), 0.0);
-  EXPECT_GT(wall.options().voxelSize, 0.0);
+  EXPECT_GT(*wall.options().voxelSize, 0.0);
   maps = {RangeMap::pinhole(2, 2, {1.0f, NAN, NAN, NAN}, PinholeProjection{30.0, 30.0, 0.0, 0.0},
                             openvdb::math::Mat4d::identity(), 0.0015, "point")};
   try {
@@ -173,7 +197,7 @@ TEST(Reconstructor, RefusesAVoxelSizeThatWouldNotFitInMemory) {
       EXPECT_GT(advised, 0.005 * std::sqrt(2.0)) << message;
       EXPECT_LT(advised, 0.005 * 4.0) << message;
       options.voxelSize = advised;
-      options.levels = 0;
+      options.levels.reset();
       options.minIterations = 1;
       options.maxIterations = 1;
       EXPECT_NO_THROW(Reconstructor(noisySphere(0.01), options).run());
@@ -222,8 +246,8 @@ TEST(Reconstructor, ReportsEachScanIntegratedIntoTheGrids) {
   const std::size_t scans = r.maps().size();
   ASSERT_GT(scans, 1u);
   // Per grid: scans 1, 2, ..., all of them, in order, before the grid's first iteration.
-  std::vector<std::vector<std::size_t>> integrated(options.levels);
-  std::vector<int> firstIteration(options.levels, -1);
+  std::vector<std::vector<std::size_t>> integrated(*options.levels);
+  std::vector<int> firstIteration(*options.levels, -1);
   int calls = 0;
   r.run([&](const ReconstructionProgress& p) {
     ++calls;
@@ -237,7 +261,7 @@ TEST(Reconstructor, ReportsEachScanIntegratedIntoTheGrids) {
   });
   std::vector<std::size_t> expected(scans);
   for (std::size_t i = 0; i < scans; ++i) expected[i] = i + 1;
-  for (int level = 0; level < options.levels; ++level) {
+  for (int level = 0; level < *options.levels; ++level) {
     EXPECT_EQ(integrated[level], expected) << "grid " << level;
     EXPECT_GT(firstIteration[level], 0) << "grid " << level;
   }

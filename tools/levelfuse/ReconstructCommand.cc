@@ -228,10 +228,10 @@ void printJson(const Summary& r) {
                    {"points", r.measures.points},
                    {"readings", r.measures.readings},
                    {"method", s.linear ? "linear" : "evolution"},
-                   {"voxel_size", o.voxelSize},
-                   {"levels", o.levels},
-                   {"beta", o.beta},
-                   {"epsilon", o.epsilon},
+                   {"voxel_size", *o.voxelSize},
+                   {"levels", *o.levels},
+                   {"beta", *o.beta},
+                   {"epsilon", *o.epsilon},
                    {"grids", levels},
                    {"narrow_band_voxels", r.result.levelSet->activeVoxelCount()},
                    {"peak_engine_bytes", r.result.peakEngineBytes},
@@ -252,7 +252,7 @@ void printJson(const Summary& r) {
   if (r.inputs.truth)
     j["truth"] = {{"shape", r.inputs.truth->name()},
                   {"rms_error", r.measures.truthRms},
-                  {"rms_error_voxels", r.measures.truthRms / o.voxelSize}};
+                  {"rms_error_voxels", r.measures.truthRms / *o.voxelSize}};
   std::cout << j.dump(2) << "\n";
 }
 
@@ -266,8 +266,8 @@ void printText(const Summary& r) {
             << (m.points != m.readings ? " (" + withCommas(m.readings) + " readings of their range maps)"
                                        : std::string())
             << " (" << joined(s.inputs) << ")\n"
-            << "  voxel " << length(o.voxelSize) << ", " << o.levels << (o.levels == 1 ? " grid" : " grids")
-            << ", beta " << fixed(o.beta) << " voxels, window " << length(o.epsilon) << "\n";
+            << "  voxel " << length(*o.voxelSize) << ", " << *o.levels << (*o.levels == 1 ? " grid" : " grids")
+            << ", beta " << fixed(*o.beta) << " voxels, window " << length(*o.epsilon) << "\n";
   if (s.linear) std::cout << "  the linear solution (zero set of g), no evolution\n";
   for (const LevelReport& l : r.result.levels)
     std::cout << "  grid " << length(l.voxelSize) << ": " << l.iterations << " iterations ("
@@ -285,7 +285,7 @@ void printText(const Summary& r) {
             << "% beyond the band\n";
   if (r.inputs.truth)
     std::cout << "  error against the true " << r.inputs.truth->name() << ": rms " << length(m.truthRms) << " ("
-              << fixed(m.truthRms / o.voxelSize, 3) << " voxel)\n";
+              << fixed(m.truthRms / *o.voxelSize, 3) << " voxel)\n";
   std::cout << "  " << fixed(r.seconds, 3) << " s\n";
   for (const std::string* path : {&s.output, &s.mesh, &s.preview})
     if (!path->empty())
@@ -336,15 +336,19 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("--mesh", s->mesh, "Write the surface as a triangle mesh (.ply or .obj)");
   cmd->add_option("--preview", s->preview, "Write a shaded picture of the surface (.png)");
   ReconstructionOptions& o = s->options;
-  cmd->add_option("--voxel-size", o.voxelSize, "Finest voxel size, world units; 0: the scans' ray spacing (default)")
-      ->check(numberIn(0.0, 1e6));
-  cmd->add_option("--levels", o.levels, "Coarse-to-fine grids, each halving the voxel (default: coarsest ~64 across; 1 for depth frames)")
-      ->check(CLI::Range(0, 12));
-  cmd->add_option("--beta", o.beta,
-                  "Surface-area prior, in finest voxels: larger is smoother (default: max(0.5, sigma / voxel); 0 for depth frames)")
+  cmd->add_option_function<double>("--voxel-size", [s](double v) { s->options.voxelSize = v; },
+                                   "Finest voxel size, world units (default: the scans' ray spacing)")
+      ->check(numberIn(0.0, 1e6, true));
+  cmd->add_option_function<int>("--levels", [s](int v) { s->options.levels = v; },
+                                "Coarse-to-fine grids, each halving the voxel (default: coarsest ~64 across; 1 for depth frames)")
+      ->check(CLI::Range(1, 12));
+  cmd->add_option_function<double>(
+         "--beta", [s](double v) { s->options.beta = v; },
+         "Surface-area prior, in finest voxels: larger is smoother, 0 off (default: max(0.5, sigma / voxel); 0 for depth frames)")
       ->check(numberIn(0.0, 1e3));
-  cmd->add_option("--epsilon", o.epsilon, "Window width of a reading, world units; 0: sigma, at least a voxel (default)")
-      ->check(numberIn(0.0, 1e6));
+  cmd->add_option_function<double>("--epsilon", [s](double v) { s->options.epsilon = v; },
+                                   "Window width of a reading, world units (default: sigma; at least a voxel)")
+      ->check(numberIn(0.0, 1e6, true));
   cmd->add_option_function<std::string>(
          "--window", [s](const std::string& w) { s->options.window = w == "binary" ? WindowKind::kBinary : WindowKind::kGaussian; },
          "Window of a reading: gaussian (default) or binary")

@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -39,31 +40,31 @@ enum class DataTermSource {
 /// grids (docs/RECONSTRUCTION.md has the measurements).
 inline constexpr std::size_t kGridsFromScans = 32;
 
-/// Settings of a reconstruction. Zeros (a negative beta) mean "derive from the
-/// data" and are replaced by the values Reconstructor::options() reports.
+/// Settings of a reconstruction. The four left empty by default are derived
+/// from the data; Reconstructor::options() reports them all set.
 struct ReconstructionOptions {
-  /// Voxel size of the finest grid (world units). 0: the scans' median
+  /// Voxel size of the finest grid (world units). Derived: the scans' median
   /// distance between neighbouring rays, the resolution the data supports.
-  double voxelSize = 0.0;
-  /// Number of grids, each with half the voxel size of the one before. 0: so
-  /// many that the coarsest grid is about 64 voxels across the data; one for
-  /// depth frames (pinhole range maps), whose many views give the finest
-  /// grid's linear solution every surface a coarse grid would lose.
-  int levels = 0;
+  std::optional<double> voxelSize;
+  /// Number of grids, each with half the voxel size of the one before.
+  /// Derived: so many that the coarsest grid is about 64 voxels across the
+  /// data; one for depth frames (pinhole range maps), whose many views give
+  /// the finest grid's linear solution every surface a coarse grid would lose.
+  std::optional<int> levels;
   /// Weight of the surface-area prior (Eq. 19), in voxels of the finest grid:
   /// where the data support a surface, a sphere of radius R voxels settles
-  /// 2 beta / R voxels inside it. 0 turns the prior off. Negative: derived,
+  /// 2 beta / R voxels inside it. 0 turns the prior off. Derived:
   /// max(0.5, sigma / voxel size) with sigma the scans' median noise, the
   /// best weight measured on noisy synthetic scans (docs/RESULTS.md); 0 for
   /// depth frames, where it was measured to round edges and retract surfaces
   /// seen from one side only, and held-out frames fit best without it.
-  double beta = -1.0;
-  /// Width of the data term's window (Eqs. 8-9), world units. 0: the scans'
-  /// median noise sigma: a reading speaks for the space within its own
+  std::optional<double> beta;
+  /// Width of the data term's window (Eqs. 8-9), world units. Derived: the
+  /// scans' median noise sigma: a reading speaks for the space within its own
   /// uncertainty, and scans of thin walls seen from both sides do not
   /// interfere (measured on the noisy mug, docs/RESULTS.md). The window never
   /// narrows below a voxel of the grid it works on.
-  double epsilon = 0.0;
+  std::optional<double> epsilon;
   WindowKind window = WindowKind::kGaussian;
   /// Where the evolution samples the data term; kAuto is resolved to one of the others.
   DataTermSource dataTerm = DataTermSource::kAuto;
@@ -183,7 +184,7 @@ class Reconstructor {
   /// stops it.
   openvdb::FloatGrid::Ptr surfaceWeight(const openvdb::FloatGrid& levelSet, const Interrupter& interrupter = {}) const;
 
-  /// The options with every default resolved.
+  /// The options with every derived setting resolved (all four set).
   const ReconstructionOptions& options() const { return mOptions; }
   /// Voxel size of grid `level` (0 is the coarsest).
   double voxelSize(int level) const;
