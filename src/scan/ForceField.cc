@@ -11,6 +11,9 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 namespace levelfuse {
 
@@ -19,6 +22,108 @@ namespace {
 using openvdb::Coord;
 using openvdb::Vec3d;
 using LeafT = openvdb::FloatTree::LeafNodeType;
+
+/// The range maps whose windows reach each leaf node: the (leaf origin, map
+/// index) pairs sorted by leaf and map, leaf l owning pairs [first[l], first[l + 1]).
+struct MapsPerLeaf {
+  std::vector<std::pair<Coord, std::uint32_t>> pairs;
+  std::vector<std::size_t> first;
+  std::size_t leafCount() const { return first.size() - 1; }
+  const Coord& origin(std::size_t leaf) const { return pairs[first[leaf]].first; }
+};
+
+/// Which leaf nodes (of voxel size `voxelSize`) each range map's windows of
+/// reach `reach` reach, gathered per leaf in map order.
+MapsPerLeaf mapsPerLeaf(const std::vector<RangeMap>& maps, double voxelSize, double reach,
+                        const ParallelInterrupt& interrupt) {
+  std::vector<std::vector<Coord>> touched(maps.size());
+  parallelFor(maps.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end && !interrupt.stop(); ++j)
+      touched[j] = detail::leavesReached(maps[j], voxelSize, reach);
+  });
+  MapsPerLeaf out;
+  for (std::size_t j = 0; j < touched.size(); ++j)
+    for (const Coord& c : touched[j]) out.pairs.emplace_back(c, static_cast<std::uint32_t>(j));
+  std::sort(out.pairs.begin(), out.pairs.end());
+  for (std::size_t i = 0; i < out.pairs.size(); ++i)
+    if (i == 0 || out.pairs[i].first != out.pairs[i - 1].first) out.first.push_back(i);
+  out.first.push_back(out.pairs.size());
+  return out;
+}
+
+/// A leaf node's g and weight (both null where no window reached a voxel)
+/// and the (voxel, map) pairs evaluated for it.
+struct LeafTerms {
+  std::unique_ptr<LeafT> g, weight;
+  std::size_t evaluations = 0;
+};
+
+/// Adds range map m's terms of Eq. 17 to the sums of the leaf node at
+/// `origin`; returns the voxels evaluated. The leaf's depth range is first
+/// held against the readings over its footprint; then voxels step through the
+/// map's frame incrementally, and a voxel outside the window costs one lookup.
+std::size_t addLeafTerms(const RangeMap& m, const Coord& origin, double voxelSize, const DataWindow& window,
+                         double positionVariance, std::vector<double>& gSum, std::vector<double>& wSum) {
+  const double reach = window.reach();
+  if (!detail::leafMayBeReached(m, origin, voxelSize, reach)) return 0;
+  const int leafDim = static_cast<int>(LeafT::DIM);
+  const openvdb::math::Mat4d& toMap = m.worldToMap();
+  const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
+  const Vec3d step[3] = {toMap.transform3x3(Vec3d(voxelSize, 0, 0)), toMap.transform3x3(Vec3d(0, voxelSize, 0)),
+                         toMap.transform3x3(Vec3d(0, 0, voxelSize))};
+  RangeMap::LocalSample sample;
+  for (int i = 0; i < leafDim; ++i)
+    for (int j = 0; j < leafDim; ++j) {
+      Vec3d q = base + step[0] * i + step[1] * j;
+      const std::size_t row = static_cast<std::size_t>((i << 6) | (j << 3));
+      for (int k = 0; k < leafDim; ++k, q += step[2]) {
+        if (!m.sampleLocal(q, reach, sample)) continue;
+        const double w = window(sample.D);
+        if (w == 0.0) continue;
+        const double weight = detail::readingWeight(w, sample, positionVariance);  // Eq. 38
+        gSum[row + k] += weight * sample.D;  // Eq. 17
+        wSum[row + k] += weight;
+      }
+    }
+  return LeafT::SIZE;
+}
+
+/// The leaves holding the sums, active where the weight is positive; null if none is.
+std::pair<std::unique_ptr<LeafT>, std::unique_ptr<LeafT>> leafTermsOf(const Coord& origin,
+                                                                       const std::vector<double>& gSum,
+                                                                       const std::vector<double>& wSum) {
+  auto g = std::make_unique<LeafT>(origin, 0.0f);
+  auto weight = std::make_unique<LeafT>(origin, 0.0f);
+  bool any = false;
+  for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
+    if (!(wSum[o] > 0.0)) continue;
+    g->setValueOn(o, static_cast<float>(gSum[o]));
+    weight->setValueOn(o, static_cast<float>(wSum[o]));
+    any = true;
+  }
+  if (!any) return {};
+  return {std::move(g), std::move(weight)};
+}
+
+/// The accumulated field of the leaves' terms: grids of voxel size `voxelSize` named "g" and "weight".
+AccumulatedField fieldOf(std::vector<LeafTerms>& terms, double voxelSize) {
+  AccumulatedField out;
+  out.g = openvdb::FloatGrid::create(0.0f);
+  out.weight = openvdb::FloatGrid::create(0.0f);
+  for (auto* grid : {&out.g, &out.weight}) {
+    (*grid)->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
+    (*grid)->setGridClass(openvdb::GRID_UNKNOWN);
+  }
+  out.g->setName("g");
+  out.weight->setName("weight");
+  for (LeafTerms& t : terms) {
+    out.evaluations += t.evaluations;
+    if (!t.g) continue;
+    out.g->tree().addLeaf(t.g.release());
+    out.weight->tree().addLeaf(t.weight.release());
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -112,100 +217,27 @@ ForceField::Terms ForceField::facingTerms(const Vec3d& x, const Vec3d& normal) c
 AccumulatedField ForceField::accumulate(double voxelSize, const Interrupter& interrupter) const {
   if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
     throw std::invalid_argument("ForceField::accumulate: the voxel size must be positive");
-  const double reach = mWindow.reach();
-  const int leafDim = static_cast<int>(LeafT::DIM);
-
-  // 1. Which leaf nodes each range map's windows reach.
-  std::vector<std::vector<Coord>> touched(mMaps->size());
   const ParallelInterrupt interrupt(interrupter);
-  parallelFor(mMaps->size(), 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t j = begin; j < end && !interrupt.stop(); ++j)
-      touched[j] = detail::leavesReached((*mMaps)[j], voxelSize, reach);
-  });
+  const MapsPerLeaf reaching = mapsPerLeaf(*mMaps, voxelSize, mWindow.reach(), interrupt);
   interrupt.throwIfStopped();
 
-  // 2. The union, with the range maps reaching each leaf in map order.
-  std::vector<std::pair<Coord, std::uint32_t>> pairs;
-  for (std::size_t j = 0; j < touched.size(); ++j)
-    for (const Coord& c : touched[j]) pairs.emplace_back(c, static_cast<std::uint32_t>(j));
-  touched.clear();
-  std::sort(pairs.begin(), pairs.end());
-  std::vector<std::size_t> firstPair;  // leaf l owns pairs [firstPair[l], firstPair[l + 1])
-  for (std::size_t i = 0; i < pairs.size(); ++i)
-    if (i == 0 || pairs[i].first != pairs[i - 1].first) firstPair.push_back(i);
-  const std::size_t leafCount = firstPair.size();
-  firstPair.push_back(pairs.size());
-
-  // 3. Per leaf and voxel, the terms of Eq. 17 in map order: deterministic.
-  //    Per (leaf, map) the leaf's depth range is first held against the
-  //    readings over its footprint; then voxels step through the map's frame
-  //    incrementally, and a voxel outside the window costs one lookup.
-  std::vector<std::unique_ptr<LeafT>> gLeaves(leafCount), wLeaves(leafCount);
-  std::vector<std::size_t> evaluations(leafCount, 0);
-  const double sigmaX2 = mOptions.positionVariance;
+  // Per leaf and voxel, the terms of Eq. 17 in map order: deterministic.
+  const std::size_t leafCount = reaching.leafCount();
+  std::vector<LeafTerms> terms(leafCount);
   parallelFor(leafCount, mOptions.grainSize, [&](std::size_t begin, std::size_t end) {
     std::vector<double> gSum(LeafT::SIZE), wSum(LeafT::SIZE);
     for (std::size_t l = begin; l < end && !interrupt.stop(); ++l) {
-      const Coord origin = pairs[firstPair[l]].first;
       std::fill(gSum.begin(), gSum.end(), 0.0);
       std::fill(wSum.begin(), wSum.end(), 0.0);
-      for (std::size_t p = firstPair[l]; p < firstPair[l + 1]; ++p) {
-        const RangeMap& m = (*mMaps)[pairs[p].second];
-        const openvdb::math::Mat4d& toMap = m.worldToMap();
-        const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
-        const Vec3d step[3] = {toMap.transform3x3(Vec3d(voxelSize, 0, 0)), toMap.transform3x3(Vec3d(0, voxelSize, 0)),
-                               toMap.transform3x3(Vec3d(0, 0, voxelSize))};
-        if (!detail::leafMayBeReached(m, origin, voxelSize, reach)) continue;
-        RangeMap::LocalSample sample;
-        for (int i = 0; i < leafDim; ++i)
-          for (int j = 0; j < leafDim; ++j) {
-            Vec3d q = base + step[0] * i + step[1] * j;
-            const std::size_t row = static_cast<std::size_t>((i << 6) | (j << 3));
-            for (int k = 0; k < leafDim; ++k, q += step[2]) {
-              ++evaluations[l];
-              if (!m.sampleLocal(q, reach, sample)) continue;
-              const double w = mWindow(sample.D);
-              if (w == 0.0) continue;
-              const double weight = detail::readingWeight(w, sample, sigmaX2);  // Eq. 38
-              gSum[row + k] += weight * sample.D;  // Eq. 17
-              wSum[row + k] += weight;
-            }
-          }
-      }
-      auto gLeaf = std::make_unique<LeafT>(origin, 0.0f);
-      auto wLeaf = std::make_unique<LeafT>(origin, 0.0f);
-      bool any = false;
-      for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
-        if (!(wSum[o] > 0.0)) continue;
-        gLeaf->setValueOn(o, static_cast<float>(gSum[o]));
-        wLeaf->setValueOn(o, static_cast<float>(wSum[o]));
-        any = true;
-      }
-      if (any) {
-        gLeaves[l] = std::move(gLeaf);
-        wLeaves[l] = std::move(wLeaf);
-      }
+      const Coord origin = reaching.origin(l);
+      for (std::size_t p = reaching.first[l]; p < reaching.first[l + 1]; ++p)
+        terms[l].evaluations += addLeafTerms((*mMaps)[reaching.pairs[p].second], origin, voxelSize, mWindow,
+                                             mOptions.positionVariance, gSum, wSum);
+      std::tie(terms[l].g, terms[l].weight) = leafTermsOf(origin, gSum, wSum);
     }
   });
-
   interrupt.throwIfStopped();
-
-  AccumulatedField out;
-  out.g = openvdb::FloatGrid::create(0.0f);
-  out.weight = openvdb::FloatGrid::create(0.0f);
-  for (auto* grid : {&out.g, &out.weight}) {
-    (*grid)->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
-    (*grid)->setGridClass(openvdb::GRID_UNKNOWN);
-  }
-  out.g->setName("g");
-  out.weight->setName("weight");
-  for (std::size_t l = 0; l < leafCount; ++l) {
-    out.evaluations += evaluations[l];
-    if (!gLeaves[l]) continue;
-    out.g->tree().addLeaf(gLeaves[l].release());
-    out.weight->tree().addLeaf(wLeaves[l].release());
-  }
-  return out;
+  return fieldOf(terms, voxelSize);
 }
 
 }  // namespace levelfuse
