@@ -71,7 +71,8 @@ TEST(Reconstructor, KeepsWhatItIsGivenAndRefusesWhatCannotBeUsed) {
   given.levels = 3;
   given.epsilon = 0.03;
   given.beta = 0.0;  // the prior off, not derived
-  const ReconstructionOptions& o = Reconstructor(noisySphere(0.01), given).options();
+  const Reconstructor r(noisySphere(0.01), given);
+  const ReconstructionOptions& o = r.options();
   EXPECT_EQ(o.voxelSize, 0.05);
   EXPECT_EQ(o.levels, 3);
   EXPECT_EQ(o.epsilon, 0.03);
