@@ -27,7 +27,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <sstream>
 
 namespace levelfuse::io {
 

@@ -2,20 +2,18 @@
 
 #include <levelfuse/core/Median.h>
 #include <levelfuse/io/InputError.h>
-#include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/io/TextRecords.h>
 #include <levelfuse/scan/DepthRaster.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <sstream>
+#include <limits>
 #include <utility>
 
 namespace levelfuse::io {

@@ -11,10 +11,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <stdexcept>
-#include <system_error>
 #include <vector>
 
 namespace levelfuse::io {

@@ -3,7 +3,6 @@
 #include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 
-#include <openvdb/tree/LeafManager.h>
 
 #include <levelfuse/core/Parallel.h>
 

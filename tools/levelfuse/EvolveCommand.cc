@@ -17,7 +17,6 @@
 #include <tbb/global_control.h>
 
 #include <chrono>
-#include <cmath>
 #include <functional>
 #include <iostream>
 #include <map>

@@ -7,11 +7,9 @@
 #include <levelfuse/recon/SurfaceWeight.h>
 
 #include <sys/resource.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 

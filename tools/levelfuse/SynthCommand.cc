@@ -12,10 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <iostream>
 #include <memory>
-#include <optional>
 
 namespace levelfuse::cli {
 namespace {
