@@ -6,6 +6,11 @@ include(levelfuseOpenVDBModule)
 find_package(OpenVDB REQUIRED COMPONENTS openvdb)
 find_package(TBB REQUIRED)
 find_package(Threads REQUIRED)
+# Packed range maps (scan/PackedRangeMap.h) compress with Blosc, which OpenVDB
+# links too: its find module comes with OpenVDB's.
+if(NOT TARGET Blosc::blosc)
+  find_package(Blosc REQUIRED)
+endif()
 
 # Depth images (16-bit PNG) and scan manifests (JSON); EXR depth images when
 # OpenEXR is there.

@@ -14,6 +14,7 @@
 
 #include <levelfuse/core/DebugCheck.h>
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/Median.h>
 #include <levelfuse/core/Parallel.h>
 
 #include <levelfuse/geometry/NearestTriangle.h>
@@ -64,6 +65,7 @@
 #include <levelfuse/scan/DataWindow.h>
 #include <levelfuse/scan/DepthRaster.h>
 #include <levelfuse/scan/ForceField.h>
+#include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/RangeMap.h>
 #include <levelfuse/scan/Scenes.h>
 #include <levelfuse/scan/SightBins.h>

@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <tuple>
@@ -140,6 +139,12 @@ ForceFieldOptions forceFieldOptions(double epsilon, double voxelSize, WindowKind
 ForceFieldOptions defaultForceFieldOptions(const std::vector<RangeMap>& maps, double voxelSize) {
   if (maps.empty()) throw std::invalid_argument("defaultForceFieldOptions: no range maps");
   return forceFieldOptions(medianSigma(maps), voxelSize);
+}
+
+RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps) {
+  return [&maps](const RangeMapVisitor& visit) {
+    for (const RangeMap& m : maps) visit(m);
+  };
 }
 
 ForceField::ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& options)

@@ -6,7 +6,7 @@
 #include <levelfuse/levelset/detail/LeafMaskOps.h>
 #include <levelfuse/scan/ForceField.h>
 
-#include "LeavesReached.h"
+#include "CarvingVotes.h"
 
 #include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/LevelSetRebuild.h>
@@ -26,66 +26,6 @@ namespace {
 using openvdb::Coord;
 using openvdb::Vec3d;
 using LeafT = openvdb::FloatTree::LeafNodeType;
-
-/// What the range maps say of the voxels of a leaf-sized block: those that
-/// say the same of every voxel (detail::leafSight) are counted once, the
-/// others are asked voxel by voxel.
-struct Witnesses {
-  bool seenEmpty = false;       ///< some map sees the whole block empty
-  std::size_t behind = 0;       ///< maps that see the whole block behind their readings
-  std::size_t speaking = 0;     ///< maps that speak for every voxel of the block
-  std::vector<const RangeMap*> asked;  ///< maps to ask voxel by voxel
-};
-
-/// Every range map asked, for a point alone.
-Witnesses allWitnesses(const std::vector<RangeMap>& maps) {
-  Witnesses w;
-  for (const RangeMap& m : maps) w.asked.push_back(&m);
-  return w;
-}
-
-/// The witnesses of the leaf-sized block at `origin`.
-Witnesses witnessesOf(const std::vector<RangeMap>& maps, const Coord& origin, double voxelSize, double margin) {
-  Witnesses w;
-  for (const RangeMap& m : maps) {
-    switch (detail::leafSight(m, origin, voxelSize, margin)) {
-      case RangeMap::Sight::kEmpty:
-        w.seenEmpty = true;
-        return w;
-      case RangeMap::Sight::kBehind:
-        ++w.behind;
-        ++w.speaking;
-        break;
-      case RangeMap::Sight::kOutside:
-        w.speaking += m.kind() != RangeMap::Kind::kPinhole;
-        break;
-      case RangeMap::Sight::kUnknown:
-        w.asked.push_back(&m);
-        break;
-    }
-  }
-  return w;
-}
-
-/// Space carving: outside if some line of sight saw x as empty; inside if
-/// more than half of the range maps that speak for x see it behind their
-/// readings; else outside. (A point one range map sees behind a grazing
-/// surface, while the others cannot tell, is not taken for solid.) A scan of
-/// parallel rays frames an object and speaks for every point; a depth frame
-/// is a window onto a scene that goes on beyond it, and speaks only for the
-/// points its lines of sight pass: behind a room's wall, which few of the
-/// room's frames see, is solid, not a sheet as thin as the window's reach.
-bool carvedInside(const Witnesses& witnesses, const Vec3d& x, double margin) {
-  if (witnesses.seenEmpty) return false;
-  std::size_t behind = witnesses.behind, speaking = witnesses.speaking;
-  for (const RangeMap* m : witnesses.asked) {
-    const RangeMap::Sight s = m->sight(x, margin);
-    if (s == RangeMap::Sight::kEmpty) return false;
-    behind += s == RangeMap::Sight::kBehind;
-    speaking += s != RangeMap::Sight::kOutside || m->kind() != RangeMap::Kind::kPinhole;
-  }
-  return 2 * behind > speaking;
-}
 
 /// The distance from each voxel on a zero crossing of `raw` to the zero set,
 /// from where the zero set crosses the voxel's edges: along each axis on
@@ -221,84 +161,78 @@ class BlockClasses {
   std::vector<std::uint8_t> mClass;
 };
 
-/// Space carving on a grid: what the range maps say of its voxels.
-class Carver {
- public:
-  Carver(const std::vector<RangeMap>& maps, double margin, const openvdb::math::Transform& xform)
-      : mMaps(maps), mMargin(margin), mTransform(xform), mEveryMap(allWitnesses(maps)) {}
-
-  /// The witnesses of the leaf-sized block at `origin`.
-  Witnesses witnesses(const Coord& origin) const {
-    return witnessesOf(mMaps, origin, mTransform.voxelSize()[0], mMargin);
-  }
-  /// Whether carving puts voxel `ijk` of a block with these witnesses inside.
-  bool inside(const Witnesses& witnesses, const Coord& ijk) const {
-    return carvedInside(witnesses, mTransform.indexToWorld(ijk), mMargin);
-  }
-  /// Whether carving puts voxel `ijk`, alone, inside.
-  bool inside(const Coord& ijk) const { return inside(mEveryMap, ijk); }
-
- private:
-  const std::vector<RangeMap>& mMaps;
-  double mMargin;
-  const openvdb::math::Transform& mTransform;
-  Witnesses mEveryMap;
-};
-
 using Leaves = std::vector<std::unique_ptr<LeafT>>;
+using Mask = detail::BlockVotes::Mask;
 
-/// 1. The leaves the data reach: where a window reaches, the weighted mean
-///    signed distance along the lines of sight, -g / w, whose zero set is the
-///    zero set of g (Eq. 17), clamped to +-width; elsewhere in them, carved.
-Leaves dataLeafValues(const openvdb::tree::LeafManager<const openvdb::FloatTree>& dataLeaves,
-                      const openvdb::FloatGrid& weight, const Carver& carver, float width) {
-  Leaves leaves(dataLeaves.leafCount());
-  parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      const LeafT& g = dataLeaves.leaf(i);
-      const LeafT& w = *weight.tree().probeConstLeaf(g.origin());
-      const Witnesses witnesses = carver.witnesses(g.origin());
-      auto leaf = std::make_unique<LeafT>(g.origin(), width);
-      for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
-        const float value = g.isValueOn(o) ? std::clamp(-g.getValue(o) / w.getValue(o), -width, width)
-                                           : (carver.inside(witnesses, g.offsetToGlobalCoord(o)) ? -width : width);
-        leaf->setValueOn(o, value);
-      }
-      leaves[i] = std::move(leaf);
-    }
-  });
-  return leaves;
+/// Votes on the voxels of the data's leaves that no window reached.
+detail::BlockVotes votesOnUnreached(const openvdb::tree::LeafManager<const openvdb::FloatTree>& dataLeaves,
+                                    double voxelSize) {
+  std::vector<Coord> origins(dataLeaves.leafCount());
+  std::vector<Mask> unreached(dataLeaves.leafCount());
+  for (std::size_t i = 0; i < origins.size(); ++i) {
+    origins[i] = dataLeaves.leaf(i).origin();
+    unreached[i] = !dataLeaves.leaf(i).getValueMask();
+  }
+  return detail::BlockVotes(std::move(origins), std::move(unreached), voxelSize);
 }
 
-/// 2. The blocks around the data (their box, one block wider), carved at their centres.
-BlockClasses classifyBlocks(const openvdb::tree::LeafManager<const openvdb::FloatTree>& dataLeaves,
-                            const Carver& carver) {
+/// The blocks around the data (their box, one block wider), those the data reach marked.
+BlockClasses blocksAroundTheData(const openvdb::tree::LeafManager<const openvdb::FloatTree>& dataLeaves) {
   openvdb::CoordBBox box;
   for (std::size_t i = 0; i < dataLeaves.leafCount(); ++i) box.expand(dataLeaves.leaf(i).origin() >> LeafT::LOG2DIM);
   box.expand(1);
   BlockClasses classes(box);
   for (std::size_t i = 0; i < dataLeaves.leafCount(); ++i)
     classes[classes.index(dataLeaves.leaf(i).origin() >> LeafT::LOG2DIM)] = BlockClasses::kData;
-  const Coord centre(LeafT::DIM / 2);
-  parallelFor(classes.size(), 256, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-      if (classes[i] != BlockClasses::kData)
-        classes[i] = carver.inside(blockOrigin(classes.block(i)) + centre) ? BlockClasses::kInside
-                                                                            : BlockClasses::kOutside;
-  });
   return classes;
+}
+
+/// The centres (world) of the blocks the data do not reach, in the classes' order.
+std::vector<Vec3d> blockCentres(const BlockClasses& classes, const openvdb::math::Transform& xform) {
+  const Coord centre(LeafT::DIM / 2);
+  std::vector<Vec3d> centres;
+  for (std::size_t i = 0; i < classes.size(); ++i)
+    if (classes[i] != BlockClasses::kData) centres.push_back(xform.indexToWorld(blockOrigin(classes.block(i)) + centre));
+  return centres;
+}
+
+/// The blocks the data do not reach classified by carving at their centres.
+void classifyBlocks(BlockClasses& classes, const detail::PointVotes& centres) {
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < classes.size(); ++i)
+    if (classes[i] != BlockClasses::kData)
+      classes[i] = centres.inside(k++) ? BlockClasses::kInside : BlockClasses::kOutside;
+}
+
+/// The leaves the data reach: where a window reaches, the weighted mean signed
+/// distance along the lines of sight, -g / w, whose zero set is the zero set
+/// of g (Eq. 17), clamped to +-width; elsewhere in them, carved.
+Leaves dataLeafValues(const openvdb::tree::LeafManager<const openvdb::FloatTree>& dataLeaves,
+                      const openvdb::FloatGrid& weight, const detail::BlockVotes& unreached, float width) {
+  Leaves leaves(dataLeaves.leafCount());
+  parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const LeafT& g = dataLeaves.leaf(i);
+      const LeafT& w = *weight.tree().probeConstLeaf(g.origin());
+      auto leaf = std::make_unique<LeafT>(g.origin(), width);
+      for (auto it = g.cbeginValueOn(); it; ++it)
+        leaf->setValueOn(it.pos(), std::clamp(-*it / w.getValue(it.pos()), -width, width));
+      unreached.forEachAsked(i, [&](openvdb::Index o, bool inside) { leaf->setValueOn(o, inside ? -width : width); });
+      leaves[i] = std::move(leaf);
+    }
+  });
+  return leaves;
 }
 
 /// The carved blocks away from the data.
 struct CarvedBlocks {
-  Leaves boundary;                 ///< beside a block of the other class: carved voxel by voxel
+  std::vector<Coord> boundary;     ///< beside a block of the other class: to be carved voxel by voxel
   std::vector<Coord> insideTiles;  ///< uniformly inside: tiles
 };
 
-/// 3. Blocks beside a block of the other class hold the carved surface: carve
-///    their every voxel. The others are uniform: inside ones become tiles.
-CarvedBlocks carveBlocks(const BlockClasses& classes, const Carver& carver, float width) {
-  std::vector<Coord> boundary;
+/// Blocks beside a block of the other class hold the carved surface; the
+/// others are uniform, and the inside ones become tiles.
+CarvedBlocks boundaryBlocks(const BlockClasses& classes) {
   CarvedBlocks carved;
   for (std::size_t i = 0; i < classes.size(); ++i) {
     const std::uint8_t c = classes[i];
@@ -309,45 +243,69 @@ CarvedBlocks carveBlocks(const BlockClasses& classes, const Carver& carver, floa
       const std::uint8_t nc = classes.at(b.offsetBy(e[0], e[1], e[2]));
       if (nc != BlockClasses::kData && nc != c) differs = true;
     }
-    if (differs) boundary.push_back(blockOrigin(b));
+    if (differs) carved.boundary.push_back(blockOrigin(b));
     else if (c == BlockClasses::kInside) carved.insideTiles.push_back(blockOrigin(b));
   }
-  carved.boundary.resize(boundary.size());
-  parallelFor(boundary.size(), 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      auto leaf = std::make_unique<LeafT>(boundary[i], width);
-      const Witnesses witnesses = carver.witnesses(boundary[i]);
-      for (openvdb::Index o = 0; o < LeafT::SIZE; ++o)
-        leaf->setValueOn(o, carver.inside(witnesses, leaf->offsetToGlobalCoord(o)) ? -width : width);
-      carved.boundary[i] = std::move(leaf);
+  return carved;
+}
+
+/// The carved leaves of the boundary blocks, every voxel voted on.
+Leaves carvedLeaves(const detail::BlockVotes& votes, float width) {
+  Leaves leaves(votes.size());
+  parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t b = begin; b < end; ++b) {
+      auto leaf = std::make_unique<LeafT>(votes.origin(b), width);
+      votes.forEachAsked(b, [&](openvdb::Index o, bool inside) { leaf->setValueOn(o, inside ? -width : width); });
+      leaves[b] = std::move(leaf);
     }
   });
-  return carved;
+  return leaves;
 }
 
 }  // namespace
 
-SparseField linearSolutionField(const AccumulatedField& field, const std::vector<RangeMap>& maps, double margin,
+SparseField linearSolutionField(const AccumulatedField& field, const RangeMapSequence& maps, double margin,
                                 LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
   if (field.g->tree().leafCount() == 0)
     throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
   const float width = levelSetBackground(3.0, field.g->voxelSize()[0]);
   const openvdb::math::Transform& xform = field.g->transform();
-  const Carver carver(maps, margin, xform);
+  const double h = xform.voxelSize()[0];
   const openvdb::tree::LeafManager<const openvdb::FloatTree> dataLeaves(field.g->tree());
-  Leaves leaves = dataLeafValues(dataLeaves, *field.weight, carver, width);
-  checkInterrupter(interrupter);
-  CarvedBlocks carved = carveBlocks(classifyBlocks(dataLeaves, carver), carver, width);
-  checkInterrupter(interrupter);
 
-  // 4. Together they make a field whose zero set is the linear solution, with
+  // 1. Space carving decides the voxels of the data's leaves that no window
+  //    reaches, and the blocks around the data, at their centres.
+  detail::BlockVotes unreached = votesOnUnreached(dataLeaves, h);
+  BlockClasses classes = blocksAroundTheData(dataLeaves);
+  detail::PointVotes centres(blockCentres(classes, xform));
+  maps([&](const RangeMap& map) {
+    checkInterrupter(interrupter);
+    unreached.add(map, margin);
+    centres.add(map, margin);
+  });
+  Leaves leaves = dataLeafValues(dataLeaves, *field.weight, unreached, width);
+  classifyBlocks(classes, centres);
+
+  // 2. Blocks beside a block of the other class hold the carved surface:
+  //    carving decides their every voxel.
+  CarvedBlocks carved = boundaryBlocks(classes);
+  Mask everyVoxel;
+  everyVoxel.setOn();
+  detail::BlockVotes boundary(carved.boundary, std::vector<Mask>(carved.boundary.size(), everyVoxel), h);
+  maps([&](const RangeMap& map) {
+    checkInterrupter(interrupter);
+    boundary.add(map, margin);
+  });
+  Leaves boundaryLeaves = carvedLeaves(boundary, width);
+
+  // 3. Together they make a field whose zero set is the linear solution, with
   //    steps where carving closes what no scan saw. (Every voxel of the leaves
   //    is active: the mesher of a rebuild sees only active ones.)
   openvdb::FloatGrid::Ptr raw = openvdb::FloatGrid::create(width);
   raw->setTransform(xform.copy());
   raw->setGridClass(openvdb::GRID_LEVEL_SET);
   raw->setName("surface");
-  for (Leaves* set : {&leaves, &carved.boundary})
+  for (Leaves* set : {&leaves, &boundaryLeaves})
     for (auto& leaf : *set) raw->tree().addLeaf(leaf.release());
   for (const Coord& origin : carved.insideTiles) raw->tree().addTile(1, origin, -width, false);
   if (band == LinearBand::kZeroCrossings) {
@@ -355,11 +313,16 @@ SparseField linearSolutionField(const AccumulatedField& field, const std::vector
     distancesAtZeroCrossings(*raw);
     return SparseField::fromLevelSet(*raw, engine);
   }
-  // 5. Rebuilt into a true narrow band of Euclidean distances.
+  // 4. Rebuilt into a true narrow band of Euclidean distances.
   openvdb::FloatGrid::Ptr psi = openvdb::tools::levelSetRebuild(*raw, 0.0f, 3.0f);
   openvdb::tools::changeLevelSetBackground(psi->tree(), width);
   psi->setGridClass(openvdb::GRID_LEVEL_SET);
   return SparseField::fromLevelSet(*psi, engine);
+}
+
+SparseField linearSolutionField(const AccumulatedField& data, const std::vector<RangeMap>& maps, double margin,
+                                LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
+  return linearSolutionField(data, rangeMapsOf(maps), margin, band, engine, interrupter);
 }
 
 SparseField ForceField::linearSolutionField(double voxelSize, LinearBand band, const SparseFieldOptions& engine,

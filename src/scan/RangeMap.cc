@@ -341,6 +341,13 @@ openvdb::BBoxd RangeMap::readingBounds() const {
   return box;
 }
 
+std::size_t RangeMap::memoryBytes() const {
+  return sizeof(*this) + mName.capacity() + mBlockMin.capacity() * sizeof(float) +
+         mBlockMax.capacity() * sizeof(float) + mBlockComplete.capacity() + mReadings.capacity() * sizeof(float) +
+         mUsableCell.capacity() / 8 + mDirections.capacity() * sizeof(openvdb::Vec3f) +
+         mSigmas.capacity() * sizeof(float) + mSamples.capacity() * sizeof(openvdb::Vec3d) + mMisses.capacity() / 8;
+}
+
 double medianSigma(const std::vector<RangeMap>& maps) {
   if (maps.empty()) throw std::invalid_argument("medianSigma: no range maps");
   std::vector<double> sigmas;

@@ -7,6 +7,7 @@
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
+#include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/Synth.h>
 
 #include <openvdb/tools/Diagnostics.h>
@@ -179,6 +180,36 @@ TEST(LinearSolution, FromTheDataTermGridsAsFromTheScans) {
     for (auto it = fromGrids->cbeginValueOn(); it; ++it)
       largest = std::max(largest, std::fabs(*it - scans.getValue(it.getCoord())) / voxel);
     EXPECT_LT(largest, 1e-3);
+  }
+}
+
+TEST(LinearSolution, CarvingAsksTheMapsOneAtATime) {
+  // Carving's votes are cast map by map: packed maps, unpacked one at a time
+  // and released, give the linear solution of the maps held together, bit for bit.
+  const Target t = target(1);
+  const double voxel = t.size / 50.0;
+  const ForceFieldOptions options = optionsFor(voxel);
+  const std::vector<RangeMap> maps = render(t.distance, t.views, 0.01 * t.size);
+  const AccumulatedField data = ForceField(maps, options).accumulate(voxel);
+  std::vector<PackedRangeMap> packed;
+  for (const RangeMap& m : maps) packed.emplace_back(RangeMap(m));
+  std::size_t visits = 0;
+  const RangeMapSequence oneAtATime = [&](const RangeMapVisitor& visit) {
+    for (const PackedRangeMap& p : packed) {
+      visit(p.unpack());
+      ++visits;
+    }
+  };
+  for (const LinearBand band : {LinearBand::kZeroCrossings, LinearBand::kRebuilt}) {
+    visits = 0;
+    const openvdb::FloatGrid::Ptr fromPacked =
+        linearSolutionField(data, oneAtATime, options.dataWindow().reach(), band).toLevelSet(3.0);
+    EXPECT_EQ(visits, 2 * maps.size());  // two rounds of votes: the blocks, then the carved surface's voxels
+    const openvdb::FloatGrid::Ptr fromMaps =
+        linearSolutionField(data, maps, options.dataWindow().reach(), band).toLevelSet(3.0);
+    ASSERT_EQ(fromPacked->activeVoxelCount(), fromMaps->activeVoxelCount());
+    openvdb::FloatGrid::ConstAccessor held = fromMaps->getConstAccessor();
+    for (auto it = fromPacked->cbeginValueOn(); it; ++it) ASSERT_EQ(*it, held.getValue(it.getCoord()));
   }
 }
 

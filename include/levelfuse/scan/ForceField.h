@@ -18,6 +18,7 @@
 #include <openvdb/openvdb.h>
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -76,13 +77,26 @@ enum class LinearBand {
   kRebuilt,
 };
 
+/// Visits range maps one at a time, in their order; a map need not outlive its visit.
+using RangeMapVisitor = std::function<void(const RangeMap&)>;
+/// A sequence of range maps that can be visited as many times as asked: held
+/// in memory, or unpacked (PackedRangeMap) or read one at a time.
+using RangeMapSequence = std::function<void(const RangeMapVisitor&)>;
+/// The sequence of a vector of range maps (which must outlive it).
+RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps);
+
 /// The linear solution of an accumulated data term (ForceField::accumulate,
 /// or DataTermGrids' gGrid and weightGrid) as a sparse field with the
 /// engine's settings `engine`, ready to evolve, its narrow band made as `band`
 /// says: where the data reach, the sign of -g; elsewhere space carving
 /// against `maps` with readings `margin` thick (the window's reach) decides
-/// (ForceField::linearSolution). Throws std::invalid_argument if no reading
-/// reaches any voxel, Interrupted if `interrupter` asks to stop.
+/// (ForceField::linearSolution). Carving visits the maps twice, one at a
+/// time, so that they need not be held at once. Throws std::invalid_argument
+/// if no reading reaches any voxel, Interrupted if `interrupter` asks to stop.
+SparseField linearSolutionField(const AccumulatedField& data, const RangeMapSequence& maps, double margin,
+                                LinearBand band, const SparseFieldOptions& engine = {},
+                                const Interrupter& interrupter = {});
+/// The same, of a vector of range maps.
 SparseField linearSolutionField(const AccumulatedField& data, const std::vector<RangeMap>& maps, double margin,
                                 LinearBand band, const SparseFieldOptions& engine = {},
                                 const Interrupter& interrupter = {});

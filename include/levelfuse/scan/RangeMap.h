@@ -184,7 +184,11 @@ class RangeMap {
   /// the scanner's, for a map resampled from its samples.
   double maxRaySpacing() const;
 
+  /// Memory held (bytes): the readings and what the map derived from them.
+  std::size_t memoryBytes() const;
+
  private:
+  friend class PackedRangeMap;  // compresses and restores the per-pixel arrays
   RangeMap(Kind kind, int width, int height, std::string name)
       : mKind(kind), mWidth(width), mHeight(height), mName(std::move(name)) {}
   std::size_t index(int u, int v) const {

@@ -1,0 +1,90 @@
+// levelfuse: space carving as votes that the range maps cast one map at a
+// time (private to the linear solution).
+//
+// A point is outside if some line of sight saw it as empty; else inside if
+// more than half of the range maps that speak for it see it behind their
+// readings (RangeMap::sight with the window's reach as margin). A scan of
+// parallel rays frames an object and speaks for every point; a depth frame is
+// a window onto a scene that goes on beyond it, and speaks only for the points
+// its lines of sight pass: behind a room's wall, which few of the room's
+// frames see, is solid, not a sheet as thin as the window's reach. (A point
+// one range map sees behind a grazing surface, while the others cannot tell,
+// is not taken for solid.)
+//
+// Each map adds its votes and may then be released: the votes are the
+// balance 2 behind - speaking and whether some map saw the point empty, so
+// the answer does not depend on the order of the maps, and a sequence of
+// maps held nowhere at once (decompressed one by one) gives the same answer
+// as a vector of them.
+#pragma once
+
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/openvdb.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace levelfuse::detail {
+
+/// How one map's sight of a point changes its balance 2 behind - speaking;
+/// kEmpty is told apart (the point is outside whatever the others say).
+int sightVote(RangeMap::Sight sight, RangeMap::Kind kind);
+
+/// The votes on single points.
+class PointVotes {
+ public:
+  explicit PointVotes(std::vector<openvdb::Vec3d> points);
+  /// Adds the votes of `map` (margin: the window's reach). Parallel over the points.
+  void add(const RangeMap& map, double margin);
+  /// Whether carving puts point i inside.
+  bool inside(std::size_t i) const { return !mEmpty[i] && mBalance[i] > 0; }
+  std::size_t size() const { return mPoints.size(); }
+
+ private:
+  std::vector<openvdb::Vec3d> mPoints;
+  std::vector<std::int32_t> mBalance;
+  std::vector<std::uint8_t> mEmpty;
+};
+
+/// The votes on chosen voxels of leaf-sized blocks: a map that says the
+/// same of a whole block (leafSight) votes once for all of its voxels, the
+/// others voxel by voxel.
+class BlockVotes {
+ public:
+  using Mask = openvdb::FloatTree::LeafNodeType::NodeMaskType;
+  /// Blocks at `origins` (voxels of size `voxelSize`), each asking of the voxels in its mask.
+  BlockVotes(std::vector<openvdb::Coord> origins, std::vector<Mask> asked, double voxelSize);
+  /// Adds the votes of `map` (margin: the window's reach). Parallel over the blocks.
+  void add(const RangeMap& map, double margin);
+  /// Calls visit(offset, inside) for every asked voxel of block b, in order.
+  template <typename Visit>
+  void forEachAsked(std::size_t b, const Visit& visit) const {
+    const Block& block = mBlocks[b];
+    std::size_t k = 0;
+    for (auto it = block.asked.beginOn(); it; ++it, ++k) {
+      const std::int32_t balance = block.uniform + (block.voxels.empty() ? 0 : block.voxels[k]);
+      visit(it.pos(), !block.empty && !block.voxelEmpty.isOn(it.pos()) && balance > 0);
+    }
+  }
+  std::size_t size() const { return mBlocks.size(); }
+  const openvdb::Coord& origin(std::size_t b) const { return mBlocks[b].origin; }
+
+ private:
+  struct Block {
+    openvdb::Coord origin;
+    Mask asked;
+    bool empty = false;           ///< some map saw the whole block empty
+    std::int32_t uniform = 0;     ///< the balance of the maps that spoke for the whole block
+    Mask voxelEmpty;              ///< asked voxels some map saw empty
+    std::vector<std::int32_t> voxels;  ///< per asked voxel in order, the others' balance (allocated when first needed)
+  };
+  void addToBlock(Block& block, const RangeMap& map, double margin) const;
+
+  std::vector<Block> mBlocks;
+  double mVoxelSize;
+};
+
+}  // namespace levelfuse::detail

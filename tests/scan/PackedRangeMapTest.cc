@@ -1,0 +1,124 @@
+// A range map packed and unpacked is the same map, and takes less memory.
+
+#include <levelfuse/scan/PackedRangeMap.h>
+#include <levelfuse/scan/RangeMap.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace levelfuse {
+namespace {
+
+using openvdb::Vec3d;
+
+/// A depth frame of a room's corner: two walls and a floor at depths quantised
+/// to millimetres, as a 16-bit depth image gives them, with noise and holes.
+RangeMap cornerFrame() {
+  const int width = 160, height = 120;
+  std::mt19937 random(7);
+  std::normal_distribution<double> noise(0.0, 2.0);  // mm
+  std::vector<float> depths(static_cast<std::size_t>(width) * height);
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) {
+      const double wall = u < width / 2 ? 2000.0 + 8.0 * u : 2640.0 - 8.0 * (u - width / 2);
+      const double depth = v > 90 ? std::min(wall, 1500.0 + 12.0 * (height - v)) : wall;
+      const bool hole = (u * 7 + v * 3) % 97 == 0 || (u > 120 && v < 10);
+      depths[static_cast<std::size_t>(v) * width + u] =
+          hole ? 0.0f : static_cast<float>(std::round(depth + noise(random)) * 0.001);
+    }
+  openvdb::math::Mat4d pose = openvdb::math::Mat4d::identity();
+  pose.setToRotation(openvdb::math::Y_AXIS, 0.3);
+  pose.setTranslation(Vec3d(0.2, -0.1, 0.4));
+  RangeMap map = RangeMap::pinhole(width, height, depths, PinholeProjection{150.0, 150.0, 79.5, 59.5}, pose, 0.002,
+                                   "corner");
+  map.setDepthNoise(DepthNoise{});
+  return map;
+}
+
+/// Parallel rays with everything a map can hold per pixel: sigmas, ray
+/// directions, samples, misses that are empty.
+RangeMap everythingPerPixel() {
+  const int size = 40;
+  const double pixel = 0.05;
+  std::vector<float> readings(static_cast<std::size_t>(size) * size), sigmas(readings.size());
+  std::vector<openvdb::Vec3f> directions(readings.size());
+  std::vector<Vec3d> samples;
+  for (int v = 0; v < size; ++v)
+    for (int u = 0; u < size; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * size + u;
+      const double x = -1.0 + u * pixel, y = -1.0 + v * pixel;
+      const bool missed = x * x + y * y > 0.8;
+      readings[i] = missed ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(1.0 + 0.3 * std::sin(3 * x * y));
+      sigmas[i] = static_cast<float>(0.001 + 0.0001 * u);
+      directions[i] = openvdb::Vec3f(0.01f * float(u - 20), 0.0f, 1.0f).unitSafe();
+      if (!missed) samples.emplace_back(x, y, readings[i]);
+    }
+  RangeMap map = RangeMap::orthographic(size, size, readings, OrthographicProjection{pixel, openvdb::math::Vec2d(-1.0, -1.0)},
+                                        openvdb::math::Mat4d::identity(), 0.002, "dome");
+  map.setSigmas(sigmas);
+  map.setRayDirections(directions);
+  map.setSamples(samples, pixel);
+  map.setMissesAreEmpty(true);
+  return map;
+}
+
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+/// Every reading, and what the map says at points around its readings, the same bit for bit.
+void expectSameMap(const RangeMap& a, const RangeMap& b) {
+  ASSERT_EQ(a.width(), b.width());
+  ASSERT_EQ(a.height(), b.height());
+  ASSERT_EQ(a.validCount(), b.validCount());
+  for (int v = 0; v < a.height(); ++v)
+    for (int u = 0; u < a.width(); ++u) ASSERT_TRUE(sameBits(a.reading(u, v), b.reading(u, v))) << u << ", " << v;
+  ASSERT_EQ(a.samples().size(), b.samples().size());
+  for (std::size_t i = 0; i < a.samples().size(); ++i) EXPECT_EQ(a.samples()[i], b.samples()[i]);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> jitter(-0.1, 0.1);
+  int sampled = 0;
+  for (int v = 1; v < a.height() - 1; ++v)
+    for (int u = 1; u < a.width() - 1; ++u) {
+      if (!a.valid(u, v)) continue;
+      const Vec3d x = a.readingPoint(u, v) + Vec3d(jitter(random), jitter(random), jitter(random));
+      RangeSample sa, sb;
+      const bool hasA = a.sample(x, sa), hasB = b.sample(x, sb);
+      ASSERT_EQ(hasA, hasB);
+      if (hasA) {
+        EXPECT_EQ(sa.D, sb.D);
+        EXPECT_EQ(sa.sigma, sb.sigma);
+        EXPECT_EQ(sa.gamma, sb.gamma);
+        EXPECT_EQ(sa.gradD, sb.gradD);
+        EXPECT_EQ(sa.lineOfSight, sb.lineOfSight);
+        ++sampled;
+      }
+      EXPECT_EQ(a.sight(x, 0.01), b.sight(x, 0.01));
+    }
+  EXPECT_GT(sampled, 500) << a.name();
+}
+
+TEST(PackedRangeMap, UnpacksToTheMapItPacked) {
+  for (const RangeMap& map : {cornerFrame(), everythingPerPixel()}) {
+    const PackedRangeMap packed{RangeMap(map)};
+    expectSameMap(map, packed.unpack());
+    expectSameMap(map, packed.unpack());  // as often as asked
+  }
+}
+
+TEST(PackedRangeMap, ADepthFrameTakesLessMemory) {
+  // Readings of millimetre depths with 2 mm of white noise: their low bits do
+  // not compress (a 7-Scenes frame packs to about a third, docs/BENCHMARKS.md).
+  const RangeMap frame = cornerFrame();
+  const PackedRangeMap packed{RangeMap(frame)};
+  EXPECT_LT(packed.memoryBytes(), frame.memoryBytes() * 2 / 3)
+      << packed.memoryBytes() << " bytes packed, " << frame.memoryBytes() << " unpacked";
+  EXPECT_GT(frame.memoryBytes(), frame.validCount() * sizeof(float));  // the readings are counted
+}
+
+}  // namespace
+}  // namespace levelfuse
