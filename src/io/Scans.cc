@@ -6,6 +6,8 @@
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/TumScans.h>
 
+#include "ScanDelivery.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -39,7 +41,7 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
   if (!fs::exists(intrinsicsFile, ec))
     throw InputError(folder.string(), "no camera-intrinsics.txt (the 3x3 pinhole intrinsics) in this folder");
   const PinholeProjection intrinsics = readIntrinsics(intrinsicsFile.string());
-  std::vector<RangeMap> maps;
+  ScanDelivery scans(options);
   const std::size_t stride = static_cast<std::size_t>(options.frameStride);
   const std::size_t total = (frames.size() + stride - 1) / stride;  // the frames of the stride
   for (std::size_t i = 0; i < frames.size(); i += stride) {
@@ -48,10 +50,18 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
     const std::string stem = image.substr(0, image.size() - std::string(".depth.png").size());
     const std::string pose = stem + ".pose.txt";
     if (!fs::exists(pose, ec)) throw InputError(image, "no pose beside it (expected " + pose + ")");
-    maps.push_back(loadDepthFrame(image, intrinsics, readPose(pose), options, 0.001));
-    reportLoaded(options.progress, maps.size(), total);
+    scans.deliver(loadDepthFrame(image, intrinsics, readPose(pose), options, 0.001));
+    reportLoaded(options.progress, scans.delivered(), total);
   }
-  return maps;
+  return scans.kept();
+}
+
+/// The scans of a reader that reads them all first, handed over if the options take them.
+std::vector<RangeMap> handedOver(std::vector<RangeMap> maps, const ScanLoadOptions& options) {
+  if (!options.take) return maps;
+  ScanDelivery scans(options);
+  for (RangeMap& m : maps) scans.deliver(std::move(m));
+  return {};
 }
 
 }  // namespace
@@ -88,9 +98,9 @@ std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& 
     StanfordScanOptions stanford = options.stanford;
     stanford.interrupter = options.interrupter;
     stanford.progress = options.progress;
-    return loadStanfordScans(path, stanford);
+    return handedOver(loadStanfordScans(path, stanford), options);
   }
-  if (extension == ".json") return loadManifest(path, options);
+  if (extension == ".json") return handedOver(loadManifest(path, options), options);
   throw InputError(path, "not a kind of scan levelfuse reads: give a Stanford .conf file, a JSON manifest "
                          "(.json) or a folder of depth frames (7-Scenes or TUM RGB-D)");
 }

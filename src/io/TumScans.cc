@@ -4,6 +4,8 @@
 #include <levelfuse/io/TextRecords.h>
 #include <levelfuse/io/TumScans.h>
 
+#include "ScanDelivery.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -101,7 +103,7 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
   const std::vector<TumFrame> frames = readTumDepthList(list);
   const std::vector<TumPose> poses = readTumTrajectory(trajectory);
   const PinholeProjection intrinsics = tumIntrinsics(folder);
-  std::vector<RangeMap> maps;
+  ScanDelivery scans(options);
   const std::size_t stride = static_cast<std::size_t>(options.frameStride);
   const std::size_t total = (frames.size() + stride - 1) / stride;  // the frames of the stride
   for (std::size_t i = 0; i < frames.size(); i += stride) {
@@ -117,10 +119,10 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
       throw InputError(image, "no pose in groundtruth.txt within " + seconds(options.poseTimeTolerance, false) +
                                   " s of the frame's time " + seconds(frame.time, true) + " (the nearest, line " +
                                   std::to_string(pose.line) + ", is " + seconds(gap, false) + " s away)");
-    maps.push_back(loadDepthFrame(image, intrinsics, pose.cameraToWorld, options, 1.0 / kTumDepthUnitsPerMetre));
-    reportLoaded(options.progress, maps.size(), total);
+    scans.deliver(loadDepthFrame(image, intrinsics, pose.cameraToWorld, options, 1.0 / kTumDepthUnitsPerMetre));
+    reportLoaded(options.progress, scans.delivered(), total);
   }
-  return maps;
+  return scans.kept();
 }
 
 }  // namespace levelfuse::io

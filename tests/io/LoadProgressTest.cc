@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cstddef>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -59,6 +60,34 @@ TEST(LoadProgress, TumFoldersReportEachFrame) {
   test::writeTumFolder(dir.path("tum"), tumFrames(4));
   EXPECT_EQ(loadReporting(dir.path("tum")), (Reports{{1, 4}, {2, 4}, {3, 4}, {4, 4}}));
   EXPECT_EQ(loadReporting(dir.path("tum"), 3), (Reports{{1, 2}, {2, 2}}));
+}
+
+TEST(LoadProgress, ScansAreHandedOverAsTheyAreReadWhenTaken) {
+  TempDir dir;
+  test::writeSevenScenesFolder(dir.path("scene"), poses(5), kCamera, 16, 12, 2.0);
+  test::writeTumFolder(dir.path("tum"), tumFrames(4));
+  for (const std::string& folder : {dir.path("scene"), dir.path("tum")}) {
+    const std::vector<RangeMap> held = loadScans(folder);
+    std::vector<std::string> taken;
+    Reports reports;
+    ScanLoadOptions options;
+    // Each frame is handed over before the next is read: the progress report follows it.
+    options.take = [&](RangeMap&& frame) {
+      EXPECT_EQ(reports.size(), taken.size());
+      taken.push_back(frame.name());
+    };
+    options.progress = [&](std::size_t read, std::size_t total) { reports.emplace_back(read, total); };
+    EXPECT_TRUE(loadScans(folder, options).empty());
+    ASSERT_EQ(taken.size(), held.size()) << folder;
+    for (std::size_t i = 0; i < held.size(); ++i) EXPECT_EQ(taken[i], held[i].name());
+  }
+  // A manifest's scans, read together, are handed over too.
+  const std::string manifest = writeScanSet(dir.path("set"), loadScans(dir.path("scene")));
+  std::size_t taken = 0;
+  ScanLoadOptions options;
+  options.take = [&](RangeMap&&) { ++taken; };
+  EXPECT_TRUE(loadScans(manifest, options).empty());
+  EXPECT_EQ(taken, 5u);
 }
 
 TEST(LoadProgress, ManifestsReportTheirEntries) {

@@ -7,11 +7,15 @@
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/scan/RangeMap.h>
 
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
 
 namespace levelfuse::io {
+
+/// Takes each scan as soon as it is read (ScanLoadOptions::take).
+using ScanTaker = std::function<void(RangeMap&&)>;
 
 struct ScanLoadOptions {
   StanfordScanOptions stanford;  ///< for .conf files: the scanner's direction, sigma, pixel size
@@ -29,6 +33,11 @@ struct ScanLoadOptions {
   /// TUM RGB-D folders: a frame takes the pose of the nearest timestamp, which
   /// must lie within this many seconds of the frame's.
   double poseTimeTolerance = 0.02;
+  /// If set, each scan is handed over as soon as it is read instead of
+  /// collected, and loadScans returns none: a folder of depth frames is then
+  /// read holding one frame at a time (Stanford and manifest scans, a few,
+  /// are handed over once all are read).
+  ScanTaker take;
 };
 
 /// Loads the scans at `path`, by what it is:
