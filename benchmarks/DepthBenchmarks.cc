@@ -42,8 +42,10 @@
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/HeldOutFrames.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/scan/PackedRangeMap.h>
 
 #if defined(LEVELFUSE_HAVE_OPEN3D)
 #include "peers/Open3DTSDF.h"
@@ -56,6 +58,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -98,15 +101,22 @@ bool sequencePresent(benchmark::State& state) {
   return false;
 }
 
-/// levelfuse from frames on disk to a mesh: the MAP estimate, or the linear
-/// solution it starts from. One function, so that a faster engine can take
-/// its place.
+/// levelfuse from frames on disk to a mesh, as the converter goes: the frames
+/// read one at a time and held packed, the settings derived from their
+/// summary, the frames fused into the grids, then the MAP estimate or the
+/// linear solution it starts from. One function, so that a faster engine can
+/// take its place.
 TriangleMesh fuseDepthFrames(int frameStride, double voxel, bool linearOnly) {
+  PackedScans frames;
   io::ScanLoadOptions load;
   load.frameStride = frameStride;
+  load.take = [&](RangeMap&& frame) { frames.add(std::move(frame)); };
+  io::loadScans(kSequence, load);
   ReconstructionOptions options;
   options.voxelSize = voxel;
-  const Reconstructor reconstructor(io::loadScans(kSequence, load), options);
+  const ReconstructionOptions resolved = resolveReconstructionOptions(options, frames.summary);
+  const std::unique_ptr<Fusion> fusion = fusePackedScans(std::move(frames), resolved);
+  const Reconstructor reconstructor(*fusion, resolved);
   return meshFromLevelSet(linearOnly ? *reconstructor.linearSolution() : *reconstructor.run().levelSet);
 }
 

@@ -55,6 +55,8 @@
 
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/DataSpeed.h>
+#include <levelfuse/recon/Fusion.h>
+#include <levelfuse/recon/FusionSettings.h>
 #include <levelfuse/recon/HeldOutFrames.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/SurfaceRoughness.h>
@@ -67,6 +69,7 @@
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/RangeMap.h>
+#include <levelfuse/scan/ScanSummary.h>
 #include <levelfuse/scan/Scenes.h>
 #include <levelfuse/scan/SightBins.h>
 #include <levelfuse/scan/Synth.h>

@@ -5,6 +5,7 @@
 #include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/levelset/Refine.h>
 #include <levelfuse/recon/DataSpeed.h>
+#include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 #include <levelfuse/scan/AccumulationCost.h>
@@ -130,79 +131,107 @@ double resolveBeta(const std::optional<double>& given, double voxelSize, const S
 Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options)
     : mMaps(std::make_shared<const std::vector<RangeMap>>(std::move(maps))), mOptions(options) {
   if (mMaps->empty()) throw std::invalid_argument("reconstruction: no range maps to reconstruct from");
-  std::vector<double> spacings;
-  std::size_t readings = 0;
-  for (const RangeMap& m : *mMaps) {
-    readings += m.validCount();
-    mBounds.expand(m.readingBounds());
-    spacings.push_back(m.maxRaySpacing());
-  }
-  // Counted, not judged by the box: the readings of one frame facing a wall square on may lie in a plane.
-  if (readings == 0) throw std::invalid_argument("reconstruction: the range maps hold no readings");
-  if (!(mBounds.extents()[mBounds.maxExtent()] > 0.0))
-    throw std::invalid_argument("reconstruction: every reading lies at one point: there is no surface to reconstruct");
+  mSummary = ScanSummary(*mMaps);
+  mOptions = resolveReconstructionOptions(options, mSummary);
+}
 
+Reconstructor::Reconstructor(const Fusion& fusion, const ReconstructionOptions& options)
+    : mMaps(std::make_shared<const std::vector<RangeMap>>()), mFusion(&fusion), mOptions(options),
+      mSummary(fusion.summary()) {
+  if (fusion.scanCount() == 0) throw std::invalid_argument("reconstruction: the fusion holds no range maps yet");
+  const FusionSettings& fused = fusion.settings();
+  const auto agree = [](const auto& given, const auto& fusions, const char* what) {
+    if (given && *given != fusions)
+      throw std::invalid_argument(std::string("reconstruction: the ") + what +
+                                  " is the fusion's, fixed before its first map: leave it unset");
+  };
+  agree(options.voxelSize, fused.voxelSize, "voxel size");
+  agree(options.levels, fused.levels, "number of grids (levels)");
+  agree(options.epsilon, fused.epsilon, "window width epsilon");
+  if (options.dataTerm == DataTermSource::kPerMap)
+    throw std::invalid_argument("reconstruction: a fusion's data term is its grids (DataTermSource::kGrids)");
+  ReconstructionOptions o = options;
+  o.voxelSize = fused.voxelSize;
+  o.levels = fused.levels;
+  o.epsilon = fused.epsilon;
+  o.window = fused.window;
+  o.dataTerm = DataTermSource::kGrids;
+  mOptions = resolveReconstructionOptions(o, mSummary);
+}
+
+ReconstructionOptions resolveReconstructionOptions(const ReconstructionOptions& options, const ScanSummary& scans) {
+  // Counted, not judged by the box: the readings of one frame facing a wall square on may lie in a plane.
+  if (scans.scans() == 0) throw std::invalid_argument("reconstruction: no range maps to reconstruct from");
+  if (scans.readings() == 0) throw std::invalid_argument("reconstruction: the range maps hold no readings");
+  const openvdb::BBoxd& bounds = scans.bounds();
+  if (!(bounds.extents()[bounds.maxExtent()] > 0.0))
+    throw std::invalid_argument("reconstruction: every reading lies at one point: there is no surface to reconstruct");
   ScanFacts facts;
-  facts.raySpacing = median(std::move(spacings));
-  facts.sigma = medianSigma(*mMaps);
-  facts.extent = mBounds.extents()[mBounds.maxExtent()];
-  facts.depthFrames = scansOfAScene(*mMaps);
-  ReconstructionOptions& o = mOptions;
+  facts.raySpacing = scans.medianRaySpacing();
+  facts.sigma = scans.medianSigma();
+  facts.extent = bounds.extents()[bounds.maxExtent()];
+  facts.depthFrames = scans.aScene();
+  ReconstructionOptions o = options;
   o.voxelSize = resolveVoxelSize(options.voxelSize, facts);
   o.levels = resolveLevels(options.levels, *o.voxelSize, facts);
   o.epsilon = resolveEpsilon(options.epsilon, facts);
   o.beta = resolveBeta(options.beta, *o.voxelSize, facts);
   if (o.dataTerm == DataTermSource::kAuto)
-    o.dataTerm = mMaps->size() > kGridsFromScans ? DataTermSource::kGrids : DataTermSource::kPerMap;
+    o.dataTerm = scans.scans() > kGridsFromScans ? DataTermSource::kGrids : DataTermSource::kPerMap;
   if (!(o.tolerance > 0.0)) throw std::invalid_argument("reconstruction: the tolerance must be positive");
   if (o.patience < 1) throw std::invalid_argument("reconstruction: the patience must be at least one iteration");
   if (!(o.drift > 0.0)) throw std::invalid_argument("reconstruction: the drift tolerance must be positive");
   if (o.minIterations < 0 || o.maxIterations < std::max(1, o.minIterations))
     throw std::invalid_argument("reconstruction: iterations must satisfy 0 <= min <= max, max >= 1");
+  return o;
 }
 
 void Reconstructor::requireCoarsestGridMemory() const {
   // The linear solution classifies every leaf-sized block of the data's box.
   double blocks = 1.0;
-  for (int axis = 0; axis < 3; ++axis) blocks *= mBounds.extents()[axis] / (8.0 * voxelSize(0)) + 3.0;
+  for (int axis = 0; axis < 3; ++axis) blocks *= bounds().extents()[axis] / (8.0 * voxelSize(0)) + 3.0;
   requireMemory(16.0 * blocks, "the initial model on a grid of voxel size " + shortNumber(voxelSize(0)),
                 "use more grids (levels) or a larger voxel size");
 }
 
-void Reconstructor::requireAccumulationMemory(int level) const {
+void requireAccumulationMemory(const RangeMapSequence& maps, const ReconstructionOptions& resolved, int level) {
+  const FusionSettings grids = fusionSettingsOf(resolved);
   const auto costAt = [&](double finest) {
-    const double h = std::ldexp(finest, *mOptions.levels - 1 - level);
-    return accumulationCost(*mMaps, h, forceFieldOptions(*mOptions.epsilon, h, mOptions.window).dataWindow().reach());
+    const double h = std::ldexp(finest, grids.levels - 1 - level);
+    return accumulationCost(maps, h, forceFieldOptions(grids.epsilon, h, grids.window).dataWindow().reach());
   };
-  const AccumulationCost cost = costAt(*mOptions.voxelSize);
+  const AccumulationCost cost = costAt(grids.voxelSize);
   const double budget = static_cast<double>(io::memoryBudget());
   if (cost.bytes <= budget) return;
   // What would fit: the finest voxel size doubled until the data term's leaves do (a window of
   // a fixed width reaches fewer, larger leaves), if some size within a million times does.
   std::string advice = "no voxel size up to a million times this one fits: check the scans' geometry (focal "
                        "lengths, depth scale, pixel size) and the window width (--epsilon)";
-  for (double finest = 2.0 * *mOptions.voxelSize; finest <= 1e6 * *mOptions.voxelSize; finest *= 2.0)
+  for (double finest = 2.0 * grids.voxelSize; finest <= 1e6 * grids.voxelSize; finest *= 2.0)
     if (costAt(finest).bytes <= 0.9 * budget) {
       advice = "choose a voxel size (--voxel-size) of at least " + shortNumber(finest) +
                " or a narrower window (--epsilon)";
       break;
     }
   requireMemory(cost.bytes,
-                "the data term on a grid of voxel size " + shortNumber(voxelSize(level)) + " (windows reaching " +
-                    shortNumber(forceOptions(level).dataWindow().reach()) + " from their readings, " +
-                    shortNumber(cost.leafMarks) + " leaf nodes marked)",
+                "the data term on a grid of voxel size " + shortNumber(grids.levelVoxelSize(level)) +
+                    " (windows reaching " + shortNumber(grids.levelForceOptions(level).dataWindow().reach()) +
+                    " from their readings, " + shortNumber(cost.leafMarks) + " leaf nodes marked)",
                 advice);
 }
 
-SparseField Reconstructor::initialModel(const Interrupter& interrupter, const DataTermGrids* grids) const {
+void Reconstructor::requireAccumulationMemory(int level) const {
+  levelfuse::requireAccumulationMemory(rangeMapsOf(*mMaps), mOptions, level);
+}
+
+SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fusion* fusion) const {
   requireCoarsestGridMemory();
   // Structures thinner than a voxel of a coarse grid are noise against it; the
   // finest grid keeps all it resolves (ForceField.h, LinearBand).
   const LinearBand band = *mOptions.levels > 1 ? LinearBand::kRebuilt : LinearBand::kZeroCrossings;
-  if (grids) {
-    const AccumulatedField data{grids->gGrid(), grids->weightGrid(), 0};
-    return linearSolutionField(data, *mMaps, grids->window().reach(), band, mOptions.engine, interrupter);
-  }
+  if (fusion)  // carving asks the fusion's own maps, or this reconstructor's
+    return fusion->linearSolutionField(0, band, mOptions.engine, interrupter,
+                                       mFusion ? RangeMapSequence{} : rangeMapsOf(*mMaps));
   requireAccumulationMemory(0);
   const ForceField force(mMaps, forceOptions(0));
   return force.linearSolutionField(voxelSize(0), band, mOptions.engine, interrupter);
@@ -221,8 +250,11 @@ void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) co
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
-  if (*mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter).stats().activeSetVoxels);
+  if (*mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter, mFusion).stats().activeSetVoxels);
   else requireCoarsestGridMemory();
+  if (mFusion)
+    return mFusion->linearSolutionField(*mOptions.levels - 1, LinearBand::kZeroCrossings, mOptions.engine, interrupter)
+        .toLevelSet(3.0, mOptions.name);
   requireAccumulationMemory(*mOptions.levels - 1);
   const ForceField force(mMaps, forceOptions(*mOptions.levels - 1));
   return force.linearSolution(*mOptions.voxelSize, 3.0, mOptions.name, interrupter);
@@ -231,23 +263,36 @@ openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interru
 openvdb::FloatGrid::Ptr Reconstructor::surfaceWeight(const openvdb::FloatGrid& levelSet,
                                                      const Interrupter& interrupter) const {
   const int finest = *mOptions.levels - 1;
+  if (mFusion) return levelfuse::surfaceWeight(levelSet, mFusion->dataTerm(finest), interrupter);
   if (mOptions.dataTerm == DataTermSource::kGrids)
     return levelfuse::surfaceWeight(levelSet, dataTermGrids(finest, interrupter), interrupter);
   return levelfuse::surfaceWeight(levelSet, ForceField(mMaps, forceOptions(finest)), interrupter);
 }
 
-double Reconstructor::voxelSize(int level) const {
-  return std::ldexp(*mOptions.voxelSize, *mOptions.levels - 1 - level);
+FusionSettings fusionSettingsOf(const ReconstructionOptions& resolved) {
+  if (!resolved.voxelSize || !resolved.levels || !resolved.epsilon)
+    throw std::invalid_argument("fusionSettingsOf: the options' voxel size, levels and epsilon must be resolved "
+                                "(resolveReconstructionOptions)");
+  FusionSettings settings;
+  settings.voxelSize = *resolved.voxelSize;
+  settings.levels = *resolved.levels;
+  settings.epsilon = *resolved.epsilon;
+  settings.window = resolved.window;
+  settings.grainSize = resolved.engine.grainSize;
+  return settings;
 }
 
+double Reconstructor::voxelSize(int level) const { return fusionSettingsOf(mOptions).levelVoxelSize(level); }
+
 ForceFieldOptions Reconstructor::forceOptions(int level) const {
-  ForceFieldOptions f = forceFieldOptions(*mOptions.epsilon, voxelSize(level), mOptions.window);
-  f.grainSize = mOptions.engine.grainSize == 0 ? 0 : 1;
-  return f;
+  return fusionSettingsOf(mOptions).levelForceOptions(level);
 }
 
 DataTermGrids Reconstructor::dataTermGrids(int level, const Interrupter& interrupter,
                                            const std::function<void(std::size_t)>& integrated) const {
+  if (mFusion)
+    throw std::invalid_argument("Reconstructor::dataTermGrids: the scans were integrated into a fusion: ask it "
+                                "(Fusion::dataTerm)");
   requireAccumulationMemory(level);
   const ForceFieldOptions f = forceOptions(level);
   DataTermGrids data(voxelSize(level), f.dataWindow(), f.positionVariance, f.grainSize);
@@ -322,21 +367,22 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   state.voxelSize = voxelSize(0);
   report();
   // 1. The initial model: the linear solution on the coarsest grid, from the
-  //    grid's data term when the evolution takes it from grids, which are
-  //    then integrated once for both.
-  std::unique_ptr<DataTermGrids> grids;
-  if (mOptions.dataTerm == DataTermSource::kGrids) {
-    grids = integrateLevel(0, state, report, interrupter);
+  //    fusion's coarsest grid when the evolution takes the data term from
+  //    grids: the scans are integrated into every grid at once, for both.
+  std::unique_ptr<Fusion> fused;
+  const Fusion* fusion = mFusion;
+  if (!fusion && mOptions.dataTerm == DataTermSource::kGrids) {
+    fused = fuseScans(state, report, interrupter);
+    fusion = fused.get();
     state.stage = ReconstructionProgress::Stage::kInitialModel;
     report();
   }
-  std::unique_ptr<SparseField> field = std::make_unique<SparseField>(initialModel(interrupter, grids.get()));
+  std::unique_ptr<SparseField> field = std::make_unique<SparseField>(initialModel(interrupter, fusion));
   requireFinestGridMemory(field->stats().activeSetVoxels);
   // 2-3. Each grid evolved, then refined for the next.
   int iterations = 0;
   for (int level = 0; level < *mOptions.levels; ++level) {
-    result.levels.push_back(
-        reconstructLevel(level, field, std::move(grids), state, report, interrupter, result));
+    result.levels.push_back(reconstructLevel(level, field, fusion, state, report, interrupter, result));
     iterations += result.levels.back().iterations;
     result.peakEngineBytes = std::max(result.peakEngineBytes, result.levels.back().engineBytes);
   }
@@ -347,21 +393,24 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   return result;
 }
 
-std::unique_ptr<DataTermGrids> Reconstructor::integrateLevel(int level, ReconstructionProgress& state,
-                                                             const std::function<void()>& report,
-                                                             const Interrupter& interrupter) const {
+std::unique_ptr<Fusion> Reconstructor::fuseScans(ReconstructionProgress& state, const std::function<void()>& report,
+                                                 const Interrupter& interrupter) const {
+  for (int level = 0; level < *mOptions.levels; ++level) requireAccumulationMemory(level);
+  auto fusion = std::make_unique<Fusion>(fusionSettingsOf(mOptions), Fusion::Keep::kNothing);
   state.stage = ReconstructionProgress::Stage::kIntegrating;
   state.scan = 0;
   state.scans = mMaps->size();
-  const auto integrated = [&](std::size_t scans) {
-    state.scan = scans;
+  for (const RangeMap& map : *mMaps) {
+    checkInterrupter(interrupter);
+    fusion->integrate(map);
+    state.scan = fusion->scanCount();
     report();
-  };
-  return std::make_unique<DataTermGrids>(dataTermGrids(level, interrupter, integrated));
+  }
+  return fusion;
 }
 
-LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseField>& field,
-                                            std::unique_ptr<DataTermGrids> grids, ReconstructionProgress& state,
+LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseField>& field, const Fusion* fusion,
+                                            ReconstructionProgress& state,
                                             const std::function<void()>& report, const Interrupter& interrupter,
                                             ReconstructionResult& result) const {
   const auto levelStart = Clock::now();
@@ -390,11 +439,9 @@ LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseFie
     return evolved;
   };
   LevelReport done;
-  if (mOptions.dataTerm == DataTermSource::kGrids) {
-    if (!grids) grids = integrateLevel(level, state, report, interrupter);
-    done = evolveAndWeigh(*grids);
-    grids.reset();
-  } else
+  if (fusion)
+    done = evolveAndWeigh(fusion->dataTerm(level));
+  else
     done = evolveAndWeigh(ForceField(mMaps, forceOptions(level)));
   const SparseFieldStats stats = field->stats();
   done.activeSetVoxels = stats.activeSetVoxels;
@@ -417,7 +464,7 @@ void Reconstructor::describeRun(openvdb::FloatGrid& out, int iterations) const {
                  openvdb::StringMetadata(mOptions.dataTerm == DataTermSource::kGrids ? "grids" : "maps"));
   out.insertMeta("levelfuse_tolerance", openvdb::DoubleMetadata(mOptions.tolerance));
   out.insertMeta("levelfuse_iterations", openvdb::Int32Metadata(iterations));
-  out.insertMeta("levelfuse_scans", openvdb::Int32Metadata(static_cast<int>(mMaps->size())));
+  out.insertMeta("levelfuse_scans", openvdb::Int32Metadata(static_cast<int>(mSummary.scans())));
 }
 
 }  // namespace levelfuse

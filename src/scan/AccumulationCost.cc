@@ -10,9 +10,13 @@
 namespace levelfuse {
 
 AccumulationCost accumulationCost(const std::vector<RangeMap>& maps, double voxelSize, double reach) {
+  return accumulationCost(rangeMapsOf(maps), voxelSize, reach);
+}
+
+AccumulationCost accumulationCost(const RangeMapSequence& maps, double voxelSize, double reach) {
   AccumulationCost cost;
   openvdb::BBoxd reached;
-  for (const RangeMap& m : maps) cost.leafMarks += detail::leafMarks(m, voxelSize, reach, reached);
+  maps([&](const RangeMap& m) { cost.leafMarks += detail::leafMarks(m, voxelSize, reach, reached); });
   if (std::isnan(cost.leafMarks)) cost.leafMarks = HUGE_VAL;  // boxes that reach infinity
   double boxLeaves = 0.0;
   if (cost.leafMarks > 0.0) {

@@ -141,12 +141,6 @@ ForceFieldOptions defaultForceFieldOptions(const std::vector<RangeMap>& maps, do
   return forceFieldOptions(medianSigma(maps), voxelSize);
 }
 
-RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps) {
-  return [&maps](const RangeMapVisitor& visit) {
-    for (const RangeMap& m : maps) visit(m);
-  };
-}
-
 ForceField::ForceField(std::vector<RangeMap> maps, const ForceFieldOptions& options)
     : ForceField(std::make_shared<const std::vector<RangeMap>>(std::move(maps)), options) {}
 

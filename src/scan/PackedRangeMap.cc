@@ -89,4 +89,15 @@ std::size_t PackedRangeMap::memoryBytes() const {
          mDirections.capacity() + mSamples.capacity();
 }
 
+void PackedScans::add(RangeMap map) {
+  summary.add(map);
+  maps.emplace_back(std::move(map));
+}
+
+RangeMapSequence PackedScans::unpacked() const {
+  return [this](const RangeMapVisitor& visit) {
+    for (const PackedRangeMap& p : maps) visit(p.unpack());
+  };
+}
+
 }  // namespace levelfuse

@@ -348,6 +348,12 @@ std::size_t RangeMap::memoryBytes() const {
          mSigmas.capacity() * sizeof(float) + mSamples.capacity() * sizeof(openvdb::Vec3d) + mMisses.capacity() / 8;
 }
 
+RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps) {
+  return [&maps](const RangeMapVisitor& visit) {
+    for (const RangeMap& m : maps) visit(m);
+  };
+}
+
 double medianSigma(const std::vector<RangeMap>& maps) {
   if (maps.empty()) throw std::invalid_argument("medianSigma: no range maps");
   std::vector<double> sigmas;

@@ -56,6 +56,12 @@ TEST_F(ReliabilityCli, SigintInEveryPhaseExits130AndWritesNothing) {
     EXPECT_EQ(run.output, "levelfuse reconstruct: interrupted while " + phase + "; nothing written\n") << phase;
     EXPECT_EQ(outputsInDir(), 0u) << phase;
   }
+  // More than 32 scans: their data term is integrated into grids, a phase of its own.
+  ASSERT_EQ(levelfuse("synth --shape sphere --resolution 24 --views 40 -o " + path("many")).exitCode, 0);
+  const CliRun integrating = interruptedAt("integrating", "reconstruct " + path("many/scans.json") + outputs);
+  EXPECT_EQ(integrating.exitCode, 130) << integrating.output;
+  EXPECT_EQ(integrating.output, "levelfuse reconstruct: interrupted while integrating; nothing written\n");
+  EXPECT_EQ(outputsInDir(), 1u);  // the scans' folder "many" alone
   ASSERT_EQ(levelfuse("reconstruct --linear -q " + input + " -o " + path("in.vdb")).exitCode, 0);
   for (const std::string phase : {"loading", "meshing", "writing"}) {
     const CliRun run = interruptedAt(phase, "mesh " + path("in.vdb") + " -o " + path("m.ply"));

@@ -99,6 +99,18 @@ TEST_F(DataFitTest, TheStrideMeasuresAtMostTheGivenNumberOfPoints) {
   EXPECT_EQ(fitStride(maps, 71), 3);
   EXPECT_EQ(measureDataFit(*sphere, maps, fitStride(maps, 71)).readings, 32u);
   EXPECT_THROW(fitStride(maps, 0), std::invalid_argument);
+  // Maps visited one at a time are counted in one visit.
+  int visits = 0;
+  const RangeMapSequence once = [&](const RangeMapVisitor& visit) {
+    ++visits;
+    for (const RangeMap& m : maps) visit(m);
+  };
+  for (const std::size_t atMost : {1000u, 242u, 241u, 72u, 71u, 1u}) {
+    visits = 0;
+    EXPECT_EQ(fitStride(once, atMost), fitStride(maps, atMost)) << atMost;
+    EXPECT_EQ(visits, 1);
+  }
+  EXPECT_EQ(fitStride(once, 1), kLargestFitStride);  // every stride measures a reading of each map: the largest
 }
 
 TEST_F(DataFitTest, MeasuresAMeshWithTheSameRuler) {

@@ -62,11 +62,16 @@ void ProgressBar::update(const ReconstructionProgress& p) {
   draw(line.str(), frequent, p.seconds);
 }
 
-void ProgressBar::loading(std::size_t read, std::size_t total) {
+void ProgressBar::loading(std::size_t read, std::size_t total) { counting("loading", read, total); }
+
+void ProgressBar::integrating(std::size_t done, std::size_t total) { counting("integrating", done, total); }
+
+void ProgressBar::counting(const char* what, std::size_t done, std::size_t total) {
   if (!mActive) return;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
-  draw("loading scan " + std::to_string(read) + "/" + std::to_string(total) + " | " + fixed(seconds, 3) + " s",
-       read < total, seconds);
+  draw(std::string(what) + " scan " + std::to_string(done) + "/" + std::to_string(total) + " | " + fixed(seconds, 3) +
+           " s",
+       done < total, seconds);
 }
 
 void ProgressBar::draw(const std::string& line, bool frequent, double seconds) {

@@ -17,12 +17,16 @@ class ProgressBar {
   ~ProgressBar();
   /// While the scans are read: "loading scan 17/500 | 3.2 s".
   void loading(std::size_t read, std::size_t total);
+  /// While the scans are integrated into the grids: "integrating scan 17/500 | 3.2 s".
+  void integrating(std::size_t done, std::size_t total);
   void update(const ReconstructionProgress& p);
   /// Clears the line.
   void finish();
 
  private:
   double estimateRemaining(const ReconstructionProgress& p) const;
+  /// "<what> scan <done>/<total> | <seconds> s".
+  void counting(const char* what, std::size_t done, std::size_t total);
   /// Draws `text`, at most ten times a second if `frequent`; `seconds` is the
   /// time the text reports.
   void draw(const std::string& text, bool frequent, double seconds);

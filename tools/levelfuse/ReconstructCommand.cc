@@ -17,8 +17,10 @@
 #include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/DataFit.h>
+#include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/SurfaceWeight.h>
+#include <levelfuse/scan/PackedRangeMap.h>
 
 #include <nlohmann/json.hpp>
 
@@ -68,7 +70,8 @@ void checkSettings(ReconstructSettings& s) {
 
 /// The scans of every input, and the truth a synthetic manifest records.
 struct Inputs {
-  std::vector<RangeMap> maps;
+  PackedScans scans;                  ///< read one at a time and held packed
+  std::optional<RangeMap> firstScan;  ///< a scene's preview looks from its camera
   std::optional<shapes::AnalyticShape> truth;
 };
 
@@ -86,8 +89,12 @@ Inputs loadInputs(const ReconstructSettings& s, ProgressBar& bar) {
   load.interrupter = cancellationInterrupter();
   load.progress = [&](std::size_t read, std::size_t total) { bar.loading(read, total); };
   Inputs in;
+  load.take = [&](RangeMap&& map) {
+    if (!in.firstScan) in.firstScan = map;
+    in.scans.add(std::move(map));
+  };
   for (const std::string& input : s.inputs) {
-    for (RangeMap& m : io::loadScans(input, load)) in.maps.push_back(std::move(m));
+    io::loadScans(input, load);
     if (std::filesystem::path(input).extension() == ".json" && !in.truth) in.truth = io::loadManifestTruth(input);
   }
   // The scan files the inputs named are inputs too.
@@ -101,6 +108,40 @@ std::runtime_error ofTheInputs(const ReconstructSettings& s, const std::exceptio
   return std::runtime_error(joined(s.inputs) + ": " + e.what());
 }
 
+/// The reconstruction of the inputs: on a fusion of the scans when the data
+/// term comes from grids (they stay packed), else on the scans themselves.
+struct Reconstruction {
+  std::unique_ptr<Fusion> fusion;
+  std::unique_ptr<Reconstructor> reconstructor;
+  RangeMapSequence scans;  ///< the scans, one at a time, for the fit
+};
+
+Reconstruction prepareReconstruction(Inputs& in, const ReconstructSettings& s, ProgressBar& bar) {
+  Reconstruction r;
+  try {
+    const ReconstructionOptions resolved = resolveReconstructionOptions(s.options, in.scans.summary);
+    if (resolved.dataTerm == DataTermSource::kGrids) {
+      enterPhase("integrating");
+      r.fusion = fusePackedScans(
+          std::move(in.scans), resolved, [&](std::size_t done, std::size_t total) { bar.integrating(done, total); },
+          cancellationInterrupter());
+      r.reconstructor = std::make_unique<Reconstructor>(*r.fusion, resolved);
+      r.scans = r.fusion->scans();
+    } else {
+      std::vector<RangeMap> maps;
+      for (const PackedRangeMap& p : in.scans.maps) maps.push_back(p.unpack());
+      in.scans = PackedScans();
+      r.reconstructor = std::make_unique<Reconstructor>(std::move(maps), resolved);
+      r.scans = rangeMapsOf(r.reconstructor->maps());
+    }
+  } catch (const std::invalid_argument& e) {
+    throw ofTheInputs(s, e);
+  } catch (const InsufficientMemory& e) {
+    throw ofTheInputs(s, e);
+  }
+  return r;
+}
+
 /// How the outputs show the surface: scans of a scene (depth frames) are seen
 /// from their first camera, and what no scan observed is left out of the mesh
 /// and preview (trimmed) for scenes, unless the options say otherwise.
@@ -110,7 +151,7 @@ struct Presentation {
 };
 
 Presentation presentationOf(const Reconstructor& reconstructor, const ReconstructSettings& s) {
-  const bool scene = scansOfAScene(reconstructor.maps());
+  const bool scene = reconstructor.summary().aScene();
   return {scene, s.trimUnseen.value_or(scene)};
 }
 
@@ -155,22 +196,19 @@ struct Measures {
   double truthRms = -1.0;
 };
 
-Measures measure(const Reconstructor& reconstructor, const openvdb::FloatGrid& surface, const Inputs& in) {
-  const std::vector<RangeMap>& scans = reconstructor.maps();
+Measures measure(const Reconstruction& r, const openvdb::FloatGrid& surface, const Inputs& in) {
   Measures m;
-  for (const RangeMap& map : scans) {
-    m.readings += map.validCount();
-    m.points += map.sampleCount();
-  }
-  m.fitSample = fitStride(scans, kFitPointsAtMost);
-  m.fit = measureDataFit(surface, scans, m.fitSample);
+  m.readings = r.reconstructor->summary().readings();
+  m.points = r.reconstructor->summary().points();
+  m.fitSample = fitStride(r.scans, kFitPointsAtMost);
+  m.fit = measureDataFit(surface, r.scans, m.fitSample);
   if (in.truth) m.truthRms = rmsOver(zeroCrossings(surface), *in.truth);
   return m;
 }
 
 /// Writes the outputs, committed together once all are written; returns the mesh's triangles.
-std::size_t writeOutputs(const Reconstructor& reconstructor, const ReconstructionResult& result,
-                         const Presentation& shown, const ReconstructSettings& s) {
+std::size_t writeOutputs(const Inputs& in, const ReconstructionResult& result, const Presentation& shown,
+                         const ReconstructSettings& s) {
   const openvdb::FloatGrid& surface = *result.levelSet;
   std::optional<TriangleMesh> mesh;
   if (!s.mesh.empty()) {
@@ -182,7 +220,7 @@ std::size_t writeOutputs(const Reconstructor& reconstructor, const Reconstructio
   if (!s.view.empty()) preview.toward = parseVec3(s.view);
   if (!s.up.empty()) preview.up = parseVec3(s.up);
   // A scene is seen from where its first frame's camera stood, unless a view is asked for.
-  if (shown.scene && s.view.empty()) preview = io::seenByFrame(reconstructor.maps().front(), preview);
+  if (shown.scene && s.view.empty()) preview = io::seenByFrame(*in.firstScan, preview);
   if (shown.trim) {
     preview.weight = result.weight;
     preview.minWeight = kObservedWeight;
@@ -224,7 +262,7 @@ void printJson(const Summary& r) {
                       {"band_voxels", l.bandVoxels},
                       {"engine_bytes", l.engineBytes}});
   nlohmann::json j{{"inputs", s.inputs},
-                   {"scans", r.reconstructor.maps().size()},
+                   {"scans", r.reconstructor.summary().scans()},
                    {"points", r.measures.points},
                    {"readings", r.measures.readings},
                    {"method", s.linear ? "linear" : "evolution"},
@@ -261,7 +299,7 @@ void printText(const Summary& r) {
   const ReconstructionOptions& o = r.reconstructor.options();
   const Measures& m = r.measures;
   const DataFit& fit = m.fit;
-  std::cout << "levelfuse reconstruct: " << r.reconstructor.maps().size() << " scans, " << withCommas(m.points)
+  std::cout << "levelfuse reconstruct: " << r.reconstructor.summary().scans() << " scans, " << withCommas(m.points)
             << " points"
             << (m.points != m.readings ? " (" + withCommas(m.readings) + " readings of their range maps)"
                                        : std::string())
@@ -303,17 +341,12 @@ int runReconstruct(ReconstructSettings s) {
   checkSettings(s);
   ProgressBar bar(!s.quiet && !s.json);
   Inputs inputs = loadInputs(s, bar);
-  std::optional<Reconstructor> made;
-  try {
-    made.emplace(std::move(inputs.maps), s.options);  // the scans are held once, by the reconstructor
-  } catch (const std::invalid_argument& e) {
-    throw ofTheInputs(s, e);
-  }
-  const Reconstructor& reconstructor = *made;
+  const Reconstruction made = prepareReconstruction(inputs, s, bar);
+  const Reconstructor& reconstructor = *made.reconstructor;
   const Presentation shown = presentationOf(reconstructor, s);
   const ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
-  const Measures measures = measure(reconstructor, *result.levelSet, inputs);
-  const std::size_t triangles = writeOutputs(reconstructor, result, shown, s);
+  const Measures measures = measure(made, *result.levelSet, inputs);
+  const std::size_t triangles = writeOutputs(inputs, result, shown, s);
   const Summary summary{s, reconstructor, result, inputs, measures, shown.trim, triangles,
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()};
   if (s.json) printJson(summary);

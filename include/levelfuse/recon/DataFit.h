@@ -30,6 +30,8 @@ struct DataFit {
 /// readings; every `stride`-th reading in each direction of each map (every
 /// stride^2-th sample).
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride = 1);
+/// The same, of maps visited one at a time (e.g. a Fusion's, unpacked).
+DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const RangeMapSequence& maps, int stride = 1);
 /// The points a summary of the fit measures at most: a sample of two million
 /// gives its mean and quantiles to well under a percent.
 inline constexpr std::size_t kFitPointsAtMost = 2'000'000;
@@ -38,6 +40,10 @@ inline constexpr std::size_t kFitPointsAtMost = 2'000'000;
 /// measures at most `atMost` points (at least 1): the fit of a few laser scans
 /// takes every point, that of hundreds of depth frames a sample of them.
 int fitStride(const std::vector<RangeMap>& maps, std::size_t atMost);
+/// The same, of maps visited one at a time (once), up to a stride of kLargestFitStride.
+int fitStride(const RangeMapSequence& maps, std::size_t atMost);
+/// The largest stride fitStride gives: one reading in 64 along each row and column.
+inline constexpr int kLargestFitStride = 64;
 /// The same for any points (world units), e.g. a scan's original samples.
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points);
 /// Exact distances from `points` to the triangles of a mesh (world units),

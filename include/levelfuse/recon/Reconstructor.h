@@ -12,9 +12,11 @@
 
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/recon/FusionSettings.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/RangeMap.h>
+#include <levelfuse/scan/ScanSummary.h>
 
 #include <openvdb/openvdb.h>
 
@@ -91,7 +93,7 @@ struct ReconstructionOptions {
 struct ReconstructionProgress {
   enum class Stage { kInitialModel, kIntegrating, kEvolving, kResampling, kDone };
   Stage stage = Stage::kInitialModel;
-  std::size_t scan = 0;    ///< kIntegrating: the scans integrated into the grid's data term so far
+  std::size_t scan = 0;    ///< kIntegrating: the scans integrated so far, into every grid at once
   std::size_t scans = 0;   ///< the scans to integrate
   int level = 0;           ///< 0 is the coarsest grid
   int levels = 0;
@@ -161,11 +163,35 @@ struct ReconstructionResult {
   std::size_t peakEngineBytes = 0;  ///< the largest sparse field along the way
 };
 
+/// `given` with every derived setting resolved from the scans' summary as
+/// Reconstructor does (its options()): a fusion of scans read one at a time
+/// takes its settings from it (fusionSettingsOf). Throws
+/// std::invalid_argument for no readings or unusable options, with a hint.
+ReconstructionOptions resolveReconstructionOptions(const ReconstructionOptions& given, const ScanSummary& scans);
+/// The grids of resolved options (resolveReconstructionOptions), as a Fusion takes them.
+FusionSettings fusionSettingsOf(const ReconstructionOptions& resolved);
+/// Throws InsufficientMemory if accumulating the data term of `maps` on grid
+/// `level` of the resolved options would not fit (accumulationCost), saying
+/// which voxel size would: asked before integrating (Reconstructor::run, and
+/// whoever fuses maps read one at a time).
+void requireAccumulationMemory(const RangeMapSequence& maps, const ReconstructionOptions& resolved, int level);
+
+class Fusion;
+
 class Reconstructor {
  public:
   /// Resolves the options' defaults from the data; throws std::invalid_argument
-  /// for no range maps or unusable options, with a hint.
+  /// for no range maps or unusable options, with a hint. When the data term
+  /// comes from grids, run() integrates the maps into a Fusion of every grid
+  /// level at once.
   Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options = {});
+  /// Reconstructs from the maps `fusion` integrated (the fusion must outlive
+  /// the reconstructor): the derived settings come from the fusion's summary
+  /// of its maps, the voxel size, levels, window and epsilon are the
+  /// fusion's (given ones must agree), and the data term is its grids.
+  /// Throws std::invalid_argument before any map, for settings that disagree
+  /// with the fusion's, or for a data term from the maps (kPerMap).
+  explicit Reconstructor(const Fusion& fusion, const ReconstructionOptions& options = {});
 
   /// Runs the pipeline. Throws ReconstructionCancelled if `progress` returns
   /// false, Interrupted if `interrupter` stops the initial model (the linear
@@ -192,20 +218,26 @@ class Reconstructor {
   ForceFieldOptions forceOptions(int level) const;
   /// The data term of every scan accumulated on grid `level`; throws
   /// Interrupted between scans if `interrupter` asks to stop. `integrated`,
-  /// if set, is told after each scan how many are in.
+  /// if set, is told after each scan how many are in. Throws
+  /// std::invalid_argument for a reconstructor of a fusion (Fusion::dataTerm).
   DataTermGrids dataTermGrids(int level, const Interrupter& interrupter = {},
                               const std::function<void(std::size_t)>& integrated = {}) const;
+  /// The range maps (none for a reconstructor of a fusion: it keeps them).
   const std::vector<RangeMap>& maps() const { return *mMaps; }
+  /// What the derived settings were taken from.
+  const ScanSummary& summary() const { return mSummary; }
   /// World box of the scans' readings.
-  const openvdb::BBoxd& bounds() const { return mBounds; }
+  const openvdb::BBoxd& bounds() const { return mSummary.bounds(); }
 
  private:
   /// Throws InsufficientMemory if the coarsest grid's box would not fit.
   void requireCoarsestGridMemory() const;
+  /// The maps integrated into a fusion of every grid level (progress reported scan by scan).
+  std::unique_ptr<Fusion> fuseScans(ReconstructionProgress& state, const std::function<void()>& report,
+                                    const Interrupter& interrupter) const;
   /// The linear solution on the coarsest grid, as a sparse field: from the
-  /// coarsest grid's data term if it is given (`grids`), else accumulated
-  /// from the scans.
-  SparseField initialModel(const Interrupter& interrupter, const DataTermGrids* grids = nullptr) const;
+  /// fusion's coarsest grid if it is given, else accumulated from the scans.
+  SparseField initialModel(const Interrupter& interrupter, const Fusion* fusion = nullptr) const;
   /// Evolves `field`, of voxel size h, under the data term and the prior
   /// until it converges, settles or reaches the iteration limit (section 6).
   template <typename Field>
@@ -213,14 +245,10 @@ class Reconstructor {
                           const std::function<void()>& report) const;
   /// Grid `level` of run(): `field` resampled from the grid before (if any)
   /// and evolved; on the finest grid, the result's level set and weight.
-  /// `grids`, if set, is the grid's data term, integrated already.
-  LevelReport reconstructLevel(int level, std::unique_ptr<SparseField>& field, std::unique_ptr<DataTermGrids> grids,
+  /// The data term is the fusion's grids if it is given, else the maps'.
+  LevelReport reconstructLevel(int level, std::unique_ptr<SparseField>& field, const Fusion* fusion,
                                ReconstructionProgress& state, const std::function<void()>& report,
                                const Interrupter& interrupter, ReconstructionResult& result) const;
-  /// dataTermGrids(level) with the progress reported scan by scan.
-  std::unique_ptr<DataTermGrids> integrateLevel(int level, ReconstructionProgress& state,
-                                                const std::function<void()>& report,
-                                                const Interrupter& interrupter) const;
   /// The run's parameters as the output grid's levelfuse_* metadata.
   void describeRun(openvdb::FloatGrid& out, int iterations) const;
   /// Throws InsufficientMemory if accumulating the data term on grid `level`
@@ -231,8 +259,9 @@ class Reconstructor {
   void requireFinestGridMemory(std::size_t coarsestActiveVoxels) const;
 
   std::shared_ptr<const std::vector<RangeMap>> mMaps;
+  const Fusion* mFusion = nullptr;  ///< the data term's source, if it was built on one
   ReconstructionOptions mOptions;
-  openvdb::BBoxd mBounds;
+  ScanSummary mSummary;
 };
 
 }  // namespace levelfuse

@@ -36,5 +36,7 @@ inline constexpr double kBytesPerAccumulatedLeaf = 4608.0;
 /// The cost of accumulating the data term of `maps` on a grid of `voxelSize`
 /// whose windows reach `reach` (world units) from their readings.
 AccumulationCost accumulationCost(const std::vector<RangeMap>& maps, double voxelSize, double reach);
+/// The same, of maps visited one at a time.
+AccumulationCost accumulationCost(const RangeMapSequence& maps, double voxelSize, double reach);
 
 }  // namespace levelfuse

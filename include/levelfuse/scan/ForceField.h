@@ -18,7 +18,6 @@
 #include <openvdb/openvdb.h>
 
 #include <cstddef>
-#include <functional>
 #include <memory>
 #include <vector>
 
@@ -76,14 +75,6 @@ enum class LinearBand {
   /// what the data support.
   kRebuilt,
 };
-
-/// Visits range maps one at a time, in their order; a map need not outlive its visit.
-using RangeMapVisitor = std::function<void(const RangeMap&)>;
-/// A sequence of range maps that can be visited as many times as asked: held
-/// in memory, or unpacked (PackedRangeMap) or read one at a time.
-using RangeMapSequence = std::function<void(const RangeMapVisitor&)>;
-/// The sequence of a vector of range maps (which must outlive it).
-RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps);
 
 /// The linear solution of an accumulated data term (ForceField::accumulate,
 /// or DataTermGrids' gGrid and weightGrid) as a sparse field with the

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <levelfuse/scan/RangeMap.h>
+#include <levelfuse/scan/ScanSummary.h>
 
 #include <cstddef>
 #include <vector>
@@ -28,6 +29,19 @@ class PackedRangeMap {
   RangeMap mShell;  ///< the map without its per-pixel arrays
   std::vector<char> mReadings, mSigmas, mDirections, mSamples;  ///< compressed
   std::size_t mReadingCount = 0, mSigmaCount = 0, mDirectionCount = 0, mSampleCount = 0;
+};
+
+/// Scans held packed as they are read, with what a reconstruction's derived
+/// settings are taken from (resolveReconstructionOptions): a folder of depth
+/// frames read with io::ScanLoadOptions::take into these holds one frame
+/// unpacked at a time.
+struct PackedScans {
+  std::vector<PackedRangeMap> maps;
+  ScanSummary summary;
+  /// Adds a scan: its facts to the summary, the map packed.
+  void add(RangeMap map);
+  /// The maps, unpacked one at a time.
+  RangeMapSequence unpacked() const;
 };
 
 }  // namespace levelfuse

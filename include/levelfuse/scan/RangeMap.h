@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -309,6 +310,14 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
   out.sigma = sigmaAt(nearest);
   return true;
 }
+
+/// Visits range maps one at a time, in their order; a map need not outlive its visit.
+using RangeMapVisitor = std::function<void(const RangeMap&)>;
+/// A sequence of range maps that can be visited as many times as asked: held
+/// in memory, or unpacked (PackedRangeMap) or read one at a time.
+using RangeMapSequence = std::function<void(const RangeMapVisitor&)>;
+/// The sequence of a vector of range maps (which must outlive it).
+RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps);
 
 /// The median of the range maps' noise sigma (world units); throws
 /// std::invalid_argument for no maps.

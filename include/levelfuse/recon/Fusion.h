@@ -1,0 +1,102 @@
+// levelfuse: range maps fused one at a time, as depth video arrives: each
+// map's data term goes into the grids of every level of the coarse-to-fine
+// run at once (DataTermGrids), and the map is kept packed (PackedRangeMap)
+// for space carving, so the caller releases it at once. The linear solution
+// and the MAP reconstruction can be asked for at any time, as often as
+// wanted, while more maps keep coming: the grids are reused, never
+// integrated again.
+//
+//   Fusion fusion(FusionSettings{0.01, 1, 0.006});
+//   for (each frame) fusion.integrate(io::depthFrame(image, intrinsics, pose));
+//   openvdb::FloatGrid::Ptr linear = fusion.linearSolution();
+//   ReconstructionResult result = fusion.reconstruct();
+#pragma once
+
+#include <levelfuse/core/Interrupter.h>
+#include <levelfuse/recon/FusionSettings.h>
+#include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/scan/DataTermGrids.h>
+#include <levelfuse/scan/ForceField.h>
+#include <levelfuse/scan/PackedRangeMap.h>
+#include <levelfuse/scan/RangeMap.h>
+#include <levelfuse/scan/ScanSummary.h>
+
+#include <openvdb/openvdb.h>
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace levelfuse {
+
+class Fusion {
+ public:
+  /// What the fusion keeps of each map for space carving.
+  enum class Keep {
+    kPacked,  ///< a packed copy (PackedRangeMap): the maps may be released
+    kNothing  ///< nothing: whoever asks for a linear solution hands the maps in again
+  };
+  /// Throws std::invalid_argument for settings that cannot be used, with a hint.
+  explicit Fusion(const FusionSettings& settings, Keep keep = Keep::kPacked);
+
+  /// Adds `map`'s data term to the grids of every level; the map may be
+  /// released afterwards. Deterministic for a given order of maps, whatever
+  /// the number of threads.
+  void integrate(const RangeMap& map);
+  /// The same for a map already packed (read ahead and held packed, e.g. while
+  /// the settings were derived from every map's summary): unpacked for the
+  /// integration, then kept as it is (or dropped, Keep::kNothing).
+  void integrate(PackedRangeMap packed);
+
+  std::size_t scanCount() const { return mSummary.scans(); }
+  const ScanSummary& summary() const { return mSummary; }
+  const FusionSettings& settings() const { return mSettings; }
+  int levels() const { return mSettings.levels; }
+  /// Voxel size of grid `level` (0 is the coarsest).
+  double voxelSize(int level) const { return mSettings.levelVoxelSize(level); }
+  /// The data term accumulated on grid `level`.
+  const DataTermGrids& dataTerm(int level) const { return *mGrids.at(static_cast<std::size_t>(level)); }
+  /// The maps kept (Keep::kPacked), unpacked one at a time.
+  RangeMapSequence scans() const;
+
+  /// The linear solution on grid `level` as a sparse field (linearSolutionField),
+  /// space carving asking `scans` (by default, the maps kept). Throws
+  /// std::invalid_argument before any reading, or without maps to carve with;
+  /// Interrupted if `interrupter` asks to stop.
+  SparseField linearSolutionField(int level, LinearBand band, const SparseFieldOptions& engine = {},
+                                  const Interrupter& interrupter = {}, const RangeMapSequence& scans = {}) const;
+  /// The linear solution on the finest grid as an OpenVDB level set
+  /// (half-width 3, GRID_LEVEL_SET): VRIP-style fusion of the maps so far.
+  openvdb::FloatGrid::Ptr linearSolution(const std::string& name = "surface", const Interrupter& interrupter = {}) const;
+  /// The MAP reconstruction from the maps so far (Reconstructor on this
+  /// fusion): `options`' voxel size, levels, window and epsilon must be left
+  /// empty or agree with the fusion's settings.
+  ReconstructionResult reconstruct(const ReconstructionOptions& options = {}, const ProgressCallback& progress = {},
+                                   const Interrupter& interrupter = {}) const;
+
+  /// Memory held (bytes): the grids and the packed maps.
+  std::size_t memoryBytes() const;
+
+ private:
+  /// Adds the map's data term to every grid and its facts to the summary.
+  void addToGrids(const RangeMap& map);
+
+  FusionSettings mSettings;
+  Keep mKeep;
+  std::vector<std::unique_ptr<DataTermGrids>> mGrids;  ///< per level, coarsest first
+  std::vector<PackedRangeMap> mPacked;
+  ScanSummary mSummary;
+};
+
+/// `scans` integrated into a fusion of the resolved options' grids
+/// (fusionSettingsOf), each map unpacked once and then kept packed by the
+/// fusion, after requireAccumulationMemory for every grid. `integrated`, if
+/// set, is told after each map how many of how many are in; Interrupted if
+/// `interrupter` asks to stop between maps.
+std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
+                                        const std::function<void(std::size_t, std::size_t)>& integrated = {},
+                                        const Interrupter& interrupter = {});
+
+}  // namespace levelfuse

@@ -1,0 +1,47 @@
+// levelfuse: what a reconstruction's derived settings are taken from,
+// gathered scan by scan, so that scans integrated one at a time and released
+// give the settings that the same scans held together give.
+#pragma once
+
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/math/BBox.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace levelfuse {
+
+class ScanSummary {
+ public:
+  ScanSummary() = default;
+  /// The summary of `maps`.
+  explicit ScanSummary(const std::vector<RangeMap>& maps);
+
+  /// Adds one scan.
+  void add(const RangeMap& map);
+
+  std::size_t scans() const { return mSigmas.size(); }
+  /// Readings over all scans.
+  std::size_t readings() const { return mReadings; }
+  /// Points the scanners measured (RangeMap::sampleCount) over all scans.
+  std::size_t points() const { return mPoints; }
+  /// World box of the readings.
+  const openvdb::BBoxd& bounds() const { return mBounds; }
+  /// The median of the scans' largest distance between neighbouring rays
+  /// (RangeMap::maxRaySpacing); 0 without scans.
+  double medianRaySpacing() const;
+  /// The median of the scans' noise sigma; 0 without scans.
+  double medianSigma() const;
+  /// True when every scan is a depth frame (a pinhole range map): the surface
+  /// is a scene seen from inside (a room, a desk) rather than an object seen
+  /// from around it.
+  bool aScene() const { return !mSigmas.empty() && mPinholes == mSigmas.size(); }
+
+ private:
+  std::vector<double> mRaySpacings, mSigmas;
+  std::size_t mReadings = 0, mPoints = 0, mPinholes = 0;
+  openvdb::BBoxd mBounds;
+};
+
+}  // namespace levelfuse

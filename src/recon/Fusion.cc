@@ -1,0 +1,98 @@
+// levelfuse: range maps fused one at a time.
+
+#include <levelfuse/recon/Fusion.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace levelfuse {
+
+Fusion::Fusion(const FusionSettings& settings, Keep keep) : mSettings(settings), mKeep(keep) {
+  if (!(settings.voxelSize >= kSmallestVoxelSize) || !std::isfinite(settings.voxelSize))
+    throw std::invalid_argument("Fusion: the voxel size must be finite and at least " +
+                                std::to_string(kSmallestVoxelSize) + " (give the maps in metres)");
+  if (settings.levels < 1 || settings.levels > 12)
+    throw std::invalid_argument("Fusion: the number of grids (levels) must be 1 to 12");
+  if (!(settings.epsilon > 0.0) || !std::isfinite(settings.epsilon))
+    throw std::invalid_argument("Fusion: the window width epsilon must be positive: about the maps' noise sigma");
+  for (int level = 0; level < settings.levels; ++level) {
+    const ForceFieldOptions f = settings.levelForceOptions(level);
+    mGrids.push_back(std::make_unique<DataTermGrids>(voxelSize(level), f.dataWindow(), f.positionVariance, f.grainSize));
+  }
+}
+
+double FusionSettings::levelVoxelSize(int level) const { return std::ldexp(voxelSize, levels - 1 - level); }
+
+ForceFieldOptions FusionSettings::levelForceOptions(int level) const {
+  ForceFieldOptions f = forceFieldOptions(epsilon, levelVoxelSize(level), window);
+  f.grainSize = grainSize == 0 ? 0 : 1;
+  return f;
+}
+
+void Fusion::addToGrids(const RangeMap& map) {
+  for (const std::unique_ptr<DataTermGrids>& grids : mGrids) grids->integrate(map);
+  mSummary.add(map);
+}
+
+void Fusion::integrate(const RangeMap& map) {
+  addToGrids(map);
+  if (mKeep == Keep::kPacked) mPacked.emplace_back(RangeMap(map));
+}
+
+void Fusion::integrate(PackedRangeMap packed) {
+  addToGrids(packed.unpack());
+  if (mKeep == Keep::kPacked) mPacked.push_back(std::move(packed));
+}
+
+RangeMapSequence Fusion::scans() const {
+  return [this](const RangeMapVisitor& visit) {
+    for (const PackedRangeMap& p : mPacked) visit(p.unpack());
+  };
+}
+
+SparseField Fusion::linearSolutionField(int level, LinearBand band, const SparseFieldOptions& engine,
+                                        const Interrupter& interrupter, const RangeMapSequence& scans) const {
+  if (mSummary.readings() == 0) throw std::invalid_argument("Fusion: no reading integrated yet");
+  if (!scans && mKeep != Keep::kPacked)
+    throw std::invalid_argument("Fusion: it keeps no maps (Keep::kNothing): hand in the maps to carve with");
+  const DataTermGrids& grids = dataTerm(level);
+  const AccumulatedField data{grids.gGrid(), grids.weightGrid(), 0};
+  return levelfuse::linearSolutionField(data, scans ? scans : this->scans(), grids.window().reach(), band, engine,
+                                        interrupter);
+}
+
+openvdb::FloatGrid::Ptr Fusion::linearSolution(const std::string& name, const Interrupter& interrupter) const {
+  return linearSolutionField(levels() - 1, LinearBand::kZeroCrossings, SparseFieldOptions{}, interrupter)
+      .toLevelSet(3.0, name);
+}
+
+ReconstructionResult Fusion::reconstruct(const ReconstructionOptions& options, const ProgressCallback& progress,
+                                         const Interrupter& interrupter) const {
+  return Reconstructor(*this, options).run(progress, interrupter);
+}
+
+std::size_t Fusion::memoryBytes() const {
+  std::size_t bytes = sizeof(*this);
+  for (const std::unique_ptr<DataTermGrids>& grids : mGrids) bytes += grids->memoryBytes();
+  for (const PackedRangeMap& p : mPacked) bytes += p.memoryBytes();
+  return bytes;
+}
+
+std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
+                                        const std::function<void(std::size_t, std::size_t)>& integrated,
+                                        const Interrupter& interrupter) {
+  for (int level = 0; level < fusionSettingsOf(resolved).levels; ++level)
+    requireAccumulationMemory(scans.unpacked(), resolved, level);
+  auto fusion = std::make_unique<Fusion>(fusionSettingsOf(resolved));
+  const std::size_t count = scans.maps.size();
+  for (PackedRangeMap& p : scans.maps) {
+    checkInterrupter(interrupter);
+    fusion->integrate(std::move(p));
+    if (integrated) integrated(fusion->scanCount(), count);
+  }
+  return fusion;
+}
+
+}  // namespace levelfuse

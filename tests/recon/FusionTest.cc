@@ -1,0 +1,131 @@
+// Range maps fused one at a time: the batch result, answers at any time, and
+// the maps released as soon as they are integrated.
+
+#include "RoomFrames.h"
+
+#include <levelfuse/recon/Fusion.h>
+#include <levelfuse/recon/Reconstructor.h>
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+namespace levelfuse {
+namespace {
+
+/// The same active voxels with the same values, bit for bit.
+void expectSameGrid(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) {
+  ASSERT_EQ(a.activeVoxelCount(), b.activeVoxelCount());
+  openvdb::FloatGrid::ConstAccessor other = b.getConstAccessor();
+  for (auto it = a.cbeginValueOn(); it; ++it) {
+    ASSERT_TRUE(other.isValueOn(it.getCoord())) << it.getCoord();
+    ASSERT_EQ(*it, other.getValue(it.getCoord())) << it.getCoord();
+  }
+}
+
+/// A fusion on a 4 cm grid with the batch reconstructor's settings for these frames.
+FusionSettings settingsFor(const Reconstructor& batch) {
+  FusionSettings settings;
+  settings.voxelSize = *batch.options().voxelSize;
+  settings.levels = *batch.options().levels;
+  settings.epsilon = *batch.options().epsilon;
+  return settings;
+}
+
+ReconstructionOptions roomOptions(int levels) {
+  ReconstructionOptions options;
+  options.voxelSize = 0.04;
+  options.levels = levels;
+  options.dataTerm = DataTermSource::kGrids;
+  return options;
+}
+
+TEST(Fusion, FrameByFrameGivesWhatTheFramesTogetherGive) {
+  const RoomFrames frames = roomFrames();
+  for (const int levels : {1, 2}) {
+    const Reconstructor batch(frames.reconstruction, roomOptions(levels));
+    Fusion fusion(settingsFor(batch));
+    for (const RangeMap& frame : frames.reconstruction) {
+      auto passing = std::make_unique<RangeMap>(frame);  // read, integrated, released
+      fusion.integrate(*passing);
+    }
+    EXPECT_EQ(fusion.scanCount(), frames.reconstruction.size());
+    ReconstructionOptions derived;  // the rest derived from the fusion's summary, as from the frames
+    const Reconstructor streamed(fusion, derived);
+    EXPECT_EQ(streamed.options().beta, batch.options().beta);
+    EXPECT_EQ(streamed.options().dataTerm, DataTermSource::kGrids);
+    EXPECT_TRUE(streamed.maps().empty());
+    const ReconstructionResult expected = batch.run();
+    const ReconstructionResult got = fusion.reconstruct();
+    expectSameGrid(*got.levelSet, *expected.levelSet);
+    expectSameGrid(*got.weight, *expected.weight);
+    ASSERT_EQ(got.levels.size(), expected.levels.size());
+    for (std::size_t l = 0; l < got.levels.size(); ++l) EXPECT_EQ(got.levels[l].iterations, expected.levels[l].iterations);
+    // The linear solution: the finest grid's, carved by the packed frames.
+    const DataTermGrids& finest = fusion.dataTerm(levels - 1);
+    const openvdb::FloatGrid::Ptr fromMaps =
+        linearSolutionField(AccumulatedField{finest.gGrid(), finest.weightGrid(), 0}, frames.reconstruction,
+                            finest.window().reach(), LinearBand::kZeroCrossings)
+            .toLevelSet(3.0);
+    expectSameGrid(*fusion.linearSolution(), *fromMaps);
+    expectSameGrid(*streamed.linearSolution(), *fromMaps);
+  }
+}
+
+TEST(Fusion, AnswersAtAnyTimeAsFramesKeepComing) {
+  const RoomFrames frames = roomFrames();
+  const Reconstructor batch(frames.reconstruction, roomOptions(1));
+  Fusion growing(settingsFor(batch));
+  Fusion firstHalf(settingsFor(batch));
+  const std::size_t half = frames.reconstruction.size() / 2;
+  for (std::size_t i = 0; i < half; ++i) {
+    growing.integrate(frames.reconstruction[i]);
+    firstHalf.integrate(frames.reconstruction[i]);
+  }
+  const openvdb::FloatGrid::Ptr early = growing.linearSolution();
+  expectSameGrid(*early, *firstHalf.linearSolution());
+  const std::size_t evaluations = growing.dataTerm(0).evaluations();
+  EXPECT_NO_THROW(growing.reconstruct());
+  EXPECT_EQ(growing.dataTerm(0).evaluations(), evaluations);  // answering integrated nothing again
+  for (std::size_t i = half; i < frames.reconstruction.size(); ++i) growing.integrate(frames.reconstruction[i]);
+  Fusion all(settingsFor(batch));
+  for (const RangeMap& frame : frames.reconstruction) all.integrate(frame);
+  const openvdb::FloatGrid::Ptr later = growing.linearSolution();
+  expectSameGrid(*later, *all.linearSolution());
+  EXPECT_GT(later->activeVoxelCount(), early->activeVoxelCount());  // the second half saw more of the room
+}
+
+TEST(Fusion, RefusesWhatItCannotUse) {
+  const RoomFrames frames = roomFrames();
+  FusionSettings settings;
+  settings.voxelSize = 0.04;
+  settings.epsilon = 0.01;
+  for (const auto& spoil : std::vector<void (*)(FusionSettings&)>{
+           [](FusionSettings& s) { s.voxelSize = 0.0; }, [](FusionSettings& s) { s.voxelSize = 1e-9; },
+           [](FusionSettings& s) { s.levels = 0; }, [](FusionSettings& s) { s.levels = 13; },
+           [](FusionSettings& s) { s.epsilon = 0.0; }, [](FusionSettings& s) { s.epsilon = std::nan(""); }}) {
+    FusionSettings bad = settings;
+    spoil(bad);
+    EXPECT_THROW(Fusion{bad}, std::invalid_argument);
+  }
+  Fusion fusion(settings);
+  EXPECT_THROW(fusion.linearSolution(), std::invalid_argument);  // no frame yet
+  EXPECT_THROW(Reconstructor{fusion}, std::invalid_argument);
+  fusion.integrate(frames.reconstruction[0]);
+  ReconstructionOptions other;
+  other.voxelSize = 0.02;
+  EXPECT_THROW(Reconstructor(fusion, other), std::invalid_argument);  // the grids are fixed
+  other = ReconstructionOptions();
+  other.dataTerm = DataTermSource::kPerMap;
+  EXPECT_THROW(Reconstructor(fusion, other), std::invalid_argument);  // the maps are packed away
+  EXPECT_THROW(Reconstructor(fusion).dataTermGrids(0), std::invalid_argument);
+  Fusion keepsNothing(settings, Fusion::Keep::kNothing);
+  keepsNothing.integrate(frames.reconstruction[0]);
+  EXPECT_THROW(keepsNothing.linearSolution(), std::invalid_argument);  // nothing to carve with
+  const std::vector<RangeMap> handedIn{frames.reconstruction[0]};
+  EXPECT_NO_THROW(keepsNothing.linearSolutionField(0, LinearBand::kZeroCrossings, {}, {}, rangeMapsOf(handedIn)));
+}
+
+}  // namespace
+}  // namespace levelfuse
