@@ -22,8 +22,10 @@
 
 #include <openvdb/openvdb.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -33,18 +35,21 @@ namespace levelfuse::detail {
 /// kEmpty is told apart (the point is outside whatever the others say).
 int sightVote(RangeMap::Sight sight, RangeMap::Kind kind);
 
-/// The votes on single points.
+/// The votes on single points, `point(i)` the i-th of `count` (world units).
 class PointVotes {
  public:
-  explicit PointVotes(std::vector<openvdb::Vec3d> points);
+  using PointAt = std::function<openvdb::Vec3d(std::size_t)>;
+  PointVotes(std::size_t count, PointAt point);
   /// Adds the votes of `map` (margin: the window's reach). Parallel over the points.
   void add(const RangeMap& map, double margin);
+  /// Point i is not asked (and is not inside).
+  void skip(std::size_t i) { mEmpty[i] = 1; }
   /// Whether carving puts point i inside.
   bool inside(std::size_t i) const { return !mEmpty[i] && mBalance[i] > 0; }
-  std::size_t size() const { return mPoints.size(); }
+  std::size_t size() const { return mBalance.size(); }
 
  private:
-  std::vector<openvdb::Vec3d> mPoints;
+  PointAt mPoint;
   std::vector<std::int32_t> mBalance;
   std::vector<std::uint8_t> mEmpty;
 };
@@ -69,6 +74,9 @@ class BlockVotes {
       visit(it.pos(), !block.empty && !block.voxelEmpty.isOn(it.pos()) && balance > 0);
     }
   }
+  /// The side (voxels) of the cubes a block a map cannot speak for at once is
+  /// split into before its voxels are asked one by one.
+  static constexpr int kCubeDim = 4;
   std::size_t size() const { return mBlocks.size(); }
   const openvdb::Coord& origin(std::size_t b) const { return mBlocks[b].origin; }
 
@@ -76,12 +84,19 @@ class BlockVotes {
   struct Block {
     openvdb::Coord origin;
     Mask asked;
+    std::array<std::uint16_t, Mask::WORD_COUNT> firstOfWord{};  ///< asked voxels before each word of the mask
     bool empty = false;           ///< some map saw the whole block empty
     std::int32_t uniform = 0;     ///< the balance of the maps that spoke for the whole block
     Mask voxelEmpty;              ///< asked voxels some map saw empty
     std::vector<std::int32_t> voxels;  ///< per asked voxel in order, the others' balance (allocated when first needed)
+    /// The place of asked voxel `offset` in `voxels`.
+    std::size_t rank(openvdb::Index offset) const;
   };
   void addToBlock(Block& block, const RangeMap& map, double margin) const;
+  /// The votes of `map` on the asked voxels of the cube of kCubeDim voxels a
+  /// side at `local` in the block: at once where it says the same of all of
+  /// them (cubeSight), else voxel by voxel.
+  void addToCube(Block& block, const RangeMap& map, double margin, const openvdb::Coord& local) const;
 
   std::vector<Block> mBlocks;
   double mVoxelSize;

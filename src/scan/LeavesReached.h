@@ -38,5 +38,7 @@ bool leafMayBeReached(const RangeMap& map, const openvdb::Coord& origin, double 
 /// else kUnknown, and each voxel must be asked. Never says what a voxel's own
 /// sight would not (ties within rounding are left to the voxels).
 RangeMap::Sight leafSight(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double margin);
+/// The same for the cube of `dim` voxels a side at `origin` (a leaf's is 8).
+RangeMap::Sight cubeSight(const RangeMap& map, const openvdb::Coord& origin, int dim, double voxelSize, double margin);
 
 }  // namespace levelfuse::detail

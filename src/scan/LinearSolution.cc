@@ -187,21 +187,23 @@ BlockClasses blocksAroundTheData(const openvdb::tree::LeafManager<const openvdb:
   return classes;
 }
 
-/// The centres (world) of the blocks the data do not reach, in the classes' order.
-std::vector<Vec3d> blockCentres(const BlockClasses& classes, const openvdb::math::Transform& xform) {
+/// Votes on the centres of the blocks around the data that the data do not
+/// reach (in the classes' order; the others are not asked).
+detail::PointVotes votesOnBlockCentres(const BlockClasses& classes, const openvdb::math::Transform& xform) {
   const Coord centre(LeafT::DIM / 2);
-  std::vector<Vec3d> centres;
+  detail::PointVotes votes(classes.size(), [&classes, &xform, centre](std::size_t i) {
+    return xform.indexToWorld(blockOrigin(classes.block(i)) + centre);
+  });
   for (std::size_t i = 0; i < classes.size(); ++i)
-    if (classes[i] != BlockClasses::kData) centres.push_back(xform.indexToWorld(blockOrigin(classes.block(i)) + centre));
-  return centres;
+    if (classes[i] == BlockClasses::kData) votes.skip(i);
+  return votes;
 }
 
 /// The blocks the data do not reach classified by carving at their centres.
 void classifyBlocks(BlockClasses& classes, const detail::PointVotes& centres) {
-  std::size_t k = 0;
   for (std::size_t i = 0; i < classes.size(); ++i)
     if (classes[i] != BlockClasses::kData)
-      classes[i] = centres.inside(k++) ? BlockClasses::kInside : BlockClasses::kOutside;
+      classes[i] = centres.inside(i) ? BlockClasses::kInside : BlockClasses::kOutside;
 }
 
 /// The leaves the data reach: where a window reaches, the weighted mean signed
@@ -249,8 +251,16 @@ CarvedBlocks boundaryBlocks(const BlockClasses& classes) {
   return carved;
 }
 
-/// The carved leaves of the boundary blocks, every voxel voted on.
-Leaves carvedLeaves(const detail::BlockVotes& votes, float width) {
+/// The carved leaves of the boundary blocks at `origins`, every voxel voted on by `maps`.
+Leaves carvedSurface(const std::vector<Coord>& origins, const RangeMapSequence& maps, double margin, double voxelSize,
+                     float width, const Interrupter& interrupter) {
+  Mask everyVoxel;
+  everyVoxel.setOn();
+  detail::BlockVotes votes(origins, std::vector<Mask>(origins.size(), everyVoxel), voxelSize);
+  maps([&](const RangeMap& map) {
+    checkInterrupter(interrupter);
+    votes.add(map, margin);
+  });
   Leaves leaves(votes.size());
   parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b) {
@@ -275,28 +285,24 @@ SparseField linearSolutionField(const AccumulatedField& field, const RangeMapSeq
 
   // 1. Space carving decides the voxels of the data's leaves that no window
   //    reaches, and the blocks around the data, at their centres.
-  detail::BlockVotes unreached = votesOnUnreached(dataLeaves, h);
   BlockClasses classes = blocksAroundTheData(dataLeaves);
-  detail::PointVotes centres(blockCentres(classes, xform));
-  maps([&](const RangeMap& map) {
-    checkInterrupter(interrupter);
-    unreached.add(map, margin);
-    centres.add(map, margin);
-  });
-  Leaves leaves = dataLeafValues(dataLeaves, *field.weight, unreached, width);
-  classifyBlocks(classes, centres);
+  Leaves leaves;
+  {
+    detail::BlockVotes unreached = votesOnUnreached(dataLeaves, h);
+    detail::PointVotes centres = votesOnBlockCentres(classes, xform);
+    maps([&](const RangeMap& map) {
+      checkInterrupter(interrupter);
+      unreached.add(map, margin);
+      centres.add(map, margin);
+    });
+    leaves = dataLeafValues(dataLeaves, *field.weight, unreached, width);
+    classifyBlocks(classes, centres);
+  }  // the votes are let go
 
   // 2. Blocks beside a block of the other class hold the carved surface:
   //    carving decides their every voxel.
   CarvedBlocks carved = boundaryBlocks(classes);
-  Mask everyVoxel;
-  everyVoxel.setOn();
-  detail::BlockVotes boundary(carved.boundary, std::vector<Mask>(carved.boundary.size(), everyVoxel), h);
-  maps([&](const RangeMap& map) {
-    checkInterrupter(interrupter);
-    boundary.add(map, margin);
-  });
-  Leaves boundaryLeaves = carvedLeaves(boundary, width);
+  Leaves boundaryLeaves = carvedSurface(carved.boundary, maps, margin, h, width, interrupter);
 
   // 3. Together they make a field whose zero set is the linear solution, with
   //    steps where carving closes what no scan saw. (Every voxel of the leaves

@@ -235,12 +235,6 @@ RangeMap::Sight RangeMap::sight(const Vec3d& x, double margin) const {
   return Sight::kUnknown;
 }
 
-openvdb::math::Vec2d RangeMap::project(const Vec3d& p) const {
-  if (mKind == Kind::kOrthographic)
-    return {(p.x() - mOrtho.origin.x()) / mOrtho.pixelSize, (p.y() - mOrtho.origin.y()) / mOrtho.pixelSize};
-  return {mPinhole.fx * p.x() / p.z() + mPinhole.cx, mPinhole.fy * p.y() / p.z() + mPinhole.cy};
-}
-
 bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi,
                              bool* complete) const {
   const int b0 = std::max(0, static_cast<int>(std::floor(u0)) / kBlock);

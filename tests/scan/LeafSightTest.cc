@@ -46,28 +46,61 @@ RangeMap tiltedPlaneAlongZ() {
                                 openvdb::math::Mat4d::identity(), 0.002, "plane");
 }
 
+constexpr double kVoxel = 0.02, kMargin = 0.03;
+
+/// What `map` says of the cubes of `dim` voxels a side over a box around its
+/// readings (leafSight for leaves, cubeSight for the others), checked against
+/// every voxel of every cube it speaks for at once; how many cubes got each answer.
+std::array<std::size_t, 4> cubesTold(const RangeMap& map, int dim) {
+  std::array<std::size_t, 4> cubes{};  // per Sight
+  for (int x = -96; x <= 96; x += dim)
+    for (int y = -96; y <= 96; y += dim)
+      for (int z = -16; z <= 160; z += dim) {
+        const Coord origin(x, y, z);
+        const Sight whole = dim == 8 ? detail::leafSight(map, origin, kVoxel, kMargin)
+                                     : detail::cubeSight(map, origin, dim, kVoxel, kMargin);
+        ++cubes[static_cast<std::size_t>(whole)];
+        if (whole == Sight::kUnknown) continue;
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j)
+            for (int k = 0; k < dim; ++k) {
+              const Vec3d p = origin.offsetBy(i, j, k).asVec3d() * kVoxel;
+              EXPECT_EQ(map.sight(p, kMargin), whole) << map.name() << " cube " << origin << " voxel " << p;
+              if (map.sight(p, kMargin) != whole) return cubes;
+            }
+      }
+  return cubes;
+}
+
 TEST(LeafSight, WhatALeafIsToldEveryVoxelIsToo) {
-  const double voxel = 0.02, margin = 0.03;
   for (const RangeMap& map : {wallWithABox(), tiltedPlaneAlongZ()}) {
-    std::array<std::size_t, 4> leaves{};  // per Sight
-    for (int x = -96; x <= 96; x += 8)
-      for (int y = -96; y <= 96; y += 8)
-        for (int z = -16; z <= 160; z += 8) {
-          const Coord origin(x, y, z);
-          const Sight whole = detail::leafSight(map, origin, voxel, margin);
-          ++leaves[static_cast<std::size_t>(whole)];
-          if (whole == Sight::kUnknown) continue;
-          for (int i = 0; i < 8; ++i)
-            for (int j = 0; j < 8; ++j)
-              for (int k = 0; k < 8; ++k) {
-                const Vec3d p = origin.offsetBy(i, j, k).asVec3d() * voxel;
-                ASSERT_EQ(map.sight(p, margin), whole) << map.name() << " leaf " << origin << " voxel " << p;
-              }
-        }
+    const std::array<std::size_t, 4> leaves = cubesTold(map, 8);
     // The shortcut answers for most leaves: in front, behind and beside.
     EXPECT_GT(leaves[static_cast<std::size_t>(Sight::kEmpty)], 100u);
     EXPECT_GT(leaves[static_cast<std::size_t>(Sight::kBehind)], 100u);
     EXPECT_GT(leaves[static_cast<std::size_t>(Sight::kOutside)], 100u);
+  }
+}
+
+TEST(LeafSight, WhatACubeIsToldEveryVoxelIsToo) {
+  // The cubes of 4 voxels a side that carving splits a leaf into when a map
+  // cannot speak for the whole leaf at once (detail::BlockVotes): they decide
+  // where leaves cannot.
+  for (const RangeMap& map : {wallWithABox(), tiltedPlaneAlongZ()}) {
+    const std::array<std::size_t, 4> cubes = cubesTold(map, 4);
+    for (const Sight s : {Sight::kEmpty, Sight::kBehind, Sight::kOutside})
+      EXPECT_GT(cubes[static_cast<std::size_t>(s)], 1000u) << map.name();
+    std::size_t decidedInUnknownLeaves = 0;
+    for (int x = -96; x <= 96; x += 8)
+      for (int y = -96; y <= 96; y += 8)
+        for (int z = -16; z <= 160; z += 8) {
+          if (detail::leafSight(map, Coord(x, y, z), kVoxel, kMargin) != Sight::kUnknown) continue;
+          for (int c = 0; c < 8; ++c) {
+            const Coord cube(x + (c & 1) * 4, y + ((c >> 1) & 1) * 4, z + (c >> 2) * 4);
+            decidedInUnknownLeaves += detail::cubeSight(map, cube, 4, kVoxel, kMargin) != Sight::kUnknown;
+          }
+        }
+    EXPECT_GT(decidedInUnknownLeaves, 100u) << map.name();
   }
 }
 

@@ -244,7 +244,13 @@ class RangeMap {
   openvdb::math::Mat3d mRotation = openvdb::math::Mat3d::identity();  ///< map-to-world rotation
 };
 
-// ---- the hot path of accumulation, inline ----
+// ---- the hot paths of accumulation and carving, inline ----
+
+inline openvdb::math::Vec2d RangeMap::project(const openvdb::Vec3d& p) const {
+  if (mKind == Kind::kOrthographic)
+    return {(p.x() - mOrtho.origin.x()) / mOrtho.pixelSize, (p.y() - mOrtho.origin.y()) / mOrtho.pixelSize};
+  return {mPinhole.fx * p.x() / p.z() + mPinhole.cx, mPinhole.fy * p.y() / p.z() + mPinhole.cy};
+}
 
 inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
                                   double& fv) const {
