@@ -115,9 +115,13 @@ TriangleMesh fuseDepthFrames(int frameStride, double voxel, bool linearOnly) {
   ReconstructionOptions options;
   options.voxelSize = voxel;
   const ReconstructionOptions resolved = resolveReconstructionOptions(options, frames.summary);
-  const std::unique_ptr<Fusion> fusion = fusePackedScans(std::move(frames), resolved);
-  const Reconstructor reconstructor(*fusion, resolved);
-  return meshFromLevelSet(linearOnly ? *reconstructor.linearSolution() : *reconstructor.run().levelSet);
+  openvdb::FloatGrid::Ptr surface;
+  {
+    const std::unique_ptr<Fusion> fusion = fusePackedScans(std::move(frames), resolved);
+    const Reconstructor reconstructor(*fusion, resolved);
+    surface = linearOnly ? reconstructor.linearSolution() : reconstructor.run().levelSet;
+  }  // the grids and the frames are let go before meshing
+  return meshFromLevelSet(*surface);
 }
 
 /// The held-out frames as levelfuse reads them.

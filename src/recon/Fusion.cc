@@ -52,6 +52,15 @@ RangeMapSequence Fusion::scans() const {
   };
 }
 
+PackedScans Fusion::takeScans() {
+  PackedScans taken;
+  taken.maps = std::move(mPacked);
+  taken.summary = std::move(mSummary);
+  mPacked.clear();
+  mSummary = ScanSummary();
+  return taken;
+}
+
 SparseField Fusion::linearSolutionField(int level, LinearBand band, const SparseFieldOptions& engine,
                                         const Interrupter& interrupter, const RangeMapSequence& scans) const {
   if (mSummary.readings() == 0) throw std::invalid_argument("Fusion: no reading integrated yet");

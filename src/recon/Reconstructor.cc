@@ -224,17 +224,26 @@ void Reconstructor::requireAccumulationMemory(int level) const {
   levelfuse::requireAccumulationMemory(rangeMapsOf(*mMaps), mOptions, level);
 }
 
-SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fusion* fusion) const {
+SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fusion* fusion,
+                                        const std::function<void(std::size_t)>& carvedWith) const {
   requireCoarsestGridMemory();
   // Structures thinner than a voxel of a coarse grid are noise against it; the
   // finest grid keeps all it resolves (ForceField.h, LinearBand).
   const LinearBand band = *mOptions.levels > 1 ? LinearBand::kRebuilt : LinearBand::kZeroCrossings;
-  if (fusion)  // carving asks the fusion's own maps, or this reconstructor's
-    return fusion->linearSolutionField(0, band, mOptions.engine, interrupter,
-                                       mFusion ? RangeMapSequence{} : rangeMapsOf(*mMaps));
+  // Carving asks the fusion's own maps, or this reconstructor's, telling `carvedWith` after each.
+  const RangeMapSequence maps = mFusion ? mFusion->scans() : rangeMapsOf(*mMaps);
+  const RangeMapSequence carving = [&](const RangeMapVisitor& visit) {
+    std::size_t visited = 0;
+    maps([&](const RangeMap& m) {
+      visit(m);
+      if (carvedWith) carvedWith(++visited);
+    });
+  };
+  if (fusion) return fusion->linearSolutionField(0, band, mOptions.engine, interrupter, carving);
   requireAccumulationMemory(0);
-  const ForceField force(mMaps, forceOptions(0));
-  return force.linearSolutionField(voxelSize(0), band, mOptions.engine, interrupter);
+  const ForceFieldOptions f = forceOptions(0);
+  const AccumulatedField data = ForceField(mMaps, f).accumulate(voxelSize(0), interrupter);
+  return linearSolutionField(data, carving, f.dataWindow().reach(), band, mOptions.engine, interrupter);
 }
 
 void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) const {
@@ -374,10 +383,16 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   if (!fusion && mOptions.dataTerm == DataTermSource::kGrids) {
     fused = fuseScans(state, report, interrupter);
     fusion = fused.get();
-    state.stage = ReconstructionProgress::Stage::kInitialModel;
-    report();
   }
-  std::unique_ptr<SparseField> field = std::make_unique<SparseField>(initialModel(interrupter, fusion));
+  state.stage = ReconstructionProgress::Stage::kInitialModel;
+  state.scan = 0;
+  state.scans = mSummary.scans();
+  report();
+  const auto carvedWith = [&](std::size_t scans) {
+    state.scan = scans;
+    report();
+  };
+  auto field = std::make_unique<SparseField>(initialModel(interrupter, fusion, carvedWith));
   requireFinestGridMemory(field->stats().activeSetVoxels);
   // 2-3. Each grid evolved, then refined for the next.
   int iterations = 0;

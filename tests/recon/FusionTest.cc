@@ -70,6 +70,15 @@ TEST(Fusion, FrameByFrameGivesWhatTheFramesTogetherGive) {
             .toLevelSet(3.0);
     expectSameGrid(*fusion.linearSolution(), *fromMaps);
     expectSameGrid(*streamed.linearSolution(), *fromMaps);
+    // The maps moved out for the fit, once the grids may go.
+    const std::size_t count = fusion.scanCount();
+    const PackedScans taken = fusion.takeScans();
+    EXPECT_EQ(taken.maps.size(), count);
+    EXPECT_EQ(taken.summary.scans(), count);
+    EXPECT_EQ(fusion.scanCount(), 0u);
+    std::size_t visited = 0;
+    taken.unpacked()([&](const RangeMap& m) { EXPECT_EQ(m.name(), frames.reconstruction[visited++].name()); });
+    EXPECT_EQ(visited, count);
   }
 }
 

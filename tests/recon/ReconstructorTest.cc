@@ -266,6 +266,23 @@ TEST(Reconstructor, ReportsEachScanIntegratedIntoTheGrids) {
   for (std::size_t i = 0; i < scans; ++i) expected[i] = i + 1;
   EXPECT_EQ(integrated, expected);
   EXPECT_GT(firstIteration, 0);
+  // The initial model: carving asks every scan twice, each reported, with the
+  // data term from grids or from the maps.
+  for (const DataTermSource source : {DataTermSource::kGrids, DataTermSource::kPerMap}) {
+    ReconstructionOptions o = smallOptions();
+    o.dataTerm = source;
+    std::vector<std::size_t> carved;
+    Reconstructor(noisySphere(0.01), o).run([&](const ReconstructionProgress& p) {
+      if (p.stage == ReconstructionProgress::Stage::kInitialModel && p.scan > 0) {
+        EXPECT_EQ(p.scans, scans);
+        carved.push_back(p.scan);
+      }
+      return true;
+    });
+    std::vector<std::size_t> twice = expected;
+    twice.insert(twice.end(), expected.begin(), expected.end());
+    EXPECT_EQ(carved, twice);
+  }
   // A cancel while integrating stops the run there.
   ReconstructionProgress last;
   EXPECT_THROW(r.run([&](const ReconstructionProgress& p) {

@@ -43,11 +43,15 @@ void ProgressBar::update(const ReconstructionProgress& p) {
     mLastIteration = p.iteration;
     mSecondsPerIteration = (p.seconds - mLevelStart) / p.iteration;
   }
-  const bool frequent = p.stage == Stage::kEvolving || (p.stage == Stage::kIntegrating && p.scan < p.scans);
+  const bool counting = p.stage == Stage::kIntegrating || p.stage == Stage::kInitialModel;
+  const bool frequent = p.stage == Stage::kEvolving || (counting && p.scan < p.scans);
   std::ostringstream line;
   line << "grid " << p.level + 1 << "/" << p.levels << " (voxel " << length(p.voxelSize) << ") ";
   switch (p.stage) {
-    case Stage::kInitialModel: line << "initial model"; break;
+    case Stage::kInitialModel:
+      line << "initial model";
+      if (p.scan > 0) line << ": carving, scan " << p.scan << "/" << p.scans;
+      break;
     case Stage::kResampling: line << "resampling"; break;
     case Stage::kIntegrating: line << "integrating scan " << p.scan << "/" << p.scans; break;
     case Stage::kDone: line << "done"; break;

@@ -114,6 +114,18 @@ struct Reconstruction {
   std::unique_ptr<Fusion> fusion;
   std::unique_ptr<Reconstructor> reconstructor;
   RangeMapSequence scans;  ///< the scans, one at a time, for the fit
+  PackedScans kept;        ///< a fusion's scans once its grids are let go
+
+  /// Once the surface and its weight are made, a fusion's grids are let go
+  /// (before the fit and the mesh, which would otherwise hold them at their
+  /// peak); its scans stay for the fit. The reconstructor is asked nothing
+  /// more that needs the fusion: its options and summary are its own.
+  void letTheGridsGo() {
+    if (!fusion) return;
+    kept = fusion->takeScans();
+    fusion.reset();
+    scans = kept.unpacked();
+  }
 };
 
 Reconstruction prepareReconstruction(Inputs& in, const ReconstructSettings& s, ProgressBar& bar) {
@@ -341,10 +353,11 @@ int runReconstruct(ReconstructSettings s) {
   checkSettings(s);
   ProgressBar bar(!s.quiet && !s.json);
   Inputs inputs = loadInputs(s, bar);
-  const Reconstruction made = prepareReconstruction(inputs, s, bar);
+  Reconstruction made = prepareReconstruction(inputs, s, bar);
   const Reconstructor& reconstructor = *made.reconstructor;
   const Presentation shown = presentationOf(reconstructor, s);
   const ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
+  made.letTheGridsGo();
   const Measures measures = measure(made, *result.levelSet, inputs);
   const std::size_t triangles = writeOutputs(inputs, result, shown, s);
   const Summary summary{s, reconstructor, result, inputs, measures, shown.trim, triangles,

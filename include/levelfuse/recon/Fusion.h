@@ -60,6 +60,10 @@ class Fusion {
   const DataTermGrids& dataTerm(int level) const { return *mGrids.at(static_cast<std::size_t>(level)); }
   /// The maps kept (Keep::kPacked), unpacked one at a time.
   RangeMapSequence scans() const;
+  /// The maps kept and their summary, moved out (the fusion keeps its grids
+  /// and no maps): for a caller that needs the maps after the reconstruction
+  /// and can let the grids go.
+  PackedScans takeScans();
 
   /// The linear solution on grid `level` as a sparse field (linearSolutionField),
   /// space carving asking `scans` (by default, the maps kept). Throws

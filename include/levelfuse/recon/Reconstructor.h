@@ -93,7 +93,11 @@ struct ReconstructionOptions {
 struct ReconstructionProgress {
   enum class Stage { kInitialModel, kIntegrating, kEvolving, kResampling, kDone };
   Stage stage = Stage::kInitialModel;
-  std::size_t scan = 0;    ///< kIntegrating: the scans integrated so far, into every grid at once
+  /// kIntegrating: the scans integrated so far, into every grid at once;
+  /// kInitialModel: the scans space carving has asked so far in its round (it
+  /// asks them all twice: for the blocks around the data, then for the voxels
+  /// of the carved surface).
+  std::size_t scan = 0;
   std::size_t scans = 0;   ///< the scans to integrate
   int level = 0;           ///< 0 is the coarsest grid
   int levels = 0;
@@ -237,7 +241,10 @@ class Reconstructor {
                                     const Interrupter& interrupter) const;
   /// The linear solution on the coarsest grid, as a sparse field: from the
   /// fusion's coarsest grid if it is given, else accumulated from the scans.
-  SparseField initialModel(const Interrupter& interrupter, const Fusion* fusion = nullptr) const;
+  /// `carvedWith`, if set, is told after each scan carving asks how many it
+  /// has asked in the round (carving asks them all twice).
+  SparseField initialModel(const Interrupter& interrupter, const Fusion* fusion = nullptr,
+                           const std::function<void(std::size_t)>& carvedWith = {}) const;
   /// Evolves `field`, of voxel size h, under the data term and the prior
   /// until it converges, settles or reaches the iteration limit (section 6).
   template <typename Field>
