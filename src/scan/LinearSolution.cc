@@ -36,14 +36,15 @@ using LeafT = openvdb::FloatTree::LeafNodeType;
 /// along the lines of sight (longer than to the surface by 1 / cos of the
 /// angle between sight and normal) and carving's steps (+-width) both give
 /// distances to the surface, as the sparse field's active set holds them. The
-/// other voxels keep their values; `raw`'s leaves are replaced.
-void distancesAtZeroCrossings(openvdb::FloatGrid& raw) {
+/// other voxels keep their values; `raw`'s leaves are replaced, unless
+/// `interrupt` stops the work (Interrupted).
+void distancesAtZeroCrossings(openvdb::FloatGrid& raw, const ParallelInterrupt& interrupt) {
   const float h = static_cast<float>(raw.voxelSize()[0]);
   openvdb::tree::LeafManager<openvdb::FloatTree> leaves(raw.tree());
   std::vector<std::unique_ptr<LeafT>> out(leaves.leafCount());
   parallelFor(out.size(), 1, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = raw.getConstAccessor();
-    for (std::size_t i = begin; i < end; ++i) {
+    for (std::size_t i = begin; i < end && !interrupt.stop(); ++i) {
       const LeafT& in = leaves.leaf(i);
       out[i] = std::make_unique<LeafT>(in);
       for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
@@ -67,6 +68,7 @@ void distancesAtZeroCrossings(openvdb::FloatGrid& raw) {
       }
     }
   });
+  interrupt.throwIfStopped();
   for (std::size_t i = 0; i < out.size(); ++i) leaves.leaf(i).swap(out[i]->buffer());
 }
 
@@ -101,14 +103,14 @@ bool onZeroCrossing(const openvdb::FloatGrid::ConstAccessor& acc, const Coord& i
 /// cannot be told from noise on the grid: its voxels take the other sign (a
 /// rebuild through a mesh leaves such specks out too). Every speck has a
 /// voxel on a zero crossing, where the search starts; the specks are found on
-/// the field as it is, then changed.
-void removeSpecks(openvdb::FloatGrid& raw) {
+/// the field as it is, then changed, unless `interrupt` stops the search (Interrupted).
+void removeSpecks(openvdb::FloatGrid& raw, const ParallelInterrupt& interrupt) {
   openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(raw.tree());
   std::vector<std::vector<Coord>> found(leaves.leafCount());
   parallelFor(found.size(), 1, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = raw.getConstAccessor();
     std::vector<Coord> component;
-    for (std::size_t i = begin; i < end; ++i) {
+    for (std::size_t i = begin; i < end && !interrupt.stop(); ++i) {
       const LeafT& leaf = leaves.leaf(i);
       for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
         const Coord ijk = leaf.offsetToGlobalCoord(o);
@@ -117,6 +119,7 @@ void removeSpecks(openvdb::FloatGrid& raw) {
       }
     }
   });
+  interrupt.throwIfStopped();
   std::vector<Coord> specks;
   for (const std::vector<Coord>& voxels : found) specks.insert(specks.end(), voxels.begin(), voxels.end());
   std::sort(specks.begin(), specks.end());
@@ -315,8 +318,9 @@ SparseField linearSolutionField(const AccumulatedField& field, const RangeMapSeq
     for (auto& leaf : *set) raw->tree().addLeaf(leaf.release());
   for (const Coord& origin : carved.insideTiles) raw->tree().addTile(1, origin, -width, false);
   if (band == LinearBand::kZeroCrossings) {
-    removeSpecks(*raw);
-    distancesAtZeroCrossings(*raw);
+    const ParallelInterrupt interrupt(interrupter);
+    removeSpecks(*raw, interrupt);
+    distancesAtZeroCrossings(*raw, interrupt);
     return SparseField::fromLevelSet(*raw, engine);
   }
   // 4. Rebuilt into a true narrow band of Euclidean distances.

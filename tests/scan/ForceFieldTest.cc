@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 
 namespace levelfuse {
@@ -183,14 +184,28 @@ TEST(LinearSolution, FromTheDataTermGridsAsFromTheScans) {
   }
 }
 
+/// The torus from its six ring views on a grid of 1/50 of its size, and its accumulated data term.
+struct TorusScans {
+  ForceFieldOptions options;
+  std::vector<RangeMap> maps;
+  AccumulatedField data;
+};
+
+TorusScans torusScans() {
+  const Target t = target(1);
+  const double voxel = t.size / 50.0;
+  TorusScans torus{optionsFor(voxel), render(t.distance, t.views, 0.01 * t.size), {}};
+  torus.data = ForceField(torus.maps, torus.options).accumulate(voxel);
+  return torus;
+}
+
 TEST(LinearSolution, CarvingAsksTheMapsOneAtATime) {
   // Carving's votes are cast map by map: packed maps, unpacked one at a time
   // and released, give the linear solution of the maps held together, bit for bit.
-  const Target t = target(1);
-  const double voxel = t.size / 50.0;
-  const ForceFieldOptions options = optionsFor(voxel);
-  const std::vector<RangeMap> maps = render(t.distance, t.views, 0.01 * t.size);
-  const AccumulatedField data = ForceField(maps, options).accumulate(voxel);
+  const TorusScans torus = torusScans();
+  const ForceFieldOptions& options = torus.options;
+  const std::vector<RangeMap>& maps = torus.maps;
+  const AccumulatedField& data = torus.data;
   std::vector<PackedRangeMap> packed;
   for (const RangeMap& m : maps) packed.emplace_back(RangeMap(m));
   std::size_t visits = 0;
@@ -211,6 +226,31 @@ TEST(LinearSolution, CarvingAsksTheMapsOneAtATime) {
     openvdb::FloatGrid::ConstAccessor held = fromMaps->getConstAccessor();
     for (auto it = fromPacked->cbeginValueOn(); it; ++it) ASSERT_EQ(*it, held.getValue(it.getCoord()));
   }
+}
+
+TEST(LinearSolution, StopsWhenAskedAfterCarvingToo) {
+  // The narrow band is made after carving's last question (specks left out,
+  // distances at the zero crossings): the interrupter is asked there too.
+  const TorusScans torus = torusScans();
+  const ForceFieldOptions& options = torus.options;
+  const std::vector<RangeMap>& maps = torus.maps;
+  const AccumulatedField& data = torus.data;
+  std::atomic<int> calls{0};
+  int afterCarving = 0, visits = 0;
+  const RangeMapSequence counted = [&](const RangeMapVisitor& visit) {
+    for (const RangeMap& m : maps) visit(m);
+    if (++visits == 2) afterCarving = calls.load();
+  };
+  const Interrupter counting = [&] { return ++calls < 0; };  // never stops
+  linearSolutionField(data, counted, options.dataWindow().reach(), LinearBand::kZeroCrossings, {}, counting);
+  ASSERT_EQ(visits, 2);
+  EXPECT_GT(calls.load(), afterCarving + 10);
+  calls = 0;
+  visits = 0;
+  const int stopAt = afterCarving + 2;
+  EXPECT_THROW(linearSolutionField(data, counted, options.dataWindow().reach(), LinearBand::kZeroCrossings, {},
+                                   [&] { return ++calls >= stopAt; }),
+               Interrupted);
 }
 
 TEST(LinearSolution, CarvingClosesWhatNoScanSaw) {
