@@ -1,7 +1,6 @@
 // levelfuse: the reconstruction pipeline (section 6).
 
 #include <levelfuse/Version.h>
-#include <levelfuse/core/Median.h>
 #include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/levelset/Refine.h>
 #include <levelfuse/recon/DataSpeed.h>
@@ -410,8 +409,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
 
 std::unique_ptr<Fusion> Reconstructor::fuseScans(ReconstructionProgress& state, const std::function<void()>& report,
                                                  const Interrupter& interrupter) const {
-  for (int level = 0; level < *mOptions.levels; ++level) requireAccumulationMemory(level);
-  auto fusion = std::make_unique<Fusion>(fusionSettingsOf(mOptions), Fusion::Keep::kNothing);
+  std::unique_ptr<Fusion> fusion = fusionFor(rangeMapsOf(*mMaps), mOptions, Fusion::Keep::kNothing);
   state.stage = ReconstructionProgress::Stage::kIntegrating;
   state.scan = 0;
   state.scans = mMaps->size();

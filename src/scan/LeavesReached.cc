@@ -82,16 +82,16 @@ namespace {
 /// Where the voxel centres of the cube of `dim` voxels a side at `origin` lie
 /// in a map's frame: the bounds of its eight corners' depths, and of the pixel
 /// coordinates of those in front of the map (all of them for parallel rays).
-struct LeafFootprint {
+struct CubeFootprint {
   int inFront = 0;  ///< corners in front of the camera
   double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300, z0 = 1e300, z1 = -1e300;
 };
 
-LeafFootprint leafFootprint(const RangeMap& m, const Coord& origin, double voxelSize, int dim = kLeafDim) {
+CubeFootprint cubeFootprint(const RangeMap& m, const Coord& origin, double voxelSize, int dim = kLeafDim) {
   const openvdb::math::Mat4d& toMap = m.worldToMap();
   const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
   const double span = voxelSize * (dim - 1);
-  LeafFootprint f;
+  CubeFootprint f;
   for (int c = 0; c < 8; ++c) {
     const Vec3d q = base + toMap.transform3x3(Vec3d((c & 1) * span, ((c >> 1) & 1) * span, (c >> 2) * span));
     f.z0 = std::min(f.z0, q.z());
@@ -110,7 +110,7 @@ LeafFootprint leafFootprint(const RangeMap& m, const Coord& origin, double voxel
 }  // namespace
 
 bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {
-  const LeafFootprint f = leafFootprint(m, origin, voxelSize);
+  const CubeFootprint f = cubeFootprint(m, origin, voxelSize);
   if (f.inFront < 8) return true;  // straddles the camera plane
   double lo, hi;
   return m.readingBounds(f.u0, f.v0, f.u1 + 1.0, f.v1 + 1.0, lo, hi) && f.z0 - hi <= reach && f.z1 - lo >= -reach;
@@ -122,7 +122,7 @@ RangeMap::Sight leafSight(const RangeMap& m, const Coord& origin, double voxelSi
 
 RangeMap::Sight cubeSight(const RangeMap& m, const Coord& origin, int dim, double voxelSize, double margin) {
   using Sight = RangeMap::Sight;
-  LeafFootprint f = leafFootprint(m, origin, voxelSize, dim);
+  CubeFootprint f = cubeFootprint(m, origin, voxelSize, dim);
   double &u0 = f.u0, &v0 = f.v0, &u1 = f.u1, &v1 = f.v1;
   const double z0 = f.z0, z1 = f.z1;
   const int inFront = f.inFront;

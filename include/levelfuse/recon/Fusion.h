@@ -7,7 +7,7 @@
 // integrated again.
 //
 //   Fusion fusion(FusionSettings{0.01, 1, 0.006});
-//   for (each frame) fusion.integrate(io::depthFrame(image, intrinsics, pose));
+//   for (each frame) fusion.integrate(io::depthFrame(image, intrinsics, pose, io::DepthNoise{}, name));
 //   openvdb::FloatGrid::Ptr linear = fusion.linearSolution();
 //   ReconstructionResult result = fusion.reconstruct();
 #pragma once
@@ -94,9 +94,14 @@ class Fusion {
   ScanSummary mSummary;
 };
 
-/// `scans` integrated into a fusion of the resolved options' grids
-/// (fusionSettingsOf), each map unpacked once and then kept packed by the
-/// fusion, after requireAccumulationMemory for every grid. `integrated`, if
+/// An empty fusion of the resolved options' grids (fusionSettingsOf), once
+/// requireAccumulationMemory has found that the data term of `scans` fits
+/// on every grid (InsufficientMemory if not).
+std::unique_ptr<Fusion> fusionFor(const RangeMapSequence& scans, const ReconstructionOptions& resolved,
+                                  Fusion::Keep keep);
+
+/// `scans` integrated into a fusion for them (fusionFor), each map unpacked
+/// once and then kept packed by the fusion. `integrated`, if
 /// set, is told after each map how many of how many are in; Interrupted if
 /// `interrupter` asks to stop between maps.
 std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
