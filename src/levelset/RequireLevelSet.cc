@@ -2,10 +2,45 @@
 
 #include <levelfuse/levelset/RequireLevelSet.h>
 
+#include <levelfuse/core/Parallel.h>
+
 #include <cmath>
+#include <optional>
 #include <stdexcept>
+#include <vector>
 
 namespace levelfuse {
+
+namespace {
+
+/// The first voxel or tile, in the tree's order, whose value is NaN or
+/// infinite: a leaf's voxels (active or not, as meshing and the engine read
+/// both), then the tiles of the nodes above the leaves.
+std::optional<openvdb::Coord> firstNonFiniteValue(const openvdb::FloatGrid& grid) {
+  std::vector<const openvdb::FloatTree::LeafNodeType*> leaves;
+  grid.tree().getNodes(leaves);
+  constexpr openvdb::Index kNone = openvdb::FloatTree::LeafNodeType::SIZE;
+  std::vector<openvdb::Index> firstInLeaf(leaves.size(), kNone);
+  parallelFor(leaves.size(), 16, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t l = begin; l != end; ++l) {
+      const float* values = leaves[l]->buffer().data();
+      for (openvdb::Index o = 0; o < kNone; ++o)
+        if (!std::isfinite(values[o])) {
+          firstInLeaf[l] = o;
+          break;
+        }
+    }
+  });
+  for (std::size_t l = 0; l < leaves.size(); ++l)
+    if (firstInLeaf[l] != kNone) return leaves[l]->offsetToGlobalCoord(firstInLeaf[l]);
+  openvdb::FloatTree::ValueAllCIter tile = grid.tree().cbeginValueAll();
+  tile.setMaxDepth(openvdb::FloatTree::ValueAllCIter::LEAF_DEPTH - 1);
+  for (; tile; ++tile)
+    if (!std::isfinite(*tile)) return tile.getCoord();
+  return std::nullopt;
+}
+
+}  // namespace
 
 std::string describeGrid(const openvdb::GridBase& grid) {
   return grid.getName().empty() ? std::string("the grid") : "the grid '" + grid.getName() + "'";
@@ -33,6 +68,9 @@ std::string levelSetProblem(const openvdb::FloatGrid& grid) {
     return what + " has a background of " + std::to_string(grid.background()) +
            "; a level set's background is its narrow band's half-width in world units, positive "
            "(openvdb::tools::changeLevelSetBackground)";
+  if (const std::optional<openvdb::Coord> voxel = firstNonFiniteValue(grid))
+    return what + " holds a value that is not finite at voxel " + voxel->asVec3i().str() +
+           "; a level set holds finite distances (openvdb::tools::checkLevelSet finds such values)";
   return {};
 }
 

@@ -152,17 +152,12 @@ SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const 
   std::vector<const openvdb::FloatTree::LeafNodeType*> leaves;
   levelSet.tree().getNodes(leaves);
   std::vector<std::vector<Seed>> found(leaves.size());
-  std::vector<char> nonFinite(leaves.size(), 0);
   parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
     for (std::size_t l = begin; l != end; ++l) {
       const auto& leaf = *leaves[l];
       for (openvdb::Index o = 0; o < FloatLeaf::SIZE; ++o) {
         const float u = leaf.getValue(o);
-        if (!std::isfinite(u)) {
-          nonFinite[l] = 1;
-          continue;
-        }
         const openvdb::Coord ijk = leaf.offsetToGlobalCoord(o);
         // Every point on a zero crossing whose value lies in the active range
         // joins L0 (the efficient active set of the Appendix); where both
@@ -179,8 +174,6 @@ SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const 
       }
     }
   });
-  if (std::any_of(nonFinite.begin(), nonFinite.end(), [](char c) { return c != 0; }))
-    throw std::invalid_argument("SparseField::fromLevelSet: " + describeGrid(levelSet) + " holds NaN or infinite values");
   std::vector<Seed> seeds;
   for (auto& f : found) seeds.insert(seeds.end(), f.begin(), f.end());
   if (seeds.empty())

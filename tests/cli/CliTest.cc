@@ -10,10 +10,12 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 namespace levelfuse {
@@ -102,6 +104,26 @@ TEST_F(Cli, ThreadCountDoesNotChangeTheResult) {
   ASSERT_TRUE(a && b);
   std::string why;
   EXPECT_TRUE(test::identical(*a, *b, &why)) << why;
+}
+
+TEST_F(Cli, ALevelSetHoldingNaNIsNamedAndNotMeshed) {
+  // FuzzVdb's find: OpenVDB's mesher threw on the NaN from inside its TBB tasks.
+  openvdb::FloatGrid::Ptr ball = test::makeSphere(5.0);
+  ball->setName("ball");
+  ball->tree().setValueOff(openvdb::Coord(5, 0, 0), std::numeric_limits<float>::quiet_NaN());
+  io::writeVdb(path("nan.vdb"), {ball});
+  const CliRun info = levelfuse("info " + path("nan.vdb"));
+  EXPECT_EQ(info.exitCode, 0) << info.output;
+  EXPECT_NE(info.output.find("not finite at voxel [5, 0, 0]"), std::string::npos) << info.output;
+  const CliRun mesh = levelfuse("mesh " + path("nan.vdb") + " -o " + path("nan.ply"));
+  EXPECT_EQ(mesh.exitCode, 1) << mesh.output;
+  EXPECT_EQ(mesh.output.rfind("levelfuse mesh: error: " + path("nan.vdb") + ": the grid 'ball' holds a value that "
+                              "is not finite at voxel [5, 0, 0]",
+                              0),
+            0u)
+      << mesh.output;
+  EXPECT_EQ(std::count(mesh.output.begin(), mesh.output.end(), '\n'), 1) << mesh.output;
+  EXPECT_FALSE(fs::exists(path("nan.ply")));
 }
 
 }  // namespace

@@ -55,6 +55,16 @@ std::vector<std::pair<openvdb::FloatGrid::Ptr, std::string>> notLevelSets() {
          g.tree().root().setBackground(std::numeric_limits<float>::infinity(), false);
        }),
        "background"},
+      // FuzzVdb: a file's NaN reached OpenVDB's mesher, which threw from inside its TBB tasks.
+      {spoiltSphere([](openvdb::FloatGrid& g) {
+         g.tree().setValueOff(openvdb::Coord(5, 0, 0), std::numeric_limits<float>::quiet_NaN());
+       }),
+       "holds a value that is not finite at voxel [5, 0, 0]; a level set holds finite distances "
+       "(openvdb::tools::checkLevelSet"},
+      {spoiltSphere([](openvdb::FloatGrid& g) {
+         g.tree().addTile(1, openvdb::Coord(128, 0, 0), -std::numeric_limits<float>::infinity(), false);
+       }),
+       "not finite at voxel [128, 0, 0]"},
   };
 }
 

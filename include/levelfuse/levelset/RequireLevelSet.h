@@ -21,8 +21,9 @@ std::string transformProblem(const openvdb::GridBase& grid);
 /// class GRID_LEVEL_SET (a fog volume: convert it with
 /// openvdb::tools::fogToSdf; signed distances of another class: set the
 /// class), uniform (cubic) voxels and a linear transform (resample a frustum
-/// or stretched grid first), and a positive, finite background (the band's
-/// half-width in world units).
+/// or stretched grid first), a positive, finite background (the band's
+/// half-width in world units) and finite values only (no NaN, no infinity),
+/// the one check that reads every voxel: a parallel pass over the leaves.
 std::string levelSetProblem(const openvdb::FloatGrid& grid);
 
 /// Throws std::invalid_argument "who: <the problem>" unless `grid` is a level
