@@ -237,6 +237,7 @@ DepthImage readDepthPng(const std::string& path, double scale, const std::vector
     const bool none = std::find(invalid.begin(), invalid.end(), samples[i]) != invalid.end();
     image.depth[i] = none ? kNoReading : static_cast<float>(samples[i] * scale);
   }
+  image.step = scale;
   requireMetres(path, image);
   return image;
 }
@@ -406,9 +407,8 @@ openvdb::math::Mat4d readPose(const std::string& path) { return poseFromRowMajor
 
 RangeMap depthFrame(const DepthImage& image, const PinholeProjection& intrinsics,
                     const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, const std::string& name) {
-  RangeMap map = RangeMap::pinhole(image.width, image.height, image.depth, intrinsics, cameraToWorld,
-                                   std::max(noise.minimum, noise.perSquareMetre), name);
-  map.setDepthNoise(noise);
+  RangeMap map = RangeMap::pinhole(image.width, image.height, image.depth, intrinsics, cameraToWorld, noise, name);
+  map.setReadingStep(image.step);
   return map;
 }
 

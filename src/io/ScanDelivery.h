@@ -2,9 +2,16 @@
 // collected (private to the readers).
 #pragma once
 
+#include <levelfuse/core/Parallel.h>
+#include <levelfuse/io/LoadProgress.h>
 #include <levelfuse/io/Scans.h>
 
+#include <tbb/task_arena.h>
+
+#include <algorithm>
 #include <cstddef>
+#include <exception>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -28,5 +35,35 @@ class ScanDelivery {
   std::vector<RangeMap> mMaps;
   std::size_t mDelivered = 0;
 };
+
+/// Reads `count` frames, `read(i)` making the i-th, a few at a time in
+/// parallel (twice as many as there are threads, no more in flight), and
+/// hands them over in order from the calling thread, telling the progress
+/// after each and asking the interrupter before each. Of the frames that cannot be read, the first in order throws:
+/// the same error whatever the number of threads.
+template <typename Read>
+void deliverFrames(std::size_t count, const Read& read, ScanDelivery& scans, const ScanLoadOptions& options) {
+  const std::size_t batch = 2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  std::vector<std::optional<RangeMap>> frames(batch);
+  std::vector<std::exception_ptr> failures(batch);
+  for (std::size_t first = 0; first < count; first += batch) {
+    checkInterrupter(options.interrupter);
+    const std::size_t n = std::min(batch, count - first);
+    parallelFor(n, 1, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) try {
+          frames[k].emplace(read(first + k));
+        } catch (...) {
+          failures[k] = std::current_exception();
+        }
+    });
+    for (std::size_t k = 0; k < n; ++k) {
+      checkInterrupter(options.interrupter);
+      if (failures[k]) std::rethrow_exception(failures[k]);
+      scans.deliver(std::move(*frames[k]));
+      frames[k].reset();
+      reportLoaded(options.progress, scans.delivered(), count);
+    }
+  }
+}
 
 }  // namespace levelfuse::io

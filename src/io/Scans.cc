@@ -44,15 +44,17 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
   ScanDelivery scans(options);
   const std::size_t stride = static_cast<std::size_t>(options.frameStride);
   const std::size_t total = (frames.size() + stride - 1) / stride;  // the frames of the stride
-  for (std::size_t i = 0; i < frames.size(); i += stride) {
-    checkInterrupter(options.interrupter);
-    const std::string image = frames[i].string();
-    const std::string stem = image.substr(0, image.size() - std::string(".depth.png").size());
-    const std::string pose = stem + ".pose.txt";
-    if (!fs::exists(pose, ec)) throw InputError(image, "no pose beside it (expected " + pose + ")");
-    scans.deliver(loadDepthFrame(image, intrinsics, readPose(pose), options, 0.001));
-    reportLoaded(options.progress, scans.delivered(), total);
-  }
+  deliverFrames(
+      total,
+      [&](std::size_t i) {
+        const std::string image = frames[i * stride].string();
+        const std::string stem = image.substr(0, image.size() - std::string(".depth.png").size());
+        const std::string pose = stem + ".pose.txt";
+        std::error_code missing;
+        if (!fs::exists(pose, missing)) throw InputError(image, "no pose beside it (expected " + pose + ")");
+        return loadDepthFrame(image, intrinsics, readPose(pose), options, 0.001);
+      },
+      scans, options);
   return scans.kept();
 }
 

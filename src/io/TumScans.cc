@@ -106,22 +106,24 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
   ScanDelivery scans(options);
   const std::size_t stride = static_cast<std::size_t>(options.frameStride);
   const std::size_t total = (frames.size() + stride - 1) / stride;  // the frames of the stride
-  for (std::size_t i = 0; i < frames.size(); i += stride) {
-    checkInterrupter(options.interrupter);
-    const TumFrame& frame = frames[i];
-    const std::string image = (root / frame.file).lexically_normal().string();
-    if (!fs::is_regular_file(image, ec))
-      throw InputError(list, "line " + std::to_string(frame.line) + ": depth image '" + frame.file +
-                                 "' does not exist (looked for " + image + ")");
-    const TumPose& pose = nearestPose(poses, frame.time);
-    const double gap = std::fabs(pose.time - frame.time);
-    if (!(gap <= options.poseTimeTolerance))
-      throw InputError(image, "no pose in groundtruth.txt within " + seconds(options.poseTimeTolerance, false) +
-                                  " s of the frame's time " + seconds(frame.time, true) + " (the nearest, line " +
-                                  std::to_string(pose.line) + ", is " + seconds(gap, false) + " s away)");
-    scans.deliver(loadDepthFrame(image, intrinsics, pose.cameraToWorld, options, 1.0 / kTumDepthUnitsPerMetre));
-    reportLoaded(options.progress, scans.delivered(), total);
-  }
+  deliverFrames(
+      total,
+      [&](std::size_t i) {
+        const TumFrame& frame = frames[i * stride];
+        const std::string image = (root / frame.file).lexically_normal().string();
+        std::error_code missing;
+        if (!fs::is_regular_file(image, missing))
+          throw InputError(list, "line " + std::to_string(frame.line) + ": depth image '" + frame.file +
+                                     "' does not exist (looked for " + image + ")");
+        const TumPose& pose = nearestPose(poses, frame.time);
+        const double gap = std::fabs(pose.time - frame.time);
+        if (!(gap <= options.poseTimeTolerance))
+          throw InputError(image, "no pose in groundtruth.txt within " + seconds(options.poseTimeTolerance, false) +
+                                      " s of the frame's time " + seconds(frame.time, true) + " (the nearest, line " +
+                                      std::to_string(pose.line) + ", is " + seconds(gap, false) + " s away)");
+        return loadDepthFrame(image, intrinsics, pose.cameraToWorld, options, 1.0 / kTumDepthUnitsPerMetre);
+      },
+      scans, options);
   return scans.kept();
 }
 

@@ -5,8 +5,10 @@
 #include <blosc.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -58,35 +60,110 @@ std::vector<T> decompress(const std::vector<char>& packed, std::size_t count) {
   return values;
 }
 
-template <typename T>
-std::vector<char> packed(std::vector<T>& values, std::size_t typeSize, std::size_t& count) {
-  count = values.size();
-  std::vector<char> out = compress(values.data(), values.size() * sizeof(T), typeSize);
+using Array = PackedRangeMap::Array;
+
+/// Compresses `values` (shuffled by their scalar's size) and lets them go.
+template <typename T, typename Scalar = T>
+Array packArray(std::vector<T>& values) {
+  Array packed{compress(values.data(), values.size() * sizeof(T), sizeof(Scalar)), values.size()};
   std::vector<T>().swap(values);
-  return out;
+  return packed;
+}
+
+template <typename T>
+std::vector<T> unpackArray(const Array& packed) {
+  return decompress<T>(packed.bytes, packed.count);
+}
+
+/// Flags, eight to a byte, compressed; the flags are let go.
+Array packBits(std::vector<bool>& flags) {
+  std::vector<std::uint8_t> bytes((flags.size() + 7) / 8, 0);
+  for (std::size_t i = 0; i < flags.size(); ++i)
+    if (flags[i]) bytes[i >> 3] = static_cast<std::uint8_t>(bytes[i >> 3] | (1u << (i & 7)));
+  Array packed{compress(bytes.data(), bytes.size(), 1), flags.size()};
+  std::vector<bool>().swap(flags);
+  return packed;
+}
+
+std::vector<bool> unpackBits(const Array& packed) {
+  const std::vector<std::uint8_t> bytes = decompress<std::uint8_t>(packed.bytes, (packed.count + 7) / 8);
+  std::vector<bool> flags(packed.count);
+  for (std::size_t i = 0; i < flags.size(); ++i) flags[i] = (bytes[i >> 3] >> (i & 7)) & 1u;
+  return flags;
+}
+
+/// The NaN a map holds where it has no reading (RangeMap::finish).
+const float kNoReading = std::numeric_limits<float>::quiet_NaN();
+/// Readings held as whole steps: 0 for no reading, then 1 to this many steps.
+constexpr double kMostSteps = 65535.0;
+
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+float readingOfSteps(std::uint16_t steps, double step) {
+  return steps == 0 ? kNoReading : static_cast<float>(static_cast<double>(steps) * step);
+}
+
+/// Each reading as its number of steps, if every one is exactly that (as a
+/// 16-bit depth image's readings are); empty if any is not.
+std::vector<std::uint16_t> stepsOfReadings(const std::vector<float>& readings, double step) {
+  if (!(step > 0.0)) return {};
+  std::vector<std::uint16_t> steps(readings.size());
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    const float r = readings[i];
+    const double k = r == r ? std::nearbyint(r / step) : 0.0;
+    if (!(k >= 0.0 && k <= kMostSteps) || !sameBits(readingOfSteps(static_cast<std::uint16_t>(k), step), r)) return {};
+    steps[i] = static_cast<std::uint16_t>(k);
+  }
+  return steps;
 }
 
 }  // namespace
 
 PackedRangeMap::PackedRangeMap(RangeMap map) : mShell(std::move(map)) {
-  mReadings = packed(mShell.mReadings, sizeof(float), mReadingCount);
-  mSigmas = packed(mShell.mSigmas, sizeof(float), mSigmaCount);
-  mDirections = packed(mShell.mDirections, sizeof(float), mDirectionCount);
-  mSamples = packed(mShell.mSamples, sizeof(double), mSampleCount);
+  std::vector<std::uint16_t> steps = stepsOfReadings(mShell.mReadings, mShell.readingStep());
+  mReadingsAsSteps = !steps.empty();
+  if (mReadingsAsSteps) {
+    mReadings = packArray(steps);
+    std::vector<float>().swap(mShell.mReadings);
+  } else {
+    mReadings = packArray(mShell.mReadings);
+  }
+  mSigmas = packArray(mShell.mSigmas);
+  mDirections = packArray<openvdb::Vec3f, float>(mShell.mDirections);
+  mSamples = packArray<openvdb::Vec3d, double>(mShell.mSamples);
+  mBlockMin = packArray(mShell.mBlockMin);
+  mBlockMax = packArray(mShell.mBlockMax);
+  mBlockComplete = packArray(mShell.mBlockComplete);
+  mUsableCells = packBits(mShell.mUsableCell);
+  mMisses = packBits(mShell.mMisses);
 }
 
 RangeMap PackedRangeMap::unpack() const {
   RangeMap map = mShell;
-  map.mReadings = decompress<float>(mReadings, mReadingCount);
-  map.mSigmas = decompress<float>(mSigmas, mSigmaCount);
-  map.mDirections = decompress<openvdb::Vec3f>(mDirections, mDirectionCount);
-  map.mSamples = decompress<openvdb::Vec3d>(mSamples, mSampleCount);
+  if (mReadingsAsSteps) {
+    const std::vector<std::uint16_t> steps = unpackArray<std::uint16_t>(mReadings);
+    map.mReadings.resize(steps.size());
+    for (std::size_t i = 0; i < steps.size(); ++i) map.mReadings[i] = readingOfSteps(steps[i], map.readingStep());
+  } else {
+    map.mReadings = unpackArray<float>(mReadings);
+  }
+  map.mSigmas = unpackArray<float>(mSigmas);
+  map.mDirections = unpackArray<openvdb::Vec3f>(mDirections);
+  map.mSamples = unpackArray<openvdb::Vec3d>(mSamples);
+  map.mBlockMin = unpackArray<float>(mBlockMin);
+  map.mBlockMax = unpackArray<float>(mBlockMax);
+  map.mBlockComplete = unpackArray<std::uint8_t>(mBlockComplete);
+  map.mUsableCell = unpackBits(mUsableCells);
+  map.mMisses = unpackBits(mMisses);
   return map;
 }
 
 std::size_t PackedRangeMap::memoryBytes() const {
-  return sizeof(*this) + mShell.memoryBytes() - sizeof(RangeMap) + mReadings.capacity() + mSigmas.capacity() +
-         mDirections.capacity() + mSamples.capacity();
+  std::size_t bytes = sizeof(*this) + mShell.memoryBytes() - sizeof(RangeMap);
+  for (const Array* a : {&mReadings, &mSigmas, &mDirections, &mSamples, &mBlockMin, &mBlockMax, &mBlockComplete,
+                         &mUsableCells, &mMisses})
+    bytes += a->bytes.capacity();
+  return bytes;
 }
 
 void PackedScans::add(RangeMap map) {

@@ -113,8 +113,7 @@ RangeMap RangeMap::orthographic(int width, int height, std::vector<float> readin
   return m;
 }
 
-RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
-                           const openvdb::math::Mat4d& cameraToWorld, double sigma, std::string name) {
+RangeMap RangeMap::pinholeWithoutReadings(int width, int height, const PinholeProjection& p, std::string name) {
   RangeMap m(Kind::kPinhole, width, height, std::move(name));
   if (!(p.fx > 0.0) || !(p.fy > 0.0) || !std::isfinite(p.fx) || !std::isfinite(p.fy) || !std::isfinite(p.cx) ||
       !std::isfinite(p.cy))
@@ -134,7 +133,23 @@ RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, con
     throw std::invalid_argument("range map '" + m.mName + "': " + text);
   }
   m.mPinhole = p;
+  return m;
+}
+
+RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
+                           const openvdb::math::Mat4d& cameraToWorld, double sigma, std::string name) {
+  RangeMap m = pinholeWithoutReadings(width, height, p, std::move(name));
   m.finish(std::move(depths), cameraToWorld, sigma);
+  return m;
+}
+
+RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
+                           const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, std::string name) {
+  RangeMap m = pinholeWithoutReadings(width, height, p, std::move(name));
+  m.requireDepthNoise(noise);
+  m.mDepthNoise = noise;
+  m.mHasDepthNoise = true;
+  m.finish(std::move(depths), cameraToWorld, std::max(noise.minimum, noise.perSquareMetre));
   return m;
 }
 
@@ -161,10 +176,14 @@ void RangeMap::setSigmas(std::vector<float> sigmas) {
   findUsableCells();
 }
 
-void RangeMap::setDepthNoise(const DepthNoise& noise) {
+void RangeMap::requireDepthNoise(const DepthNoise& noise) const {
   if (!(noise.minimum > 0.0) || !std::isfinite(noise.minimum) || !(noise.perSquareMetre >= 0.0) ||
       !std::isfinite(noise.perSquareMetre))
     throw std::invalid_argument("range map '" + mName + "': the depth noise must be positive and finite");
+}
+
+void RangeMap::setDepthNoise(const DepthNoise& noise) {
+  requireDepthNoise(noise);
   mSigmas.clear();
   mSigmas.shrink_to_fit();
   mDepthNoise = noise;
@@ -189,6 +208,12 @@ void RangeMap::setSamples(std::vector<openvdb::Vec3d> worldPoints, double raySpa
       throw std::invalid_argument("range map '" + mName + "': a sample point is not finite");
   mSamples = std::move(worldPoints);
   mRayDensity = 1.0 / (raySpacing * raySpacing);
+}
+
+void RangeMap::setReadingStep(double step) {
+  if (!(step >= 0.0) || !std::isfinite(step))
+    throw std::invalid_argument("range map '" + mName + "': the step of the readings must be finite and not negative");
+  mReadingStep = step;
 }
 
 void RangeMap::setMissesAreEmpty(bool empty, int dropoutReach) {

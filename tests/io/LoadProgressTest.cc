@@ -4,12 +4,15 @@
 #include "support/DepthFolders.h"
 #include "support/Files.h"
 
+#include <levelfuse/io/InputError.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Scans.h>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cstddef>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -95,6 +98,36 @@ TEST(LoadProgress, ManifestsReportTheirEntries) {
   test::writeSevenScenesFolder(dir.path("scene"), poses(3), kCamera, 16, 12, 2.0);
   const std::string manifest = writeScanSet(dir.path("set"), loadScans(dir.path("scene")));
   EXPECT_EQ(loadReporting(manifest), (Reports{{1, 3}, {2, 3}, {3, 3}}));
+}
+
+TEST(LoadProgress, FramesReadTogetherArriveInOrderAndTheFirstBadOneIsNamed) {
+  TempDir dir;
+  test::writeSevenScenesFolder(dir.path("scene"), poses(11), kCamera, 16, 12, 2.0);
+  for (const int threads : {1, 2, 5}) {
+    SCOPED_TRACE(threads);
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    std::vector<std::string> names;
+    ScanLoadOptions options;
+    options.take = [&](RangeMap&& map) { names.push_back(map.name()); };
+    loadScans(dir.path("scene"), options);
+    ASSERT_EQ(names.size(), 11u);
+    for (std::size_t i = 0; i < names.size(); ++i)
+      EXPECT_EQ(names[i], "frame-" + std::string(i < 10 ? "00000" : "0000") + std::to_string(i) + ".depth.png");
+  }
+  // Frames 6 and 9 lose their poses: frame 6 is named whatever the threads.
+  std::filesystem::remove(dir.path("scene/frame-000009.pose.txt"));
+  std::filesystem::remove(dir.path("scene/frame-000006.pose.txt"));
+  for (const int threads : {1, 2, 5}) {
+    SCOPED_TRACE(threads);
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    try {
+      loadScans(dir.path("scene"));
+      ADD_FAILURE() << "frames without poses were read";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("frame-000006.depth.png: no pose beside it"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 TEST(LoadProgress, ATumFolderStopsWhenAsked) {

@@ -1,5 +1,8 @@
 // A range map packed and unpacked is the same map, and takes less memory.
 
+#include "support/TestSupport.h"
+
+#include <levelfuse/io/DepthImages.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/RangeMap.h>
 
@@ -10,6 +13,8 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace levelfuse {
@@ -38,6 +43,7 @@ RangeMap cornerFrame() {
   RangeMap map = RangeMap::pinhole(width, height, depths, PinholeProjection{150.0, 150.0, 79.5, 59.5}, pose, 0.002,
                                    "corner");
   map.setDepthNoise(DepthNoise{});
+  map.setReadingStep(0.001);  // as io::depthFrame says of a PNG's millimetres
   return map;
 }
 
@@ -102,22 +108,61 @@ void expectSameMap(const RangeMap& a, const RangeMap& b) {
   EXPECT_GT(sampled, 500) << a.name();
 }
 
+/// The corner frame with one reading that is not a whole number of millimetres.
+RangeMap cornerFrameOffStep() {
+  RangeMap map = cornerFrame();
+  std::vector<float> depths;
+  for (int v = 0; v < map.height(); ++v)
+    for (int u = 0; u < map.width(); ++u) depths.push_back(map.reading(u, v));
+  depths[500] += 0.0004f;
+  RangeMap off = RangeMap::pinhole(map.width(), map.height(), depths, map.pinholeProjection(), map.mapToWorld(),
+                                   0.002, "corner, off step");
+  off.setDepthNoise(DepthNoise{});
+  off.setReadingStep(0.001);
+  return off;
+}
+
 TEST(PackedRangeMap, UnpacksToTheMapItPacked) {
-  for (const RangeMap& map : {cornerFrame(), everythingPerPixel()}) {
+  for (const RangeMap& map : {cornerFrame(), cornerFrameOffStep(), everythingPerPixel()}) {
     const PackedRangeMap packed{RangeMap(map)};
     expectSameMap(map, packed.unpack());
     expectSameMap(map, packed.unpack());  // as often as asked
   }
 }
 
+TEST(PackedRangeMap, ReadingsAreHeldAsStepsOnlyWhenEveryOneIsExactlyThat) {
+  EXPECT_TRUE(PackedRangeMap(cornerFrame()).readingsAsSteps());
+  EXPECT_FALSE(PackedRangeMap(cornerFrameOffStep()).readingsAsSteps());
+  EXPECT_FALSE(PackedRangeMap(everythingPerPixel()).readingsAsSteps());  // no step given
+  RangeMap wrongStep = cornerFrame();
+  wrongStep.setReadingStep(0.003);
+  EXPECT_FALSE(PackedRangeMap(std::move(wrongStep)).readingsAsSteps());
+  EXPECT_THROW(cornerFrame().setReadingStep(-0.001), std::invalid_argument);
+}
+
 TEST(PackedRangeMap, ADepthFrameTakesLessMemory) {
-  // Readings of millimetre depths with 2 mm of white noise: their low bits do
-  // not compress (a 7-Scenes frame packs to about a third, docs/BENCHMARKS.md).
+  // Readings of millimetre depths with 2 mm of white noise, held as 16-bit
+  // steps; the map's per-pixel flags and block bounds are packed too.
   const RangeMap frame = cornerFrame();
   const PackedRangeMap packed{RangeMap(frame)};
-  EXPECT_LT(packed.memoryBytes(), frame.memoryBytes() * 2 / 3)
+  EXPECT_LT(packed.memoryBytes(), frame.memoryBytes() / 3)
       << packed.memoryBytes() << " bytes packed, " << frame.memoryBytes() << " unpacked";
   EXPECT_GT(frame.memoryBytes(), frame.validCount() * sizeof(float));  // the readings are counted
+  // Without the step, as floats: more.
+  EXPECT_GT(PackedRangeMap(cornerFrameOffStep()).memoryBytes(), packed.memoryBytes() * 3 / 2);
+}
+
+TEST(PackedRangeMap, ASevenScenesFrameTakesASeventhOfItsMemory) {
+  const std::string folder = test::sharedData("7scenes-seq");
+  if (folder.empty()) GTEST_SKIP() << "../shared/data is not beside the source tree";
+  const RangeMap frame = io::depthFrame(io::readDepthPng(folder + "/frame-000000.depth.png"),
+                                        io::readIntrinsics(folder + "/camera-intrinsics.txt"),
+                                        io::readPose(folder + "/frame-000000.pose.txt"), io::DepthNoise{}, "frame 0");
+  const PackedRangeMap packed{RangeMap(frame)};
+  EXPECT_TRUE(packed.readingsAsSteps());
+  EXPECT_LT(packed.memoryBytes(), frame.memoryBytes() / 7)
+      << packed.memoryBytes() << " bytes packed, " << frame.memoryBytes() << " unpacked";
+  expectSameMap(frame, packed.unpack());
 }
 
 }  // namespace

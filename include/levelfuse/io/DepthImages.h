@@ -19,6 +19,7 @@ namespace levelfuse::io {
 struct DepthImage {
   int width = 0, height = 0;
   std::vector<float> depth;  ///< row-major, metres; NaN where there is no reading
+  double step = 0.0;  ///< the depths are whole multiples of this (metres; a PNG's scale), 0 if not
 };
 
 /// A 16-bit grayscale PNG; `scale` converts its integers to metres; the values

@@ -77,6 +77,10 @@ class RangeMap {
                                const openvdb::math::Mat4d& mapToWorld, double sigma, std::string name = "");
   static RangeMap pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
                           const openvdb::math::Mat4d& cameraToWorld, double sigma, std::string name = "");
+  /// A depth camera's frame: pinhole() with sigmas that follow the depth, as
+  /// setDepthNoise gives them, without working the map out twice.
+  static RangeMap pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
+                          const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, std::string name = "");
 
   /// Per-pixel lines of sight (unit vectors in the map frame, away from the
   /// scanner), e.g. for scanners with a fan of rays per row.
@@ -147,6 +151,14 @@ class RangeMap {
   bool missesAreEmpty() const { return !mMisses.empty(); }
   int dropoutReach() const { return mDropoutReach; }
 
+  /// The readings are whole multiples of this step (world units), as a 16-bit
+  /// depth image's are of its depth scale; 0 (the default) if they are not
+  /// known to be. A hint, checked where it is used: PackedRangeMap holds
+  /// readings that are exactly 1 to 65535 steps as 16-bit integers. Throws
+  /// std::invalid_argument for a step that is negative or not finite.
+  void setReadingStep(double step);
+  double readingStep() const { return mReadingStep; }
+
   /// Transforms world points into the map's frame.
   const openvdb::math::Mat4d& worldToMap() const { return mWorldToMap; }
   /// Smallest and largest reading over the pixels of the window [u0, u1] x
@@ -195,7 +207,11 @@ class RangeMap {
   std::size_t index(int u, int v) const {
     return static_cast<std::size_t>(v) * static_cast<std::size_t>(mWidth) + static_cast<std::size_t>(u);
   }
+  /// A pinhole map of checked geometry that has yet to be given its readings (finish).
+  static RangeMap pinholeWithoutReadings(int width, int height, const PinholeProjection& p, std::string name);
   void finish(std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld, double sigma);
+  /// Throws unless `noise` is positive and finite (setDepthNoise).
+  void requireDepthNoise(const DepthNoise& noise) const;
   /// The standard deviation of pixel `at`'s reading: per pixel, from its depth, or the map's.
   double sigmaAt(std::size_t at) const {
     if (!mSigmas.empty()) return mSigmas[at];
@@ -231,6 +247,7 @@ class RangeMap {
   std::vector<bool> mMisses;  ///< per pixel: no reading within the dropout reach (if misses are empty)
   int mDropoutReach = 2;
   std::size_t mValidCount = 0;
+  double mReadingStep = 0.0;
   double mSigma = 0.0;
   double mJumpFactor = 4.0;
   static constexpr double kJumpNoise = 6.0;  ///< sigmas of noise a cell may span on top
