@@ -89,17 +89,17 @@ std::size_t Fusion::memoryBytes() const {
   return bytes;
 }
 
-std::unique_ptr<Fusion> fusionFor(const RangeMapSequence& scans, const ReconstructionOptions& resolved,
+std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved,
                                   Fusion::Keep keep) {
   const FusionSettings settings = fusionSettingsOf(resolved);
-  for (int level = 0; level < settings.levels; ++level) requireAccumulationMemory(scans, resolved, level);
+  for (int level = 0; level < settings.levels; ++level) requireAccumulationMemory(costOf, resolved, level);
   return std::make_unique<Fusion>(settings, keep);
 }
 
 std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
                                         const std::function<void(std::size_t, std::size_t)>& integrated,
                                         const Interrupter& interrupter) {
-  std::unique_ptr<Fusion> fusion = fusionFor(scans.unpacked(), resolved, Fusion::Keep::kPacked);
+  std::unique_ptr<Fusion> fusion = fusionFor(accumulationCostOf(scans), resolved, Fusion::Keep::kPacked);
   const std::size_t count = scans.maps.size();
   for (PackedRangeMap& p : scans.maps) {
     checkInterrupter(interrupter);

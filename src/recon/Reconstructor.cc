@@ -193,11 +193,11 @@ void Reconstructor::requireCoarsestGridMemory() const {
                 "use more grids (levels) or a larger voxel size");
 }
 
-void requireAccumulationMemory(const RangeMapSequence& maps, const ReconstructionOptions& resolved, int level) {
+void requireAccumulationMemory(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved, int level) {
   const FusionSettings grids = fusionSettingsOf(resolved);
   const auto costAt = [&](double finest) {
     const double h = std::ldexp(finest, grids.levels - 1 - level);
-    return accumulationCost(maps, h, forceFieldOptions(grids.epsilon, h, grids.window).dataWindow().reach());
+    return costOf(h, forceFieldOptions(grids.epsilon, h, grids.window).dataWindow().reach());
   };
   const AccumulationCost cost = costAt(grids.voxelSize);
   const double budget = static_cast<double>(io::memoryBudget());
@@ -220,7 +220,7 @@ void requireAccumulationMemory(const RangeMapSequence& maps, const Reconstructio
 }
 
 void Reconstructor::requireAccumulationMemory(int level) const {
-  levelfuse::requireAccumulationMemory(rangeMapsOf(*mMaps), mOptions, level);
+  levelfuse::requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, level);
 }
 
 SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fusion* fusion,
@@ -409,7 +409,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
 
 std::unique_ptr<Fusion> Reconstructor::fuseScans(ReconstructionProgress& state, const std::function<void()>& report,
                                                  const Interrupter& interrupter) const {
-  std::unique_ptr<Fusion> fusion = fusionFor(rangeMapsOf(*mMaps), mOptions, Fusion::Keep::kNothing);
+  std::unique_ptr<Fusion> fusion = fusionFor(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, Fusion::Keep::kNothing);
   state.stage = ReconstructionProgress::Stage::kIntegrating;
   state.scan = 0;
   state.scans = mMaps->size();

@@ -2,10 +2,14 @@
 
 #include <levelfuse/scan/AccumulationCost.h>
 
+#include <levelfuse/core/Parallel.h>
+#include <levelfuse/scan/PackedRangeMap.h>
+
 #include "LeavesReached.h"
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace levelfuse {
 
@@ -13,11 +17,12 @@ AccumulationCost accumulationCost(const std::vector<RangeMap>& maps, double voxe
   return accumulationCost(rangeMapsOf(maps), voxelSize, reach);
 }
 
-AccumulationCost accumulationCost(const RangeMapSequence& maps, double voxelSize, double reach) {
+namespace {
+
+/// The cost of leaf marks over maps whose windows reach the box `reached`.
+AccumulationCost costOfMarks(double leafMarks, const openvdb::BBoxd& reached, double voxelSize) {
   AccumulationCost cost;
-  openvdb::BBoxd reached;
-  maps([&](const RangeMap& m) { cost.leafMarks += detail::leafMarks(m, voxelSize, reach, reached); });
-  if (std::isnan(cost.leafMarks)) cost.leafMarks = HUGE_VAL;  // boxes that reach infinity
+  cost.leafMarks = std::isnan(leafMarks) ? HUGE_VAL : leafMarks;  // boxes that reach infinity
   double boxLeaves = 0.0;
   if (cost.leafMarks > 0.0) {
     boxLeaves = 1.0;
@@ -26,6 +31,39 @@ AccumulationCost accumulationCost(const RangeMapSequence& maps, double voxelSize
   cost.leaves = std::isnan(boxLeaves) ? cost.leafMarks : std::min(cost.leafMarks, boxLeaves);
   cost.bytes = kBytesPerLeafMark * cost.leafMarks + kBytesPerAccumulatedLeaf * cost.leaves;
   return cost;
+}
+
+}  // namespace
+
+AccumulationCost accumulationCost(const RangeMapSequence& maps, double voxelSize, double reach) {
+  double leafMarks = 0.0;
+  openvdb::BBoxd reached;
+  maps([&](const RangeMap& m) { leafMarks += detail::leafMarks(m, voxelSize, reach, reached); });
+  return costOfMarks(leafMarks, reached, voxelSize);
+}
+
+AccumulationCostOf accumulationCostOf(RangeMapSequence maps) {
+  return [maps = std::move(maps)](double voxelSize, double reach) { return accumulationCost(maps, voxelSize, reach); };
+}
+
+AccumulationCostOf accumulationCostOf(const PackedScans& scans) {
+  return [&scans](double voxelSize, double reach) {
+    const std::size_t count = scans.maps.size();
+    std::vector<double> marks(count, 0.0);
+    std::vector<openvdb::BBoxd> boxes(count);
+    parallelFor(count, 1, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        marks[i] = detail::leafMarks(scans.maps[i].unpack(), voxelSize, reach, boxes[i]);
+    });
+    // Summed in the maps' order, as accumulationCost visits them.
+    double leafMarks = 0.0;
+    openvdb::BBoxd reached;
+    for (std::size_t i = 0; i < count; ++i) {
+      leafMarks += marks[i];
+      reached.expand(boxes[i]);
+    }
+    return costOfMarks(leafMarks, reached, voxelSize);
+  };
 }
 
 }  // namespace levelfuse

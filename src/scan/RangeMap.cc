@@ -42,9 +42,14 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
   requireRigid(mapToWorld, who);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   mValidCount = 0;
+  mLargestReading = 0.0;
   for (float& r : readings) {
-    if (!std::isfinite(r) || (mKind == Kind::kPinhole && r <= 0.0f)) r = nan;
-    else ++mValidCount;
+    if (!std::isfinite(r) || (mKind == Kind::kPinhole && r <= 0.0f)) {
+      r = nan;
+    } else {
+      ++mValidCount;
+      mLargestReading = std::max(mLargestReading, static_cast<double>(r));
+    }
   }
   mReadings = std::move(readings);
   mSigma = sigma;
@@ -69,11 +74,24 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
   mMapToWorld = mapToWorld;
   mWorldToMap = mapToWorld.inverse();
   mRotation = mapToWorld.getMat3();
+  mReadingBounds = boundsOfReadings();
 }
 
 void RangeMap::findUsableCells() {
   mUsableCell.assign(mReadings.size(), false);
-  for (int j = 0; j + 1 < mHeight; ++j)
+  // The sigmas of the two rows of pixels around a row of cells, each pixel's worked out once.
+  std::vector<double> above(static_cast<std::size_t>(mWidth)), below(above.size());
+  double largestSigma = mSigma;
+  const auto sigmasOfRow = [&](int j, std::vector<double>& sigmas) {
+    for (int i = 0; i < mWidth; ++i) {
+      sigmas[static_cast<std::size_t>(i)] = sigmaAt(index(i, j));
+      largestSigma = std::max(largestSigma, sigmas[static_cast<std::size_t>(i)]);
+    }
+  };
+  sigmasOfRow(0, below);
+  for (int j = 0; j + 1 < mHeight; ++j) {
+    std::swap(above, below);
+    sigmasOfRow(j + 1, below);
     for (int i = 0; i + 1 < mWidth; ++i) {
       const std::size_t at = index(i, j);
       const float r[4] = {mReadings[at], mReadings[at + 1], mReadings[at + static_cast<std::size_t>(mWidth)],
@@ -84,13 +102,11 @@ void RangeMap::findUsableCells() {
       // The distance between neighbouring rays at the readings, and the noise:
       // two readings of one surface differ by sqrt(2) sigma typically.
       const double spacing = mKind == Kind::kOrthographic ? mOrtho.pixelSize : hi / std::min(mPinhole.fx, mPinhole.fy);
-      const std::size_t below = at + static_cast<std::size_t>(mWidth);
-      const double sigma = std::max(std::max(sigmaAt(at), sigmaAt(at + 1)), std::max(sigmaAt(below), sigmaAt(below + 1)));
+      const std::size_t u = static_cast<std::size_t>(i);
+      const double sigma = std::max(std::max(above[u], above[u + 1]), std::max(below[u], below[u + 1]));
       mUsableCell[at] = hi - lo <= mJumpFactor * spacing + kJumpNoise * sigma;
     }
-  double largestSigma = mSigma;
-  if (!mSigmas.empty() || mHasDepthNoise)
-    for (std::size_t at = 0; at < mReadings.size(); ++at) largestSigma = std::max(largestSigma, sigmaAt(at));
+  }
   mLargestStep = mJumpFactor * mOrtho.pixelSize + kJumpNoise * largestSigma;
 }
 
@@ -346,13 +362,10 @@ openvdb::Vec3d RangeMap::scannerPosition() const {
 
 double RangeMap::maxRaySpacing() const {
   if (mKind == Kind::kOrthographic) return 1.0 / std::sqrt(mRayDensity);
-  double zmax = 0.0;
-  for (float r : mReadings)
-    if (r == r) zmax = std::max(zmax, static_cast<double>(r));
-  return zmax / std::min(mPinhole.fx, mPinhole.fy);
+  return mLargestReading / std::min(mPinhole.fx, mPinhole.fy);
 }
 
-openvdb::BBoxd RangeMap::readingBounds() const {
+openvdb::BBoxd RangeMap::boundsOfReadings() const {
   openvdb::BBoxd box;
   for (int v = 0; v < mHeight; ++v)
     for (int u = 0; u < mWidth; ++u)

@@ -2,9 +2,14 @@
 
 #include <levelfuse/scan/AccumulationCost.h>
 #include <levelfuse/scan/ForceField.h>
+#include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/Synth.h>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <utility>
+#include <vector>
 
 namespace levelfuse {
 namespace {
@@ -39,6 +44,21 @@ TEST(AccumulationCost, SeesAWindowThatReachesAbsurdlyFar) {
   const double modest = accumulationCost(maps, 0.02, 0.06).bytes;
   EXPECT_GT(accumulationCost(maps, 0.02, 1e6).bytes, 1e6 * modest);  // 190 TiB: more than any machine has
   EXPECT_EQ(accumulationCost(maps, 0.02, 1e300).bytes, HUGE_VAL);  // no box of leaves counts that far
+}
+
+TEST(AccumulationCost, OfPackedMapsIsTheSameWhateverTheThreads) {
+  PackedScans packed;
+  for (RangeMap& map : sphereViews()) packed.add(std::move(map));
+  const std::vector<RangeMap> maps = sphereViews();
+  for (const double reach : {0.06, 1e6, 1e300})
+    for (const int threads : {1, 2, 3}) {
+      const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      const AccumulationCost visited = accumulationCostOf(rangeMapsOf(maps))(0.02, reach);
+      const AccumulationCost unpacked = accumulationCostOf(packed)(0.02, reach);
+      EXPECT_EQ(unpacked.leafMarks, visited.leafMarks) << reach << ", " << threads;
+      EXPECT_EQ(unpacked.leaves, visited.leaves) << reach << ", " << threads;
+      EXPECT_EQ(unpacked.bytes, visited.bytes) << reach << ", " << threads;
+    }
 }
 
 }  // namespace

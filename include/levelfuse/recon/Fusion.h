@@ -95,9 +95,9 @@ class Fusion {
 };
 
 /// An empty fusion of the resolved options' grids (fusionSettingsOf), once
-/// requireAccumulationMemory has found that the data term of `scans` fits
-/// on every grid (InsufficientMemory if not).
-std::unique_ptr<Fusion> fusionFor(const RangeMapSequence& scans, const ReconstructionOptions& resolved,
+/// requireAccumulationMemory has found that the data term of the scans whose
+/// cost `costOf` finds fits on every grid (InsufficientMemory if not).
+std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved,
                                   Fusion::Keep keep);
 
 /// `scans` integrated into a fusion for them (fusionFor), each map unpacked

@@ -13,6 +13,7 @@
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/recon/FusionSettings.h>
+#include <levelfuse/scan/AccumulationCost.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/RangeMap.h>
@@ -174,11 +175,11 @@ struct ReconstructionResult {
 ReconstructionOptions resolveReconstructionOptions(const ReconstructionOptions& given, const ScanSummary& scans);
 /// The grids of resolved options (resolveReconstructionOptions), as a Fusion takes them.
 FusionSettings fusionSettingsOf(const ReconstructionOptions& resolved);
-/// Throws InsufficientMemory if accumulating the data term of `maps` on grid
-/// `level` of the resolved options would not fit (accumulationCost), saying
-/// which voxel size would: asked before integrating (Reconstructor::run, and
-/// whoever fuses maps read one at a time).
-void requireAccumulationMemory(const RangeMapSequence& maps, const ReconstructionOptions& resolved, int level);
+/// Throws InsufficientMemory if accumulating the data term of the maps whose
+/// cost `costOf` finds on grid `level` of the resolved options would not fit,
+/// saying which voxel size would: asked before integrating
+/// (Reconstructor::run, and whoever fuses maps read one at a time).
+void requireAccumulationMemory(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved, int level);
 
 class Fusion;
 

@@ -11,6 +11,7 @@
 
 #include <levelfuse/scan/RangeMap.h>
 
+#include <functional>
 #include <vector>
 
 namespace levelfuse {
@@ -38,5 +39,16 @@ inline constexpr double kBytesPerAccumulatedLeaf = 4608.0;
 AccumulationCost accumulationCost(const std::vector<RangeMap>& maps, double voxelSize, double reach);
 /// The same, of maps visited one at a time.
 AccumulationCost accumulationCost(const RangeMapSequence& maps, double voxelSize, double reach);
+
+struct PackedScans;
+
+/// The cost of accumulating a set of maps, for a voxel size and a reach: what
+/// a memory check asks, once or, to advise a voxel size that fits, again.
+using AccumulationCostOf = std::function<AccumulationCost(double voxelSize, double reach)>;
+/// Of maps visited one at a time (accumulationCost).
+AccumulationCostOf accumulationCostOf(RangeMapSequence maps);
+/// Of packed maps, unpacked a few at a time in parallel; the same cost, bit
+/// for bit, as visiting them one at a time.
+AccumulationCostOf accumulationCostOf(const PackedScans& scans);
 
 }  // namespace levelfuse

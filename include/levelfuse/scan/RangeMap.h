@@ -185,7 +185,7 @@ class RangeMap {
   /// World position of the surface point a reading measured.
   openvdb::Vec3d readingPoint(int u, int v) const;
   /// World box of the points the readings measured (empty without readings).
-  openvdb::BBoxd readingBounds() const;
+  const openvdb::BBoxd& readingBounds() const { return mReadingBounds; }
   /// World position of the point at pixel coordinates (u, v) (not necessarily
   /// a pixel centre) with the given reading: depth z along the parallel rays or
   /// the optical axis.
@@ -210,6 +210,8 @@ class RangeMap {
   /// A pinhole map of checked geometry that has yet to be given its readings (finish).
   static RangeMap pinholeWithoutReadings(int width, int height, const PinholeProjection& p, std::string name);
   void finish(std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld, double sigma);
+  /// The world box of the reading points, worked out once (finish).
+  openvdb::BBoxd boundsOfReadings() const;
   /// Throws unless `noise` is positive and finite (setDepthNoise).
   void requireDepthNoise(const DepthNoise& noise) const;
   /// The standard deviation of pixel `at`'s reading: per pixel, from its depth, or the map's.
@@ -247,6 +249,8 @@ class RangeMap {
   std::vector<bool> mMisses;  ///< per pixel: no reading within the dropout reach (if misses are empty)
   int mDropoutReach = 2;
   std::size_t mValidCount = 0;
+  double mLargestReading = 0.0;  ///< the largest reading (0 without readings)
+  openvdb::BBoxd mReadingBounds;  ///< world box of the reading points
   double mReadingStep = 0.0;
   double mSigma = 0.0;
   double mJumpFactor = 4.0;
