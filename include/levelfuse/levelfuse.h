@@ -68,6 +68,7 @@
 #include <levelfuse/scan/DepthRaster.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/PackedRangeMap.h>
+#include <levelfuse/scan/PixelFlags.h>
 #include <levelfuse/scan/RangeMap.h>
 #include <levelfuse/scan/ScanSummary.h>
 #include <levelfuse/scan/Scenes.h>

@@ -39,8 +39,9 @@ class ScanDelivery {
 /// Reads `count` frames, `read(i)` making the i-th, a few at a time in
 /// parallel (twice as many as there are threads, no more in flight), and
 /// hands them over in order from the calling thread, telling the progress
-/// after each and asking the interrupter before each. Of the frames that cannot be read, the first in order throws:
-/// the same error whatever the number of threads.
+/// after each and asking the interrupter before each. Of the frames that
+/// cannot be read, the first in order throws: the same error whatever the
+/// number of threads.
 template <typename Read>
 void deliverFrames(std::size_t count, const Read& read, ScanDelivery& scans, const ScanLoadOptions& options) {
   const std::size_t batch = 2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));

@@ -75,21 +75,16 @@ std::vector<T> unpackArray(const Array& packed) {
   return decompress<T>(packed.bytes, packed.count);
 }
 
-/// Flags, eight to a byte, compressed; the flags are let go.
-Array packBits(std::vector<bool>& flags) {
-  std::vector<std::uint8_t> bytes((flags.size() + 7) / 8, 0);
-  for (std::size_t i = 0; i < flags.size(); ++i)
-    if (flags[i]) bytes[i >> 3] = static_cast<std::uint8_t>(bytes[i >> 3] | (1u << (i & 7)));
-  Array packed{compress(bytes.data(), bytes.size(), 1), flags.size()};
-  std::vector<bool>().swap(flags);
+/// Flags, compressed as their words' bytes; the flags are let go.
+Array packFlags(PixelFlags& flags) {
+  Array packed = packArray<std::uint64_t, std::uint8_t>(flags.words());
+  packed.count = flags.size();
+  flags.clear();
   return packed;
 }
 
-std::vector<bool> unpackBits(const Array& packed) {
-  const std::vector<std::uint8_t> bytes = decompress<std::uint8_t>(packed.bytes, (packed.count + 7) / 8);
-  std::vector<bool> flags(packed.count);
-  for (std::size_t i = 0; i < flags.size(); ++i) flags[i] = (bytes[i >> 3] >> (i & 7)) & 1u;
-  return flags;
+PixelFlags unpackFlags(const Array& packed) {
+  return PixelFlags(packed.count, decompress<std::uint64_t>(packed.bytes, (packed.count + 63) / 64));
 }
 
 /// The NaN a map holds where it has no reading (RangeMap::finish).
@@ -134,8 +129,8 @@ PackedRangeMap::PackedRangeMap(RangeMap map) : mShell(std::move(map)) {
   mBlockMin = packArray(mShell.mBlockMin);
   mBlockMax = packArray(mShell.mBlockMax);
   mBlockComplete = packArray(mShell.mBlockComplete);
-  mUsableCells = packBits(mShell.mUsableCell);
-  mMisses = packBits(mShell.mMisses);
+  mUsableCells = packFlags(mShell.mUsableCell);
+  mMisses = packFlags(mShell.mMisses);
 }
 
 RangeMap PackedRangeMap::unpack() const {
@@ -153,8 +148,8 @@ RangeMap PackedRangeMap::unpack() const {
   map.mBlockMin = unpackArray<float>(mBlockMin);
   map.mBlockMax = unpackArray<float>(mBlockMax);
   map.mBlockComplete = unpackArray<std::uint8_t>(mBlockComplete);
-  map.mUsableCell = unpackBits(mUsableCells);
-  map.mMisses = unpackBits(mMisses);
+  map.mUsableCell = unpackFlags(mUsableCells);
+  map.mMisses = unpackFlags(mMisses);
   return map;
 }
 

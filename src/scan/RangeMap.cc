@@ -78,7 +78,7 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
 }
 
 void RangeMap::findUsableCells() {
-  mUsableCell.assign(mReadings.size(), false);
+  mUsableCell = PixelFlags(mReadings.size());
   // The sigmas of the two rows of pixels around a row of cells, each pixel's worked out once.
   std::vector<double> above(static_cast<std::size_t>(mWidth)), below(above.size());
   double largestSigma = mSigma;
@@ -104,7 +104,7 @@ void RangeMap::findUsableCells() {
       const double spacing = mKind == Kind::kOrthographic ? mOrtho.pixelSize : hi / std::min(mPinhole.fx, mPinhole.fy);
       const std::size_t u = static_cast<std::size_t>(i);
       const double sigma = std::max(std::max(above[u], above[u + 1]), std::max(below[u], below[u + 1]));
-      mUsableCell[at] = hi - lo <= mJumpFactor * spacing + kJumpNoise * sigma;
+      mUsableCell.set(at, hi - lo <= mJumpFactor * spacing + kJumpNoise * sigma);
     }
   }
   mLargestStep = mJumpFactor * mOrtho.pixelSize + kJumpNoise * largestSigma;
@@ -237,7 +237,7 @@ void RangeMap::setMissesAreEmpty(bool empty, int dropoutReach) {
   mMisses.clear();
   mDropoutReach = dropoutReach;
   if (!empty) return;
-  mMisses.assign(mReadings.size(), false);
+  mMisses = PixelFlags(mReadings.size());
   for (int v = 0; v < mHeight; ++v)
     for (int u = 0; u < mWidth; ++u) {
       bool nearReading = false;
@@ -247,7 +247,7 @@ void RangeMap::setMissesAreEmpty(bool empty, int dropoutReach) {
             nearReading = true;
             break;
           }
-      mMisses[index(u, v)] = !nearReading;
+      mMisses.set(index(u, v), !nearReading);
     }
 }
 
@@ -376,8 +376,8 @@ openvdb::BBoxd RangeMap::boundsOfReadings() const {
 std::size_t RangeMap::memoryBytes() const {
   return sizeof(*this) + mName.capacity() + mBlockMin.capacity() * sizeof(float) +
          mBlockMax.capacity() * sizeof(float) + mBlockComplete.capacity() + mReadings.capacity() * sizeof(float) +
-         mUsableCell.capacity() / 8 + mDirections.capacity() * sizeof(openvdb::Vec3f) +
-         mSigmas.capacity() * sizeof(float) + mSamples.capacity() * sizeof(openvdb::Vec3d) + mMisses.capacity() / 8;
+         mUsableCell.memoryBytes() + mDirections.capacity() * sizeof(openvdb::Vec3f) +
+         mSigmas.capacity() * sizeof(float) + mSamples.capacity() * sizeof(openvdb::Vec3d) + mMisses.memoryBytes();
 }
 
 RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps) {

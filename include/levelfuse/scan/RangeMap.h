@@ -13,6 +13,8 @@
 // found through the map's projection.
 #pragma once
 
+#include <levelfuse/scan/PixelFlags.h>
+
 #include <openvdb/Types.h>
 #include <openvdb/math/BBox.h>
 #include <openvdb/math/Mat4.h>
@@ -240,13 +242,13 @@ class RangeMap {
   /// Per cell (i, j) between pixels i..i+1, j..j+1: true if its four readings
   /// are valid and span no depth discontinuity (indexed like the pixels; a bit
   /// per cell).
-  std::vector<bool> mUsableCell;
+  PixelFlags mUsableCell;
   std::vector<openvdb::Vec3f> mDirections;
   std::vector<float> mSigmas;
   bool mHasDepthNoise = false;  ///< the sigmas follow mDepthNoise
   DepthNoise mDepthNoise;
   std::vector<openvdb::Vec3d> mSamples;  ///< world; empty where the readings are the samples
-  std::vector<bool> mMisses;  ///< per pixel: no reading within the dropout reach (if misses are empty)
+  PixelFlags mMisses;  ///< per pixel: no reading within the dropout reach (if misses are empty)
   int mDropoutReach = 2;
   std::size_t mValidCount = 0;
   double mLargestReading = 0.0;  ///< the largest reading (0 without readings)
