@@ -162,9 +162,7 @@ RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, con
 RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
                            const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, std::string name) {
   RangeMap m = pinholeWithoutReadings(width, height, p, std::move(name));
-  m.requireDepthNoise(noise);
-  m.mDepthNoise = noise;
-  m.mHasDepthNoise = true;
+  m.adoptDepthNoise(noise);
   m.finish(std::move(depths), cameraToWorld, std::max(noise.minimum, noise.perSquareMetre));
   return m;
 }
@@ -192,18 +190,18 @@ void RangeMap::setSigmas(std::vector<float> sigmas) {
   findUsableCells();
 }
 
-void RangeMap::requireDepthNoise(const DepthNoise& noise) const {
+void RangeMap::adoptDepthNoise(const DepthNoise& noise) {
   if (!(noise.minimum > 0.0) || !std::isfinite(noise.minimum) || !(noise.perSquareMetre >= 0.0) ||
       !std::isfinite(noise.perSquareMetre))
     throw std::invalid_argument("range map '" + mName + "': the depth noise must be positive and finite");
-}
-
-void RangeMap::setDepthNoise(const DepthNoise& noise) {
-  requireDepthNoise(noise);
   mSigmas.clear();
   mSigmas.shrink_to_fit();
   mDepthNoise = noise;
   mHasDepthNoise = true;
+}
+
+void RangeMap::setDepthNoise(const DepthNoise& noise) {
+  adoptDepthNoise(noise);
   findUsableCells();
 }
 

@@ -48,7 +48,7 @@ using AccumulationCostOf = std::function<AccumulationCost(double voxelSize, doub
 /// Of maps visited one at a time (accumulationCost).
 AccumulationCostOf accumulationCostOf(RangeMapSequence maps);
 /// Of packed maps, unpacked a few at a time in parallel; the same cost, bit
-/// for bit, as visiting them one at a time.
+/// for bit, as visiting them one at a time. `scans` must outlive the function.
 AccumulationCostOf accumulationCostOf(const PackedScans& scans);
 
 }  // namespace levelfuse

@@ -214,8 +214,10 @@ class RangeMap {
   void finish(std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld, double sigma);
   /// The world box of the reading points, worked out once (finish).
   openvdb::BBoxd boundsOfReadings() const;
-  /// Throws unless `noise` is positive and finite (setDepthNoise).
-  void requireDepthNoise(const DepthNoise& noise) const;
+  /// Takes sigmas that follow the depth, replacing any others, without
+  /// working the usable cells out again; throws unless `noise` is positive
+  /// and finite.
+  void adoptDepthNoise(const DepthNoise& noise);
   /// The standard deviation of pixel `at`'s reading: per pixel, from its depth, or the map's.
   double sigmaAt(std::size_t at) const {
     if (!mSigmas.empty()) return mSigmas[at];
