@@ -96,13 +96,17 @@ void DataTermGrids::integrate(const RangeMap& map) {
     RangeMap::LocalSample s;
     for (std::size_t l = begin; l < end; ++l) {
       if (!detail::leafMayBeReached(map, leaves[l], h, reach)) continue;
+      const std::uint8_t cubes = detail::leafCubesMayBeReached(map, leaves[l], h, reach);
+      if (cubes == 0) continue;
       const Vec3d base = toMap.transform(leaves[l].asVec3d() * h);
       std::vector<VoxelTerm>& out = terms[l];
       for (int i = 0; i < kLeafDim; ++i)
         for (int j = 0; j < kLeafDim; ++j) {
           Vec3d q = base + step[0] * i + step[1] * j;
           const int row = (i << 6) | (j << 3);
+          const int cubeRow = ((i >> 2) << 2) | ((j >> 2) << 1);
           for (int k = 0; k < kLeafDim; ++k, q += step[2]) {
+            if (!(cubes & (1 << (cubeRow | (k >> 2))))) continue;
             ++evaluations[l];
             if (!map.sampleLocal(q, reach, s)) continue;
             const double w = mWindow(s.D);

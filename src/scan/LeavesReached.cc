@@ -5,6 +5,7 @@
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -110,10 +111,24 @@ CubeFootprint cubeFootprint(const RangeMap& m, const Coord& origin, double voxel
 }  // namespace
 
 bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {
-  const CubeFootprint f = cubeFootprint(m, origin, voxelSize);
+  return cubeMayBeReached(m, origin, kLeafDim, voxelSize, reach);
+}
+
+bool cubeMayBeReached(const RangeMap& m, const Coord& origin, int dim, double voxelSize, double reach) {
+  const CubeFootprint f = cubeFootprint(m, origin, voxelSize, dim);
   if (f.inFront < 8) return true;  // straddles the camera plane
   double lo, hi;
   return m.readingBounds(f.u0, f.v0, f.u1 + 1.0, f.v1 + 1.0, lo, hi) && f.z0 - hi <= reach && f.z1 - lo >= -reach;
+}
+
+std::uint8_t leafCubesMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {
+  constexpr int kHalf = kLeafDim / 2;
+  std::uint8_t reached = 0;
+  for (int c = 0; c < 8; ++c) {
+    const Coord corner = origin.offsetBy(((c >> 2) & 1) * kHalf, ((c >> 1) & 1) * kHalf, (c & 1) * kHalf);
+    if (cubeMayBeReached(m, corner, kHalf, voxelSize, reach)) reached = static_cast<std::uint8_t>(reached | (1 << c));
+  }
+  return reached;
 }
 
 RangeMap::Sight leafSight(const RangeMap& m, const Coord& origin, double voxelSize, double margin) {

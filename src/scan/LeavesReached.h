@@ -7,6 +7,7 @@
 #include <openvdb/math/BBox.h>
 #include <openvdb/math/Coord.h>
 
+#include <cstdint>
 #include <vector>
 
 namespace levelfuse::detail {
@@ -29,6 +30,12 @@ double leafMarks(const RangeMap& map, double voxelSize, double reach, openvdb::B
 /// false if the leaf's depths and the readings over its footprint in the map
 /// are more than `reach` apart.
 bool leafMayBeReached(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double reach);
+/// The same for the cube of `dim` voxels a side at `origin` (a leaf's is 8).
+bool cubeMayBeReached(const RangeMap& map, const openvdb::Coord& origin, int dim, double voxelSize, double reach);
+/// Which of the eight cubes of 4^3 voxels of the leaf at `origin` readings of
+/// `map` may reach (cubeMayBeReached): bit (x / 4) * 4 + (y / 4) * 2 + z / 4
+/// for the cube holding local voxel (x, y, z).
+std::uint8_t leafCubesMayBeReached(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double reach);
 
 /// What RangeMap::sight(x, margin) says at every voxel centre x of the leaf at
 /// `origin`, when it says the same everywhere and that can be told from the

@@ -322,6 +322,10 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
     out.lineOfSight = openvdb::Vec3d(0.0, 0.0, 1.0);
     out.gamma = mRayDensity;
   } else {
+    // D = k (z - r) with k >= 1: a depth farther than the reach from the
+    // reading is out of the window (a relative slack leaves ties within
+    // rounding to the exact test below).
+    if (std::fabs(p.z() - r) > reach * (1.0 + 1e-9)) return false;
     const double a = (u - mPinhole.cx) / mPinhole.fx, b = (v - mPinhole.cy) / mPinhole.fy;
     const double k = std::sqrt(1.0 + a * a + b * b);
     const double distance = p.length();
