@@ -5,7 +5,6 @@
 #include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/recon/DataFit.h>
 
-#include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/VolumeToSpheres.h>
 
 #include <algorithm>
@@ -59,6 +58,47 @@ void forEachFitPoint(const RangeMap& m, int stride, const Visit& visit) {
       if (m.valid(u, v)) visit(m.readingPoint(u, v));
 }
 
+/// How many points forEachFitPoint visits for map m at `stride`.
+std::size_t countFitPoints(const RangeMap& m, int stride) {
+  const std::size_t sampleStride = static_cast<std::size_t>(stride) * static_cast<std::size_t>(stride);
+  if (!m.samples().empty()) return (m.samples().size() + sampleStride - 1) / sampleStride;
+  std::size_t count = 0;
+  for (int v = 0; v < m.height(); v += stride)
+    for (int u = 0; u < m.width(); u += stride) count += m.valid(u, v) ? 1 : 0;
+  return count;
+}
+
+/// The trilinear interpolant of a grid's values at index point x, and its
+/// gradient (world units per voxel), from the eight voxels around x.
+struct Trilinear {
+  double value;
+  openvdb::Vec3d gradient;
+};
+
+Trilinear trilinearAt(const openvdb::FloatGrid::ConstAccessor& acc, const openvdb::Vec3d& x) {
+  const openvdb::Coord lo = openvdb::Coord::floor(x);
+  const openvdb::Vec3d f = x - lo.asVec3d();
+  double c[2][2][2];
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 2; ++k) c[i][j][k] = acc.getValue(lo.offsetBy(i, j, k));
+  const auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
+  // Along z, then y: the values on the four x-y corners' lines and their z slopes.
+  double yz[2][2], dz[2][2];
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) {
+      yz[i][j] = lerp(c[i][j][0], c[i][j][1], f.z());
+      dz[i][j] = c[i][j][1] - c[i][j][0];
+    }
+  const double x0 = lerp(yz[0][0], yz[0][1], f.y()), x1 = lerp(yz[1][0], yz[1][1], f.y());
+  Trilinear t;
+  t.value = lerp(x0, x1, f.x());
+  t.gradient = openvdb::Vec3d(
+      x1 - x0, lerp(yz[0][1] - yz[0][0], yz[1][1] - yz[1][0], f.x()),
+      lerp(lerp(dz[0][0], dz[0][1], f.y()), lerp(dz[1][0], dz[1][1], f.y()), f.x()));
+  return t;
+}
+
 }  // namespace
 
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride) {
@@ -82,7 +122,7 @@ int fitStride(const RangeMapSequence& maps, std::size_t atMost) {
   std::vector<std::size_t> measured(kLargestFitStride + 1, 0);
   maps([&](const RangeMap& m) {
     for (int stride = 1; stride <= kLargestFitStride; ++stride)
-      forEachFitPoint(m, stride, [&](const openvdb::Vec3d&) { ++measured[static_cast<std::size_t>(stride)]; });
+      measured[static_cast<std::size_t>(stride)] += countFitPoints(m, stride);
   });
   int stride = 1;
   while (stride < kLargestFitStride && measured[static_cast<std::size_t>(stride)] > atMost) ++stride;
@@ -99,28 +139,24 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<ope
   const double voxel = levelSet.voxelSize()[0];
   parallelFor(points.size(), 4096, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
-    const auto psi = [&](const openvdb::Vec3d& ijk) { return openvdb::tools::BoxSampler::sample(acc, ijk); };
     for (std::size_t i = begin; i < end; ++i) {
       const openvdb::Vec3d start = levelSet.worldToIndex(points[i]);
-      double value = psi(start);
+      Trilinear psi = trilinearAt(acc, start);
       // Beyond the band where the nearest voxel is not in it.
-      beyond[i] = !acc.isValueOn(openvdb::Coord::round(start)) && std::fabs(value) >= 0.999 * background;
-      distance[i] = std::fabs(value);
+      beyond[i] = !acc.isValueOn(openvdb::Coord::round(start)) && std::fabs(psi.value) >= 0.999 * background;
+      distance[i] = std::fabs(psi.value);
       if (beyond[i]) continue;
       // The values of a narrow band are distances only near the zero set:
       // project the reading onto it along the gradient (Newton's method on
       // the trilinear interpolant) and measure the way it went.
       openvdb::Vec3d x = start;
-      for (int step = 0; step < 8 && std::fabs(value) > 1e-4 * voxel; ++step) {
-        const openvdb::Vec3d gradient(psi(x + openvdb::Vec3d(0.5, 0, 0)) - psi(x - openvdb::Vec3d(0.5, 0, 0)),
-                                      psi(x + openvdb::Vec3d(0, 0.5, 0)) - psi(x - openvdb::Vec3d(0, 0.5, 0)),
-                                      psi(x + openvdb::Vec3d(0, 0, 0.5)) - psi(x - openvdb::Vec3d(0, 0, 0.5)));
-        const double lengthSq = gradient.lengthSqr();
+      for (int step = 0; step < 8 && std::fabs(psi.value) > 1e-4 * voxel; ++step) {
+        const double lengthSq = psi.gradient.lengthSqr();
         if (!(lengthSq > 0.0)) break;
-        x -= gradient * (value / lengthSq);  // index space: the gradient is world units per voxel
-        value = psi(x);
+        x -= psi.gradient * (psi.value / lengthSq);  // index space: the gradient is world units per voxel
+        psi = trilinearAt(acc, x);
       }
-      if (std::fabs(value) <= 1e-3 * voxel) distance[i] = (x - start).length() * voxel;
+      if (std::fabs(psi.value) <= 1e-3 * voxel) distance[i] = (x - start).length() * voxel;
     }
   });
   // Readings beyond the band: the distance to the nearest point of the zero
