@@ -46,10 +46,21 @@ void Fusion::integrate(PackedRangeMap packed) {
   if (mKeep == Keep::kPacked) mPacked.push_back(std::move(packed));
 }
 
+void Fusion::integrate(std::vector<PackedRangeMap> maps, const std::function<void(std::size_t, std::size_t)>& integrated,
+                       const Interrupter& interrupter) {
+  std::size_t next = 0;
+  visitUnpacked(maps, [&](const RangeMap& map) {
+    checkInterrupter(interrupter);
+    addToGrids(map);
+    // Map `next` is the one visited: unpacked already, it may be moved from.
+    if (mKeep == Keep::kPacked) mPacked.push_back(std::move(maps[next]));
+    ++next;
+    if (integrated) integrated(scanCount(), maps.size());
+  });
+}
+
 RangeMapSequence Fusion::scans() const {
-  return [this](const RangeMapVisitor& visit) {
-    for (const PackedRangeMap& p : mPacked) visit(p.unpack());
-  };
+  return [this](const RangeMapVisitor& visit) { visitUnpacked(mPacked, visit); };
 }
 
 PackedScans Fusion::takeScans() {
@@ -100,12 +111,7 @@ std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionO
                                         const std::function<void(std::size_t, std::size_t)>& integrated,
                                         const Interrupter& interrupter) {
   std::unique_ptr<Fusion> fusion = fusionFor(accumulationCostOf(scans), resolved, Fusion::Keep::kPacked);
-  const std::size_t count = scans.maps.size();
-  for (PackedRangeMap& p : scans.maps) {
-    checkInterrupter(interrupter);
-    fusion->integrate(std::move(p));
-    if (integrated) integrated(fusion->scanCount(), count);
-  }
+  fusion->integrate(std::move(scans.maps), integrated, interrupter);
   return fusion;
 }
 

@@ -2,13 +2,17 @@
 
 #include <levelfuse/scan/PackedRangeMap.h>
 
+#include <levelfuse/core/Parallel.h>
+
 #include <blosc.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -166,10 +170,23 @@ void PackedScans::add(RangeMap map) {
   maps.emplace_back(std::move(map));
 }
 
+void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisitor& visit) {
+  const std::size_t batch = 2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  std::vector<std::optional<RangeMap>> unpacked(batch);
+  for (std::size_t first = 0; first < maps.size(); first += batch) {
+    const std::size_t n = std::min(batch, maps.size() - first);
+    parallelFor(n, 1, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) unpacked[k].emplace(maps[first + k].unpack());
+    });
+    for (std::size_t k = 0; k < n; ++k) {
+      visit(*unpacked[k]);
+      unpacked[k].reset();
+    }
+  }
+}
+
 RangeMapSequence PackedScans::unpacked() const {
-  return [this](const RangeMapVisitor& visit) {
-    for (const PackedRangeMap& p : maps) visit(p.unpack());
-  };
+  return [this](const RangeMapVisitor& visit) { visitUnpacked(maps, visit); };
 }
 
 }  // namespace levelfuse

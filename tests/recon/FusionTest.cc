@@ -7,8 +7,10 @@
 #include <levelfuse/recon/Reconstructor.h>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace levelfuse {
@@ -103,6 +105,50 @@ TEST(Fusion, AnswersAtAnyTimeAsFramesKeepComing) {
   const openvdb::FloatGrid::Ptr later = growing.linearSolution();
   expectSameGrid(*later, *all.linearSolution());
   EXPECT_GT(later->activeVoxelCount(), early->activeVoxelCount());  // the second half saw more of the room
+}
+
+TEST(Fusion, PackedMapsIntegratedTogetherGiveWhatTheyGiveOneAtATime) {
+  const RoomFrames frames = roomFrames();
+  const Reconstructor batch(frames.reconstruction, roomOptions(1));
+  Fusion oneAtATime(settingsFor(batch));
+  for (const RangeMap& frame : frames.reconstruction) oneAtATime.integrate(PackedRangeMap(RangeMap(frame)));
+  const openvdb::FloatGrid::Ptr expected = oneAtATime.linearSolution();
+  for (const int threads : {1, 2, 5}) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    std::vector<PackedRangeMap> packed;
+    for (const RangeMap& frame : frames.reconstruction) packed.emplace_back(RangeMap(frame));
+    Fusion together(settingsFor(batch));
+    std::vector<std::size_t> told;
+    together.integrate(std::move(packed), [&](std::size_t done, std::size_t of) {
+      EXPECT_EQ(of, frames.reconstruction.size());
+      told.push_back(done);
+    });
+    ASSERT_EQ(told.size(), frames.reconstruction.size()) << threads;
+    for (std::size_t i = 0; i < told.size(); ++i) EXPECT_EQ(told[i], i + 1);
+    expectSameGrid(*together.linearSolution(), *expected);
+    // Kept packed, in order, and visited in order a few at a time.
+    std::vector<std::string> names;
+    together.scans()([&](const RangeMap& m) { names.push_back(m.name()); });
+    ASSERT_EQ(names.size(), frames.reconstruction.size()) << threads;
+    for (std::size_t i = 0; i < names.size(); ++i) EXPECT_EQ(names[i], frames.reconstruction[i].name()) << threads;
+  }
+}
+
+TEST(Fusion, PackedMapsIntegratedTogetherStopWhenAskedAndKeepWhatIsIn) {
+  const RoomFrames frames = roomFrames();
+  const Reconstructor batch(frames.reconstruction, roomOptions(1));
+  std::vector<PackedRangeMap> packed;
+  for (const RangeMap& frame : frames.reconstruction) packed.emplace_back(RangeMap(frame));
+  Fusion fusion(settingsFor(batch));
+  std::size_t in = 0;
+  EXPECT_THROW(fusion.integrate(
+                   std::move(packed), [&](std::size_t done, std::size_t) { in = done; },
+                   [&] { return in == 3; }),
+               Interrupted);
+  EXPECT_EQ(fusion.scanCount(), 3u);
+  std::size_t kept = 0;
+  fusion.scans()([&](const RangeMap& m) { EXPECT_EQ(m.name(), frames.reconstruction[kept++].name()); });
+  EXPECT_EQ(kept, 3u);
 }
 
 TEST(Fusion, RefusesWhatItCannotUse) {

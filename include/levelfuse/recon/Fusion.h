@@ -49,6 +49,13 @@ class Fusion {
   /// the settings were derived from every map's summary): unpacked for the
   /// integration, then kept as it is (or dropped, Keep::kNothing).
   void integrate(PackedRangeMap packed);
+  /// The same for many maps, in order, unpacked a few at a time in parallel
+  /// (visitUnpacked); `integrated`, if set, is told after each map how many
+  /// of how many are in. Interrupted if `interrupter` asks to stop between
+  /// maps: those integrated so far are kept.
+  void integrate(std::vector<PackedRangeMap> maps,
+                 const std::function<void(std::size_t, std::size_t)>& integrated = {},
+                 const Interrupter& interrupter = {});
 
   std::size_t scanCount() const { return mSummary.scans(); }
   const ScanSummary& summary() const { return mSummary; }

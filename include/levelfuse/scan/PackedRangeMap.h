@@ -43,6 +43,12 @@ class PackedRangeMap {
   bool mReadingsAsSteps = false;
 };
 
+/// Calls `visit` with each of `maps` unpacked, in order, from the calling
+/// thread: they are unpacked a few at a time in parallel (twice as many as
+/// there are threads; no more are held unpacked at once), each batch before
+/// its maps are visited.
+void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisitor& visit);
+
 /// Scans held packed as they are read, with what a reconstruction's derived
 /// settings are taken from (resolveReconstructionOptions): a folder of depth
 /// frames read with io::ScanLoadOptions::take into these holds one frame
@@ -52,7 +58,7 @@ struct PackedScans {
   ScanSummary summary;
   /// Adds a scan: its facts to the summary, the map packed.
   void add(RangeMap map);
-  /// The maps, unpacked one at a time.
+  /// The maps, unpacked a few at a time (visitUnpacked).
   RangeMapSequence unpacked() const;
 };
 
