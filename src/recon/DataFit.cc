@@ -137,6 +137,9 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<ope
   std::vector<double> distance(points.size());
   std::vector<char> beyond(points.size());
   const double voxel = levelSet.voxelSize()[0];
+  // The zero set lies within the band's half-width of any voxel in it: a
+  // Newton step longer than that (voxels) comes from a flat spot.
+  const double longestStep = 1.0 + background / voxel;
   parallelFor(points.size(), 4096, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
     for (std::size_t i = begin; i < end; ++i) {
@@ -153,7 +156,9 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<ope
       for (int step = 0; step < 8 && std::fabs(psi.value) > 1e-4 * voxel; ++step) {
         const double lengthSq = psi.gradient.lengthSqr();
         if (!(lengthSq > 0.0)) break;
-        x -= psi.gradient * (psi.value / lengthSq);  // index space: the gradient is world units per voxel
+        const openvdb::Vec3d move = psi.gradient * (psi.value / lengthSq);  // index space: the gradient is world units per voxel
+        if (!(move.length() <= longestStep)) break;  // a flat spot: the step would leave the band
+        x -= move;
         psi = trilinearAt(acc, x);
       }
       if (std::fabs(psi.value) <= 1e-3 * voxel) distance[i] = (x - start).length() * voxel;
