@@ -6,7 +6,6 @@
 #include <levelfuse/io/LoadProgress.h>
 #include <levelfuse/io/Scans.h>
 
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -44,7 +43,7 @@ class ScanDelivery {
 /// number of threads.
 template <typename Read>
 void deliverFrames(std::size_t count, const Read& read, ScanDelivery& scans, const ScanLoadOptions& options) {
-  const std::size_t batch = 2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::size_t batch = itemsInFlight();
   std::vector<std::optional<RangeMap>> frames(batch);
   std::vector<std::exception_ptr> failures(batch);
   for (std::size_t first = 0; first < count; first += batch) {

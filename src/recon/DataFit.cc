@@ -43,29 +43,20 @@ DataFit summarise(std::vector<double> distance, const std::vector<char>* beyond,
   return fit;
 }
 
-/// Calls `visit` with each point a fit of map m at `stride` measures: its
-/// samples where it was resampled from them (every stride^2-th), else every
-/// stride-th valid reading along its rows and columns.
+/// Calls `visit(pointOf)` for each point a fit of map m at `stride`
+/// measures, `pointOf()` making that point: its samples where it was
+/// resampled from them (every stride^2-th), else every stride-th valid
+/// reading along its rows and columns. A visit that only counts makes no point.
 template <typename Visit>
 void forEachFitPoint(const RangeMap& m, int stride, const Visit& visit) {
   const std::size_t sampleStride = static_cast<std::size_t>(stride) * static_cast<std::size_t>(stride);
   if (!m.samples().empty()) {  // the points measured, where the map was resampled from them
-    for (std::size_t i = 0; i < m.samples().size(); i += sampleStride) visit(m.samples()[i]);
+    for (std::size_t i = 0; i < m.samples().size(); i += sampleStride) visit([&] { return m.samples()[i]; });
     return;
   }
   for (int v = 0; v < m.height(); v += stride)
     for (int u = 0; u < m.width(); u += stride)
-      if (m.valid(u, v)) visit(m.readingPoint(u, v));
-}
-
-/// How many points forEachFitPoint visits for map m at `stride`.
-std::size_t countFitPoints(const RangeMap& m, int stride) {
-  const std::size_t sampleStride = static_cast<std::size_t>(stride) * static_cast<std::size_t>(stride);
-  if (!m.samples().empty()) return (m.samples().size() + sampleStride - 1) / sampleStride;
-  std::size_t count = 0;
-  for (int v = 0; v < m.height(); v += stride)
-    for (int u = 0; u < m.width(); u += stride) count += m.valid(u, v) ? 1 : 0;
-  return count;
+      if (m.valid(u, v)) visit([&] { return m.readingPoint(u, v); });
 }
 
 /// The trilinear interpolant of a grid's values at index point x, and its
@@ -109,7 +100,7 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const RangeMapSequenc
   if (stride < 1) throw std::invalid_argument("measureDataFit: the stride must be at least 1");
   requireLevelSet(levelSet, "measureDataFit");
   std::vector<openvdb::Vec3d> points;
-  maps([&](const RangeMap& m) { forEachFitPoint(m, stride, [&](const openvdb::Vec3d& point) { points.push_back(point); }); });
+  maps([&](const RangeMap& m) { forEachFitPoint(m, stride, [&](const auto& pointOf) { points.push_back(pointOf()); }); });
   return measureDataFit(levelSet, points);
 }
 
@@ -122,7 +113,7 @@ int fitStride(const RangeMapSequence& maps, std::size_t atMost) {
   std::vector<std::size_t> measured(kLargestFitStride + 1, 0);
   maps([&](const RangeMap& m) {
     for (int stride = 1; stride <= kLargestFitStride; ++stride)
-      measured[static_cast<std::size_t>(stride)] += countFitPoints(m, stride);
+      forEachFitPoint(m, stride, [&](const auto&) { ++measured[static_cast<std::size_t>(stride)]; });
   });
   int stride = 1;
   while (stride < kLargestFitStride && measured[static_cast<std::size_t>(stride)] > atMost) ++stride;

@@ -5,7 +5,6 @@
 #include <levelfuse/core/Parallel.h>
 
 #include <blosc.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -171,7 +170,7 @@ void PackedScans::add(RangeMap map) {
 }
 
 void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisitor& visit) {
-  const std::size_t batch = 2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::size_t batch = itemsInFlight();
   std::vector<std::optional<RangeMap>> unpacked(batch);
   for (std::size_t first = 0; first < maps.size(); first += batch) {
     const std::size_t n = std::min(batch, maps.size() - first);

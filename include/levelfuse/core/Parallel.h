@@ -14,6 +14,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -29,6 +30,12 @@
 #endif
 
 namespace levelfuse {
+
+/// How many items (frames, maps) a pass that prepares them in parallel and
+/// hands them on in order holds at once: twice as many as there are threads.
+inline std::size_t itemsInFlight() {
+  return 2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+}
 
 template <typename Body>
 void parallelFor(std::size_t n, std::size_t grain, const Body& body) {
