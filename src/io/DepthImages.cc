@@ -221,23 +221,38 @@ std::vector<double> readNumbers(const std::string& path, std::size_t expected) {
 
 }  // namespace
 
-DepthImage readDepthPng(const std::string& path, double scale, const std::vector<unsigned> invalid) {
-  requireInputFile(path);
-  if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError(path, "the depth scale must be positive");
+DepthImage depthImageFromIntegers(int width, int height, const std::uint16_t* samples, double scale,
+                                  const std::vector<unsigned>& invalid) {
+  if (!(scale > 0.0) || !std::isfinite(scale)) throw std::invalid_argument("the depth scale must be positive");
   DepthImage image;
-  std::vector<std::uint16_t> samples;
-  std::error_code ec;
-  const std::uintmax_t fileBytes = fs::file_size(path, ec);
-  if (ec) throw InputError(path, "cannot be read (" + ec.message() + ")");
-  const std::string problem =
-      readPng16(path.c_str(), static_cast<double>(fileBytes), image.width, image.height, samples);
-  if (!problem.empty()) throw InputError(path, problem);
-  image.depth.resize(samples.size());
-  for (std::size_t i = 0; i < samples.size(); ++i) {
+  image.width = width;
+  image.height = height;
+  const std::size_t count = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  image.depth.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
     const bool none = std::find(invalid.begin(), invalid.end(), samples[i]) != invalid.end();
     image.depth[i] = none ? kNoReading : static_cast<float>(samples[i] * scale);
   }
   image.step = scale;
+  return image;
+}
+
+DepthSamples readDepthPngSamples(const std::string& path) {
+  requireInputFile(path);
+  DepthSamples image;
+  std::error_code ec;
+  const std::uintmax_t fileBytes = fs::file_size(path, ec);
+  if (ec) throw InputError(path, "cannot be read (" + ec.message() + ")");
+  const std::string problem =
+      readPng16(path.c_str(), static_cast<double>(fileBytes), image.width, image.height, image.samples);
+  if (!problem.empty()) throw InputError(path, problem);
+  return image;
+}
+
+DepthImage readDepthPng(const std::string& path, double scale, const std::vector<unsigned> invalid) {
+  if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError(path, "the depth scale must be positive");
+  const DepthSamples samples = readDepthPngSamples(path);
+  DepthImage image = depthImageFromIntegers(samples.width, samples.height, samples.samples.data(), scale, invalid);
   requireMetres(path, image);
   return image;
 }

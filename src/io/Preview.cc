@@ -157,9 +157,8 @@ void writePreviewPng(const openvdb::FloatGrid& levelSet, const std::string& path
   outputs.commit();
 }
 
-void writePreviewPng(OutputSet& outputs, const openvdb::FloatGrid& levelSet, const std::string& path,
-                     const PreviewOptions& options) {
-  requireLevelSet(levelSet, "writePreviewPng");
+PreviewImage renderPreview(const openvdb::FloatGrid& levelSet, const PreviewOptions& options) {
+  requireLevelSet(levelSet, "renderPreview");
   if (options.width < 8 || options.height < 8 || options.width > 16384 || options.height > 16384)
     throw std::invalid_argument("preview: the picture must be 8 to 16384 pixels a side");
   if (levelSet.activeVoxelCount() == 0) throw std::invalid_argument("preview: the level set '" + levelSet.getName() + "' has no surface");
@@ -175,7 +174,9 @@ void writePreviewPng(OutputSet& outputs, const openvdb::FloatGrid& levelSet, con
   // A key light from the upper left and a fill from the camera.
   const Vec3d key = (up * 0.8 - right * 0.5 + back * 0.6).unit();
   const Vec3d albedo(0.86, 0.80, 0.70);
-  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(options.width) * options.height * 3);
+  PreviewImage image{options.width, options.height, {}};
+  std::vector<std::uint8_t>& rgb = image.rgb;
+  rgb.resize(static_cast<std::size_t>(options.width) * options.height * 3);
   const openvdb::tools::LevelSetRayIntersector<openvdb::FloatGrid> shared(levelSet);
   const double passStep = 0.5 * levelSet.voxelSize()[0];  // past a surface left out
   parallelFor(static_cast<std::size_t>(options.height), 4, [&](std::size_t begin, std::size_t end) {
@@ -217,7 +218,14 @@ void writePreviewPng(OutputSet& outputs, const openvdb::FloatGrid& levelSet, con
         for (int c = 0; c < 3; ++c) pixel[c] = toByte(colour[c]);
       }
   });
-  outputs.add(path, [&](const std::string& temporary) { writeRgbPng(temporary, options.width, options.height, rgb); });
+  return image;
+}
+
+void writePreviewPng(OutputSet& outputs, const openvdb::FloatGrid& levelSet, const std::string& path,
+                     const PreviewOptions& options) {
+  requireLevelSet(levelSet, "writePreviewPng");
+  const PreviewImage image = renderPreview(levelSet, options);
+  outputs.add(path, [&](const std::string& temporary) { writeRgbPng(temporary, image.width, image.height, image.rgb); });
 }
 
 }  // namespace levelfuse::io

@@ -86,6 +86,7 @@ TEST(RequireLevelSet, EveryEntryPointRefusesWhatIsNotALevelSetTheSameWay) {
       {"insideComponents", [](const openvdb::FloatGrid& g) { insideComponents(g); }},
       {"measureDataFit",
        [](const openvdb::FloatGrid& g) { measureDataFit(g, std::vector<openvdb::Vec3d>{openvdb::Vec3d(0.0)}); }},
+      {"renderPreview", [](const openvdb::FloatGrid& g) { io::renderPreview(g); }},
       {"writePreviewPng",
        [](const openvdb::FloatGrid& g) { io::writePreviewPng(g, ::testing::TempDir() + "levelfuse-never.png", {}); }},
   };

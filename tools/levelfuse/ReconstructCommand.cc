@@ -19,6 +19,7 @@
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/ScansReconstruction.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 
@@ -108,50 +109,18 @@ std::runtime_error ofTheInputs(const ReconstructSettings& s, const std::exceptio
   return std::runtime_error(joined(s.inputs) + ": " + e.what());
 }
 
-/// The reconstruction of the inputs: on a fusion of the scans when the data
-/// term comes from grids (they stay packed), else on the scans themselves.
-struct Reconstruction {
-  std::unique_ptr<Fusion> fusion;
-  std::unique_ptr<Reconstructor> reconstructor;
-  RangeMapSequence scans;  ///< the scans, one at a time, for the fit
-  PackedScans kept;        ///< a fusion's scans once its grids are let go
-
-  /// Once the surface and its weight are made, a fusion's grids are let go
-  /// (before the fit and the mesh, which would otherwise hold them at their
-  /// peak); its scans stay for the fit. The reconstructor is asked nothing
-  /// more that needs the fusion: its options and summary are its own.
-  void letTheGridsGo() {
-    if (!fusion) return;
-    kept = fusion->takeScans();
-    fusion.reset();
-    scans = kept.unpacked();
-  }
-};
-
-Reconstruction prepareReconstruction(Inputs& in, const ReconstructSettings& s, ProgressBar& bar) {
-  Reconstruction r;
+ScansReconstruction prepare(Inputs& in, const ReconstructSettings& s, ProgressBar& bar) {
   try {
-    const ReconstructionOptions resolved = resolveReconstructionOptions(s.options, in.scans.summary);
-    if (resolved.dataTerm == DataTermSource::kGrids) {
+    if (resolveReconstructionOptions(s.options, in.scans.summary).dataTerm == DataTermSource::kGrids)
       enterPhase("integrating");
-      r.fusion = fusePackedScans(
-          std::move(in.scans), resolved, [&](std::size_t done, std::size_t total) { bar.integrating(done, total); },
-          cancellationInterrupter());
-      r.reconstructor = std::make_unique<Reconstructor>(*r.fusion, resolved);
-      r.scans = r.fusion->scans();
-    } else {
-      std::vector<RangeMap> maps;
-      for (const PackedRangeMap& p : in.scans.maps) maps.push_back(p.unpack());
-      in.scans = PackedScans();
-      r.reconstructor = std::make_unique<Reconstructor>(std::move(maps), resolved);
-      r.scans = rangeMapsOf(r.reconstructor->maps());
-    }
+    return prepareReconstruction(
+        std::move(in.scans), s.options, [&](std::size_t done, std::size_t total) { bar.integrating(done, total); },
+        cancellationInterrupter());
   } catch (const std::invalid_argument& e) {
     throw ofTheInputs(s, e);
   } catch (const InsufficientMemory& e) {
     throw ofTheInputs(s, e);
   }
-  return r;
 }
 
 /// How the outputs show the surface: scans of a scene (depth frames) are seen
@@ -163,8 +132,7 @@ struct Presentation {
 };
 
 Presentation presentationOf(const Reconstructor& reconstructor, const ReconstructSettings& s) {
-  const bool scene = reconstructor.summary().aScene();
-  return {scene, s.trimUnseen.value_or(scene)};
+  return {reconstructor.summary().aScene(), trimsUnseen(reconstructor.summary(), s.trimUnseen)};
 }
 
 /// The surface, evolved or (--linear) the linear solution, with its weight
@@ -193,10 +161,7 @@ ReconstructionResult reconstructSurface(const Reconstructor& reconstructor, cons
   openvdb::FloatGrid& surface = *result.levelSet;
   if (!result.weight && (shown.trim || !s.output.empty()))
     result.weight = reconstructor.surfaceWeight(surface, cancellationInterrupter());
-  surface.insertMeta("levelfuse_inputs", openvdb::StringMetadata(joined(s.inputs)));
-  surface.insertMeta("levelfuse_method",
-                     openvdb::StringMetadata(s.linear ? "linear solution (zero set of g)" : "MAP level-set evolution"));
-  surface.insertMeta("levelfuse_scene", openvdb::BoolMetadata(shown.scene));
+  describeInputs(surface, s.inputs, s.linear, shown.scene);
   return result;
 }
 
@@ -208,7 +173,7 @@ struct Measures {
   double truthRms = -1.0;
 };
 
-Measures measure(const Reconstruction& r, const openvdb::FloatGrid& surface, const Inputs& in) {
+Measures measure(const ScansReconstruction& r, const openvdb::FloatGrid& surface, const Inputs& in) {
   Measures m;
   m.readings = r.reconstructor->summary().readings();
   m.points = r.reconstructor->summary().points();
@@ -353,7 +318,7 @@ int runReconstruct(ReconstructSettings s) {
   checkSettings(s);
   ProgressBar bar(!s.quiet && !s.json);
   Inputs inputs = loadInputs(s, bar);
-  Reconstruction made = prepareReconstruction(inputs, s, bar);
+  ScansReconstruction made = prepare(inputs, s, bar);
   const Reconstructor& reconstructor = *made.reconstructor;
   const Presentation shown = presentationOf(reconstructor, s);
   const ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);

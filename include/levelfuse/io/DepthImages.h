@@ -11,6 +11,7 @@
 
 #include <openvdb/math/Mat4.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,20 @@ struct DepthImage {
   double step = 0.0;  ///< the depths are whole multiples of this (metres; a PNG's scale), 0 if not
 };
 
+/// A 16-bit depth image's samples as they are stored, row-major.
+struct DepthSamples {
+  int width = 0, height = 0;
+  std::vector<std::uint16_t> samples;
+};
+
+/// Depths held as integers (a 16-bit depth image's samples, row-major):
+/// `scale` metres per unit, the values in `invalid` no reading. `scale` must
+/// be positive and finite (std::invalid_argument).
+DepthImage depthImageFromIntegers(int width, int height, const std::uint16_t* samples, double scale,
+                                  const std::vector<unsigned>& invalid = {0, 65535});
+/// The samples of a 16-bit grayscale PNG, unscaled; other bit depths and
+/// colour types are refused (InputError).
+DepthSamples readDepthPngSamples(const std::string& path);
 /// A 16-bit grayscale PNG; `scale` converts its integers to metres; the values
 /// in `invalid` (0 and 65535 by default) mean no reading. Other bit depths and
 /// colour types are refused.

@@ -6,8 +6,10 @@
 
 #include <openvdb/openvdb.h>
 
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace levelfuse::io {
 
@@ -43,11 +45,20 @@ struct PreviewOptions {
 /// std::invalid_argument for a map that is not a pinhole camera's.
 PreviewOptions seenByFrame(const RangeMap& frame, PreviewOptions options = {});
 
+/// An 8-bit RGB picture, row-major from the top left, three bytes a pixel.
+struct PreviewImage {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+};
+
 /// Ray-casts the zero set of `levelSet` with a perspective camera (framed on
-/// its narrow band, or the options' camera), shades it with two lights, and
-/// writes an 8-bit RGB PNG atomically. Throws std::invalid_argument for a grid
-/// that is not a level set or has no surface, std::runtime_error naming `path`
-/// if it cannot be written.
+/// its narrow band, or the options' camera) and shades it with two lights.
+/// Throws std::invalid_argument for a grid that is not a level set or has no
+/// surface, or a picture size or field of view out of range.
+PreviewImage renderPreview(const openvdb::FloatGrid& levelSet, const PreviewOptions& options = {});
+
+/// The picture of renderPreview as an 8-bit RGB PNG, written atomically;
+/// std::runtime_error names `path` if it cannot be written.
 void writePreviewPng(const openvdb::FloatGrid& levelSet, const std::string& path, const PreviewOptions& options = {});
 /// The same, as one of a run's outputs: committed with the others (AtomicWrite.h).
 void writePreviewPng(OutputSet& outputs, const openvdb::FloatGrid& levelSet, const std::string& path,

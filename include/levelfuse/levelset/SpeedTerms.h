@@ -79,6 +79,14 @@ struct MeanCurvatureFlow {
   double curvatureWeight() const { return beta; }
 };
 
+/// d psi/dt of a surface pushed outward at speed `f` with the surface-area
+/// prior of weight `beta`: -f |grad psi| + beta kappa |grad psi| (Eq. 27).
+inline float forceRate(const Stencil& stencil, float f, double beta) {
+  float rate = -f * upwindGradientMagnitude(stencil, f);                          // Eq. 30
+  if (beta != 0.0) rate += static_cast<float>(beta) * meanCurvatureTerm(stencil);  // Eq. 26
+  return rate;
+}
+
 /// Where a ForceSpeed samples its force.
 enum class ForceSampling {
   kSubcell,    ///< at the zero crossing x^ near the grid point (Eqs. 34-36)
@@ -99,10 +107,7 @@ struct ForceSpeed {
   float operator()(const ActivePoint& p) const {
     const openvdb::Vec3d x =
         sampling == ForceSampling::kSubcell ? p.subcellPosition() : p.worldPosition();
-    const float f = static_cast<float>(force(x, p.normal()));
-    float rate = -f * upwindGradientMagnitude(p.stencil, f);                    // Eq. 30
-    if (beta != 0.0) rate += static_cast<float>(beta) * meanCurvatureTerm(p.stencil);  // Eq. 26
-    return rate;
+    return forceRate(p.stencil, static_cast<float>(force(x, p.normal())), beta);
   }
   double curvatureWeight() const { return beta; }
   double stiffness() const { return speedStiffness(force); }

@@ -1,0 +1,56 @@
+// levelfuse: a reconstruction of scans read and held packed, as the converter
+// and the Python module run it: on a fusion of the scans when the data term
+// comes from grids (the scans stay packed, integrated once), else on the scans
+// themselves; and how its outputs show and describe the surface.
+#pragma once
+
+#include <levelfuse/core/Interrupter.h>
+#include <levelfuse/recon/Fusion.h>
+#include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/scan/PackedRangeMap.h>
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/openvdb.h>
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace levelfuse {
+
+struct ScansReconstruction {
+  std::unique_ptr<Fusion> fusion;  ///< set when the data term comes from grids
+  std::unique_ptr<Reconstructor> reconstructor;
+  RangeMapSequence scans;  ///< the scans, one at a time (for the fit)
+  PackedScans kept;        ///< a fusion's scans once its grids are let go
+
+  /// Once the surface and its weight are made, a fusion's grids are let go
+  /// (before the fit and the mesh, which would otherwise hold them at their
+  /// peak); its scans stay for the fit. The reconstructor is asked nothing
+  /// more that needs the fusion: its options and summary are its own.
+  void letTheGridsGo();
+};
+
+/// `scans` made ready to reconstruct with `given` options (their derived
+/// settings resolved from the scans' summary). With a data term from grids
+/// the scans are integrated here, `integrated` told after each how many of how
+/// many are in. Throws std::invalid_argument for unusable options,
+/// InsufficientMemory for grids that would not fit, Interrupted if
+/// `interrupter` stops the integration.
+ScansReconstruction prepareReconstruction(PackedScans scans, const ReconstructionOptions& given,
+                                          const std::function<void(std::size_t, std::size_t)>& integrated = {},
+                                          const Interrupter& interrupter = {});
+
+/// Whether meshes and previews leave out the surface no scan observed
+/// (recon/SurfaceWeight.h): as `asked`, else for scenes only (ScanSummary::aScene).
+bool trimsUnseen(const ScanSummary& scans, std::optional<bool> asked = std::nullopt);
+
+/// The run's inputs (joined with ", "), its method and whether the scans are a
+/// scene, in the surface's levelfuse_* metadata beside the parameters
+/// (Reconstructor::run's).
+void describeInputs(openvdb::FloatGrid& surface, const std::vector<std::string>& inputs, bool linear, bool scene);
+
+}  // namespace levelfuse

@@ -1,0 +1,47 @@
+// levelfuse: a reconstruction of scans read and held packed.
+
+#include <levelfuse/recon/ScansReconstruction.h>
+
+#include <utility>
+
+namespace levelfuse {
+
+void ScansReconstruction::letTheGridsGo() {
+  if (!fusion) return;
+  kept = fusion->takeScans();
+  fusion.reset();
+  scans = kept.unpacked();
+}
+
+ScansReconstruction prepareReconstruction(PackedScans scans, const ReconstructionOptions& given,
+                                          const std::function<void(std::size_t, std::size_t)>& integrated,
+                                          const Interrupter& interrupter) {
+  ScansReconstruction r;
+  const ReconstructionOptions resolved = resolveReconstructionOptions(given, scans.summary);
+  if (resolved.dataTerm == DataTermSource::kGrids) {
+    r.fusion = fusePackedScans(std::move(scans), resolved, integrated, interrupter);
+    r.reconstructor = std::make_unique<Reconstructor>(*r.fusion, resolved);
+    r.scans = r.fusion->scans();
+    return r;
+  }
+  std::vector<RangeMap> maps;
+  maps.reserve(scans.maps.size());
+  for (const PackedRangeMap& p : scans.maps) maps.push_back(p.unpack());
+  scans = PackedScans();
+  r.reconstructor = std::make_unique<Reconstructor>(std::move(maps), resolved);
+  r.scans = rangeMapsOf(r.reconstructor->maps());
+  return r;
+}
+
+bool trimsUnseen(const ScanSummary& scans, std::optional<bool> asked) { return asked.value_or(scans.aScene()); }
+
+void describeInputs(openvdb::FloatGrid& surface, const std::vector<std::string>& inputs, bool linear, bool scene) {
+  std::string joined;
+  for (const std::string& input : inputs) joined += (joined.empty() ? "" : ", ") + input;
+  surface.insertMeta("levelfuse_inputs", openvdb::StringMetadata(joined));
+  surface.insertMeta("levelfuse_method",
+                     openvdb::StringMetadata(linear ? "linear solution (zero set of g)" : "MAP level-set evolution"));
+  surface.insertMeta("levelfuse_scene", openvdb::BoolMetadata(scene));
+}
+
+}  // namespace levelfuse
