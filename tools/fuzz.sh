@@ -23,7 +23,7 @@ packages=(cmake clang libclang-rt-14-dev make ccache pkg-config
 
 echo "== configuring $build"
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLEVELFUSE_BUILD_FUZZERS=ON \
-  -DLEVELFUSE_BUILD_TESTS=OFF -DLEVELFUSE_BUILD_BENCHMARKS=OFF -DLEVELFUSE_BUILD_TOOLS=OFF >/dev/null
+  -DLEVELFUSE_BUILD_TESTS=OFF -DLEVELFUSE_BUILD_BENCHMARKS=OFF -DLEVELFUSE_BUILD_TOOLS=OFF -DLEVELFUSE_PYTHON=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target fuzzers
 
 # The targets write each input to a file; a crashed run leaves its folder here.

@@ -20,7 +20,8 @@ case "$mode" in demo|test|bench) ;; *) echo "usage: $0 demo|test|bench" >&2; exi
 
 packages=(cmake g++ make ccache pkg-config
           libopenvdb-dev libopenvdb-tools libtbb-dev libblosc-dev libboost-iostreams-dev
-          libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libpng-dev libopenexr-dev)
+          libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libpng-dev libopenexr-dev
+          pybind11-dev python3-dev python3-numpy python3-pytest python3-openvdb libboost-python-dev)
 [ "$mode" = bench ] && packages+=(libinsighttoolkit5-dev libopen3d-dev)
 
 "$root/tools/install-packages.sh" "${packages[@]}"
@@ -34,7 +35,7 @@ cmake -S "$root" -B "$build" "${options[@]}" >/dev/null
 mkdir -p "$root/out"
 case "$mode" in
   demo)
-    cmake --build "$build" -j "$jobs" --target levelfuse_cli
+    cmake --build "$build" -j "$jobs" --target levelfuse_cli levelfuse_python
     levelfuse="$build/tools/levelfuse/levelfuse"
     echo "== six range scans of a torus with noise of 20% of its tube's diameter (the paper's Fig. 10)"
     "$levelfuse" synth --shape torus --noise 0.2 -o "$root/out/torus-scans"
@@ -48,6 +49,12 @@ case "$mode" in
       "$levelfuse" reconstruct "$bunny" -o "$root/out/bunny.vdb" --mesh "$root/out/bunny.ply" \
         --preview "$root/out/bunny.png"
     fi
+    frames="$root/../shared/data/7scenes"
+    if [ -d "$frames" ]; then
+      echo "== from Python: 50 depth frames of a room fused one at a time (examples/fuse_depth_frames.py)"
+      PYTHONPATH="$build/python" /usr/bin/python3 "$root/examples/fuse_depth_frames.py" "$frames" "$root/out"
+    fi
+    echo "== the Python module: PYTHONPATH=$build/python python3, then import levelfuse (or cmake --install $build)"
     ;;
   test)
     cmake --build "$build" -j "$jobs"
@@ -57,14 +64,14 @@ case "$mode" in
     (cd "$build" && ctest --output-on-failure -j "$jobs" "${skip[@]}")
     ;;
   bench)
-    cmake --build "$build" -j "$jobs" --target levelset_benchmarks scan_benchmarks recon_benchmarks depth_benchmarks
+    cmake --build "$build" -j "$jobs" --target levelset_benchmarks scan_benchmarks recon_benchmarks depth_benchmarks python_benchmarks
     echo "== running the benchmarks (this takes a while)"
     ITK_GLOBAL_DEFAULT_THREADER=Platform "$build/benchmarks/levelset_benchmarks" \
       --benchmark_format=json --benchmark_out="$root/out/levelset_benchmarks.json" --benchmark_out_format=json
     # One process per benchmark, so that each reports its own peak memory.
     # Open3D's OpenMP threads wait passively: spinning on a shared machine makes its many small
     # parallel loops 15x slower (docs/BENCHMARKS.md, depth video).
-    for program in scan_benchmarks recon_benchmarks depth_benchmarks; do
+    for program in scan_benchmarks recon_benchmarks depth_benchmarks python_benchmarks; do
       for name in $("$build/benchmarks/$program" --benchmark_list_tests); do
         OMP_WAIT_POLICY=passive "$build/benchmarks/$program" --benchmark_filter="^$name\$" --benchmark_format=json \
           --benchmark_out="$root/out/$program-${name//\//_}.json" --benchmark_out_format=json

@@ -1,0 +1,262 @@
+// levelfuse Python module: levelfuse.Result (the surface, its weight grid and
+// the summary) and levelfuse.Mesh.
+
+#include "Arrays.h"
+#include "Bindings.h"
+#include "Grids.h"
+#include "PyOpenVdb.h"
+#include "Result.h"
+
+#include <levelfuse/io/MeshFile.h>
+#include <levelfuse/io/Preview.h>
+#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/levelset/MeshTrim.h>
+#include <levelfuse/recon/ScansReconstruction.h>
+#include <levelfuse/recon/SurfaceWeight.h>
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+
+namespace levelfuse::python {
+namespace {
+
+/// The result held for Python.
+struct Result {
+  Outcome outcome;
+  py::dict summary;
+};
+
+py::dict summaryOf(const Outcome& o) {
+  py::list grids;
+  for (const LevelReport& l : o.result.levels) {
+    py::dict g;
+    g["voxel_size"] = l.voxelSize;
+    g["iterations"] = l.iterations;
+    g["converged"] = l.converged;
+    g["settled"] = l.settled;
+    g["simulated_time"] = l.simulatedTime;
+    g["seconds"] = l.seconds;
+    g["active_set_voxels"] = l.activeSetVoxels;
+    g["band_voxels"] = l.bandVoxels;
+    g["engine_bytes"] = l.engineBytes;
+    grids.append(g);
+  }
+  py::dict s;
+  s["inputs"] = o.inputs;
+  s["scans"] = o.scans;
+  s["points"] = o.points;
+  s["readings"] = o.readings;
+  s["method"] = o.linear ? "linear" : "evolution";
+  s["scene"] = o.scene;
+  s["voxel_size"] = *o.options.voxelSize;
+  s["levels"] = *o.options.levels;
+  s["beta"] = *o.options.beta;
+  s["epsilon"] = *o.options.epsilon;
+  s["grids"] = grids;
+  s["narrow_band_voxels"] = o.result.levelSet->activeVoxelCount();
+  s["peak_engine_bytes"] = o.result.peakEngineBytes;
+  s["seconds"] = o.seconds;
+  if (o.fit) {
+    py::dict f;
+    f["points"] = o.fit->readings;
+    f["stride"] = o.fitStride;
+    f["mean"] = o.fit->mean;
+    f["rms"] = o.fit->rms;
+    f["median"] = o.fit->median;
+    f["p90"] = o.fit->p90;
+    f["p99"] = o.fit->p99;
+    f["within_voxel"] = o.fit->withinVoxel;
+    f["beyond_band"] = o.fit->beyondBand;
+    s["fit"] = f;
+  }
+  return s;
+}
+
+/// A mesh held for Python: numpy views of its vertices and triangles.
+struct Mesh {
+  TriangleMesh mesh;
+};
+
+py::array verticesOf(const py::object& self) {
+  const TriangleMesh& m = self.cast<const Mesh&>().mesh;
+  return py::array_t<float>({static_cast<py::ssize_t>(m.vertexCount()), py::ssize_t{3}}, m.xyz.data(), self);
+}
+
+py::array trianglesOf(const py::object& self) {
+  const TriangleMesh& m = self.cast<const Mesh&>().mesh;
+  return py::array_t<std::uint32_t>({static_cast<py::ssize_t>(m.triangleCount()), py::ssize_t{3}},
+                                    m.triangles.data(), self);
+}
+
+/// Whether the result's mesh or preview leaves out what no scan observed.
+bool trims(const Result& r, const std::optional<bool>& asked) {
+  const bool trim = asked.value_or(r.outcome.scene);
+  if (trim && !r.outcome.result.weight)
+    throw py::value_error("trim_unseen: this result has no weight grid to trim by");
+  return trim;
+}
+
+Mesh meshOf(const Result& r, double adaptivity, const std::optional<bool>& trimUnseen) {
+  const bool trim = trims(r, trimUnseen);
+  py::gil_scoped_release released;
+  Mesh mesh{meshFromLevelSet(*r.outcome.result.levelSet, adaptivity)};
+  if (trim) mesh.mesh = trimMesh(mesh.mesh, *r.outcome.result.weight, kObservedWeight);
+  return mesh;
+}
+
+io::PreviewOptions previewOptionsOf(const Result& r, int width, const std::optional<int>& height,
+                                    const py::handle& view, const py::handle& up,
+                                    const std::optional<bool>& trimUnseen) {
+  io::PreviewOptions options;
+  options.width = width;
+  if (height) options.height = *height;
+  else options.height = width * 3 / 4;
+  if (!view.is_none()) options.toward = vec3From(view, "view");
+  if (!up.is_none()) options.up = vec3From(up, "up");
+  // A scene is seen from where its first frame's camera stood, unless a view is asked for.
+  if (r.outcome.scene && view.is_none() && r.outcome.firstScan) {
+    options = io::seenByFrame(*r.outcome.firstScan, options);
+    if (height) options.height = *height;
+  }
+  if (trims(r, trimUnseen)) {
+    options.weight = r.outcome.result.weight;
+    options.minWeight = kObservedWeight;
+  }
+  return options;
+}
+
+}  // namespace
+
+Outcome runReconstruction(const Reconstructor& reconstructor, const RangeMapSequence& scans,
+                          const RunSettings& settings, const ProgressCallback& progress,
+                          const Interrupter& interrupter, const std::function<RangeMapSequence()>& beforeFit) {
+  const auto started = std::chrono::steady_clock::now();
+  Outcome o;
+  o.linear = settings.linear;
+  o.inputs = settings.inputs;
+  o.options = reconstructor.options();
+  o.scans = reconstructor.summary().scans();
+  o.readings = reconstructor.summary().readings();
+  o.points = reconstructor.summary().points();
+  o.scene = reconstructor.summary().aScene();
+  if (settings.linear) o.result.levelSet = reconstructor.linearSolution(interrupter);
+  else o.result = reconstructor.run(progress, interrupter);
+  if (!o.result.weight) o.result.weight = reconstructor.surfaceWeight(*o.result.levelSet, interrupter);
+  describeInputs(*o.result.levelSet, settings.inputs, settings.linear, o.scene);
+  const RangeMapSequence fitScans = beforeFit ? beforeFit() : scans;
+  if (settings.fit) {
+    o.fitStride = fitStride(fitScans, kFitPointsAtMost);
+    o.fit = measureDataFit(*o.result.levelSet, fitScans, o.fitStride);
+  }
+  o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return o;
+}
+
+py::object resultOf(Outcome outcome) {
+  Result r{std::move(outcome), {}};
+  r.summary = summaryOf(r.outcome);
+  return py::cast(std::move(r));
+}
+
+void bindResult(py::module_& m) {
+  py::class_<Mesh>(m, "Mesh", "A triangle mesh in world units, counter-clockwise seen from outside.")
+      .def_property_readonly("vertices", &verticesOf, "(N, 3) float32, a view of the mesh's vertices.")
+      .def_property_readonly("triangles", &trianglesOf, "(M, 3) uint32 vertex indices, a view.")
+      .def_property_readonly("area", [](const Mesh& m) { return m.mesh.area(); })
+      .def_property_readonly("volume", [](const Mesh& m) { return m.mesh.volume(); })
+      .def(
+          "write",
+          [](const Mesh& m, const std::string& path) {
+            io::requireMeshFileName(path);
+            py::gil_scoped_release released;
+            io::writeMesh(path, m.mesh);
+          },
+          py::arg("path"), "Writes the mesh as .ply (binary) or .obj, atomically.")
+      .def("__repr__", [](const Mesh& m) {
+        return "<levelfuse.Mesh: " + std::to_string(m.mesh.vertexCount()) + " vertices, " +
+               std::to_string(m.mesh.triangleCount()) + " triangles>";
+      });
+
+  py::class_<Result>(m, "Result",
+                     "A reconstruction: the level set (negative inside, world units), its weight grid (the "
+                     "readings that face the surface; 0 where no scan saw it) and the summary.")
+      .def_property_readonly(
+          "level_set", [](const Result& r) { return gridForPython(r.outcome.result.levelSet); },
+          "The level set: a pyopenvdb.FloatGrid sharing it where pyopenvdb is installed, else a levelfuse.Grid.")
+      .def_property_readonly(
+          "weight", [](const Result& r) { return gridForPython(r.outcome.result.weight); },
+          "The weight grid: a pyopenvdb.FloatGrid where pyopenvdb is installed, else a levelfuse.Grid.")
+      .def_property_readonly(
+          "grid", [](const Result& r) { return r.outcome.result.levelSet; }, "The level set as a levelfuse.Grid.")
+      .def_property_readonly(
+          "weight_grid", [](const Result& r) { return r.outcome.result.weight; },
+          "The weight grid as a levelfuse.Grid.")
+      .def_readonly("summary", &Result::summary,
+                    "The run: scans, settings, per-grid reports, time, and the fit to the scans (metres or the "
+                    "scans' units).")
+      .def(
+          "mesh", [](const Result& r, double adaptivity, std::optional<bool> trim) { return meshOf(r, adaptivity, trim); },
+          py::kw_only(), py::arg("adaptivity") = 0.0, py::arg("trim_unseen") = py::none(),
+          "The zero set as a levelfuse.Mesh. adaptivity in [0, 1]; trim_unseen leaves out what no scan "
+          "observed (default: for scenes, i.e. depth frames).")
+      .def(
+          "write_vdb",
+          [](const Result& r, const std::string& path) {
+            py::gil_scoped_release released;
+            io::writeVdb(path, {r.outcome.result.levelSet, r.outcome.result.weight});
+          },
+          py::arg("path"), "Writes the level set and its weight grid to a .vdb file, as the converter's -o does.")
+      .def(
+          "vdb_bytes",
+          [](const Result& r) { return vdbBytes({r.outcome.result.levelSet, r.outcome.result.weight}); },
+          "The bytes write_vdb writes.")
+      .def(
+          "write_mesh",
+          [](const Result& r, const std::string& path, double adaptivity, std::optional<bool> trim) {
+            io::requireMeshFileName(path);
+            const Mesh mesh = meshOf(r, adaptivity, trim);
+            py::gil_scoped_release released;
+            io::writeMesh(path, mesh.mesh);
+          },
+          py::arg("path"), py::kw_only(), py::arg("adaptivity") = 0.0, py::arg("trim_unseen") = py::none(),
+          "Writes the mesh (.ply or .obj), as the converter's --mesh does.")
+      .def(
+          "preview",
+          [](const Result& r, int width, std::optional<int> height, const py::handle& view, const py::handle& up,
+             std::optional<bool> trim) {
+            const io::PreviewOptions options = previewOptionsOf(r, width, height, view, up, trim);
+            io::PreviewImage image;
+            {
+              py::gil_scoped_release released;
+              image = io::renderPreview(*r.outcome.result.levelSet, options);
+            }
+            py::array_t<std::uint8_t> out(
+                {static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width), py::ssize_t{3}});
+            std::copy(image.rgb.begin(), image.rgb.end(), out.mutable_data());
+            return out;
+          },
+          py::kw_only(), py::arg("width") = 800, py::arg("height") = py::none(), py::arg("view") = py::none(),
+          py::arg("up") = py::none(), py::arg("trim_unseen") = py::none(),
+          "A shaded picture, (H, W, 3) uint8: objects seen from `view` (a direction toward the camera), scenes "
+          "from their first frame's camera.")
+      .def(
+          "write_preview",
+          [](const Result& r, const std::string& path, int width, std::optional<int> height, const py::handle& view,
+             const py::handle& up, std::optional<bool> trim) {
+            const io::PreviewOptions options = previewOptionsOf(r, width, height, view, up, trim);
+            py::gil_scoped_release released;
+            io::writePreviewPng(*r.outcome.result.levelSet, path, options);
+          },
+          py::arg("path"), py::kw_only(), py::arg("width") = 800, py::arg("height") = py::none(),
+          py::arg("view") = py::none(), py::arg("up") = py::none(), py::arg("trim_unseen") = py::none(),
+          "Writes the picture of preview() as a PNG, as the converter's --preview does.")
+      .def("__repr__", [](const Result& r) {
+        return "<levelfuse.Result: " + std::string(r.outcome.linear ? "linear solution" : "MAP evolution") + ", " +
+               std::to_string(r.outcome.result.levelSet->activeVoxelCount()) + " narrow-band voxels>";
+      });
+}
+
+}  // namespace levelfuse::python

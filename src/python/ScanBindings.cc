@@ -1,0 +1,177 @@
+// levelfuse Python module: levelfuse.RangeMap, load_scans and read_depth_png.
+
+#include "Arrays.h"
+#include "Bindings.h"
+#include "Cancellation.h"
+#include "Scans.h"
+
+#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/Scans.h>
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+
+namespace levelfuse::python {
+namespace {
+
+/// The noise of a depth camera's readings: None, a sigma, or (minimum, per square metre).
+DepthNoise depthNoiseFrom(const py::handle& sigma) {
+  if (sigma.is_none()) return DepthNoise{};
+  if (py::isinstance<py::tuple>(sigma) || py::isinstance<py::list>(sigma)) {
+    const py::sequence pair = py::reinterpret_borrow<py::sequence>(sigma);
+    if (pair.size() != 2) throw py::value_error("sigma must be a number or (minimum, per_square_metre)");
+    return DepthNoise{numberFrom(pair[0], "sigma's minimum", true), numberFrom(pair[1], "sigma per square metre", false)};
+  }
+  return DepthNoise{numberFrom(sigma, "sigma", true), 0.0};
+}
+
+double maxDepthFrom(const py::handle& maxDepth) {
+  return maxDepth.is_none() ? std::numeric_limits<double>::infinity() : numberFrom(maxDepth, "max_depth", true);
+}
+
+/// The depth array's pixels as metres.
+io::DepthImage depthImageFrom(const py::handle& value, double depthScale) {
+  const py::array depth = requireArray(value, "depth", 2);
+  const int height = static_cast<int>(depth.shape(0)), width = static_cast<int>(depth.shape(1));
+  if (holds<std::uint16_t>(depth)) {
+    if (!(depthScale > 0.0) || !std::isfinite(depthScale))
+      throw py::value_error("depth_scale must be a positive number of metres per unit");
+    return io::depthImageFromIntegers(width, height, static_cast<const std::uint16_t*>(depth.data()), depthScale);
+  }
+  if (!holds<float>(depth)) throw wrongDtype("depth", depth, "float32 (metres) or uint16 (depth_scale metres a unit)");
+  const float* d = static_cast<const float*>(depth.data());
+  io::DepthImage image;
+  image.width = width;
+  image.height = height;
+  image.depth.assign(d, d + static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  for (float& z : image.depth)
+    if (std::isinf(z)) throw py::value_error("depth holds an infinite value (NaN or 0 mean no reading)");
+  return image;
+}
+
+const char* kindName(RangeMap::Kind kind) { return kind == RangeMap::Kind::kPinhole ? "pinhole" : "orthographic"; }
+
+}  // namespace
+
+RangeMap depthFrameFrom(const py::handle& depth, const py::handle& intrinsics, const py::handle& pose,
+                        double depthScale, const py::handle& sigma, const py::handle& maxDepth,
+                        const std::string& name) {
+  io::DepthImage image = depthImageFrom(depth, depthScale);
+  const PinholeProjection k = intrinsicsFrom(intrinsics, "K");
+  const openvdb::math::Mat4d cameraToWorld = rigidMotionFrom(pose, "pose");
+  const DepthNoise noise = depthNoiseFrom(sigma);
+  const double deepest = maxDepthFrom(maxDepth);
+  py::gil_scoped_release released;
+  if (std::isfinite(deepest)) io::dropReadingsBeyond(image, deepest);
+  return io::depthFrame(image, k, cameraToWorld, noise, name);
+}
+
+void bindScans(py::module_& m) {
+  py::class_<RangeMap>(m, "RangeMap",
+                       "A range map: a depth camera's frame (pinhole) or a scan of parallel rays (orthographic), "
+                       "registered in the world by its pose.")
+      .def_static("pinhole", &depthFrameFrom, py::arg("depth"), py::arg("K"), py::arg("pose"),
+                  py::arg("depth_scale") = 0.001, py::arg("sigma") = py::none(), py::arg("max_depth") = py::none(),
+                  py::arg("name") = "",
+                  "A depth camera's frame. depth: (H, W) float32 metres (NaN or <= 0: no reading) or uint16 "
+                  "(depth_scale metres a unit, 0.001 by default; 0 and 65535: no reading). K: 3x3 intrinsics or "
+                  "(fx, fy, cx, cy). pose: 4x4 camera-to-world, column vectors (x right, y down, z forward; "
+                  "Open3D's extrinsic is its inverse). sigma: None for the depth camera's noise model "
+                  "max(1 mm, 1.5 mm z^2), a number for one sigma, or (minimum, per_square_metre).")
+      .def_static(
+          "orthographic",
+          [](const py::handle& readings, double pixelSize, const py::handle& pose, double sigma,
+             const py::handle& origin, const std::string& name) {
+            const py::array r = requireArray(readings, "readings", 2);
+            if (!holds<float>(r)) throw wrongDtype("readings", r, "float32 (world units)");
+            const float* d = static_cast<const float*>(r.data());
+            std::vector<float> values(d, d + r.size());
+            const openvdb::math::Mat4d mapToWorld = rigidMotionFrom(pose, "pose");
+            const openvdb::Vec3d o = origin.is_none() ? openvdb::Vec3d(0.0) : vec3From(origin, "origin");
+            const OrthographicProjection p{numberFrom(py::float_(pixelSize), "pixel_size", true), {o.x(), o.y()}};
+            numberFrom(py::float_(sigma), "sigma", true);
+            py::gil_scoped_release released;
+            return RangeMap::orthographic(static_cast<int>(r.shape(1)), static_cast<int>(r.shape(0)),
+                                          std::move(values), p, mapToWorld, sigma, name);
+          },
+          py::arg("readings"), py::arg("pixel_size"), py::arg("pose"), py::arg("sigma"),
+          py::arg("origin") = py::none(), py::arg("name") = "",
+          "A scan of parallel rays along +z of its frame: readings (H, W) float32, world units along the rays "
+          "(NaN: no reading); pixel_size between rays; pose 4x4 map-to-world (column vectors); origin (x, y, "
+          "unused z) of pixel (0, 0) in the map's frame.")
+      .def_property_readonly("kind", [](const RangeMap& r) { return kindName(r.kind()); })
+      .def_property_readonly("width", &RangeMap::width)
+      .def_property_readonly("height", &RangeMap::height)
+      .def_property_readonly("name", &RangeMap::name)
+      .def_property_readonly("sigma", &RangeMap::sigma, "The map's noise sigma (world units).")
+      .def_property_readonly("valid_count", &RangeMap::validCount, "Pixels with a reading.")
+      .def_property_readonly("memory_bytes", &RangeMap::memoryBytes)
+      .def_property_readonly("pose", [](const RangeMap& r) { return columnVectorMatrix(r.mapToWorld()); },
+                             "4x4 map-to-world (camera-to-world), column vectors.")
+      .def_property_readonly("scanner_position", [](const RangeMap& r) {
+        const openvdb::Vec3d p = r.scannerPosition();
+        return py::make_tuple(p.x(), p.y(), p.z());
+      })
+      .def(
+          "readings",
+          [](const RangeMap& r) {
+            py::array_t<float> out({static_cast<py::ssize_t>(r.height()), static_cast<py::ssize_t>(r.width())});
+            auto o = out.mutable_unchecked<2>();
+            for (int v = 0; v < r.height(); ++v)
+              for (int u = 0; u < r.width(); ++u) o(v, u) = r.reading(u, v);
+            return out;
+          },
+          "The readings, (H, W) float32 (NaN: none): depths along the optical axis, or along the rays.")
+      .def("__repr__", [](const RangeMap& r) {
+        return "<levelfuse.RangeMap '" + r.name() + "': " + kindName(r.kind()) + ", " + std::to_string(r.width()) +
+               " x " + std::to_string(r.height()) + ", " + std::to_string(r.validCount()) + " readings>";
+      });
+
+  m.def(
+      "load_scans",
+      [](const std::string& path, double depthScale, const py::handle& sigma, const py::handle& towardScanner,
+         const py::handle& maxDepth, int frameStride, double poseTimeTolerance, const py::object& progress) {
+        io::ScanLoadOptions load;
+        if (!towardScanner.is_none()) load.stanford.towardScanner = vec3From(towardScanner, "toward_scanner");
+        if (!sigma.is_none()) {
+          load.stanford.sigma = numberFrom(sigma, "sigma", true);
+          load.depthNoise = DepthNoise{load.stanford.sigma, 0.0};
+        }
+        load.depthScale = depthScale;
+        load.maxDepth = maxDepthFrom(maxDepth);
+        load.frameStride = frameStride;
+        load.poseTimeTolerance = poseTimeTolerance;
+        Cancellation cancellation;
+        ProgressRelay relay(progress, cancellation);
+        load.interrupter = cancellation.interrupter();
+        load.progress = [&](std::size_t read, std::size_t total) { relay.count("loading", read, total); };
+        return runReleased(cancellation, &relay, [&] { return io::loadScans(path, load); });
+      },
+      py::arg("path"), py::kw_only(), py::arg("depth_scale") = 0.0, py::arg("sigma") = py::none(),
+      py::arg("toward_scanner") = py::none(), py::arg("max_depth") = py::none(), py::arg("frame_stride") = 1,
+      py::arg("pose_time_tolerance") = 0.02, py::arg("progress") = py::none(),
+      "The scans at path, as the converter reads them: a Stanford .conf, a JSON manifest, or a folder of depth "
+      "frames (7-Scenes or TUM RGB-D layout). depth_scale: metres per unit of 16-bit depth (0: the layout's); "
+      "sigma: the readings' noise (world units; default: estimated, or the depth camera's model); "
+      "toward_scanner: Stanford scans' direction to the scanner; max_depth: drop deeper readings (metres); "
+      "frame_stride: every n-th frame. progress(dict) is called as scans are read.");
+
+  m.def(
+      "read_depth_png",
+      [](const std::string& path) {
+        io::DepthSamples image;
+        {
+          py::gil_scoped_release released;
+          image = io::readDepthPngSamples(path);
+        }
+        py::array_t<std::uint16_t> out({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width)});
+        std::copy(image.samples.begin(), image.samples.end(), out.mutable_data());
+        return out;
+      },
+      py::arg("path"), "A 16-bit depth PNG's samples, (H, W) uint16, unscaled.");
+}
+
+}  // namespace levelfuse::python
