@@ -5,26 +5,18 @@
 // RuntimeError.
 
 #include "Bindings.h"
-#include "Errors.h"
 
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/recon/Reconstructor.h>
 
 namespace levelfuse::python {
-namespace {
-PyObject* gInputError = nullptr;
-PyObject* gCancelled = nullptr;
-}  // namespace
-
-PyObject* inputErrorType() { return gInputError; }
-PyObject* cancelledType() { return gCancelled; }
 
 void bindErrors(py::module_& m) {
   // Registered from the most general: pybind11 asks the latest registered first.
-  gCancelled = py::register_exception<Interrupted>(m, "Cancelled", PyExc_Exception).ptr();
+  py::register_exception<Interrupted>(m, "Cancelled", PyExc_Exception);
   py::register_exception<InsufficientMemory>(m, "InsufficientMemory", PyExc_MemoryError);
-  gInputError = py::register_exception<io::InputError>(m, "InputError", PyExc_ValueError).ptr();
+  py::register_exception<io::InputError>(m, "InputError", PyExc_ValueError);
   m.attr("Cancelled").attr("__doc__") = "The work was stopped: a progress callback returned False.";
   m.attr("InsufficientMemory").attr("__doc__") =
       "The reconstruction would need more memory than the machine has; the message says which voxel size would fit.";
