@@ -27,6 +27,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <utility>
 
 namespace levelfuse::io {
 
@@ -420,9 +421,10 @@ openvdb::math::Mat4d poseFromRowMajor(const std::vector<double>& m, const std::s
 
 openvdb::math::Mat4d readPose(const std::string& path) { return poseFromRowMajor(readNumbers(path, 16), path, ""); }
 
-RangeMap depthFrame(const DepthImage& image, const PinholeProjection& intrinsics,
-                    const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, const std::string& name) {
-  RangeMap map = RangeMap::pinhole(image.width, image.height, image.depth, intrinsics, cameraToWorld, noise, name);
+RangeMap depthFrame(DepthImage image, const PinholeProjection& intrinsics, const openvdb::math::Mat4d& cameraToWorld,
+                    const DepthNoise& noise, const std::string& name) {
+  RangeMap map =
+      RangeMap::pinhole(image.width, image.height, std::move(image.depth), intrinsics, cameraToWorld, noise, name);
   map.setReadingStep(image.step);
   return map;
 }

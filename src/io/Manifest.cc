@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 namespace levelfuse::io {
 
@@ -222,7 +223,8 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       const PinholeProjection intrinsics = intrinsicsOf(e);
       const openvdb::math::Mat4d pose = poseOf(e, path);
       try {
-        maps.push_back(depthFrame(image, intrinsics, pose, depthNoiseOf(e), fs::path(file).filename().string()));
+        maps.push_back(
+            depthFrame(std::move(image), intrinsics, pose, depthNoiseOf(e), fs::path(file).filename().string()));
       } catch (const std::invalid_argument& error) {
         e.fail(error.what());
       }

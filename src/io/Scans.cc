@@ -12,6 +12,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <utility>
 
 namespace levelfuse::io {
 
@@ -81,7 +82,8 @@ RangeMap loadDepthFrame(const std::string& image, const PinholeProjection& intri
   DepthImage depth = readDepthImage(image, options.depthScale > 0.0 ? options.depthScale : conventionScale);
   dropReadingsBeyond(depth, options.maxDepth);
   try {
-    return depthFrame(depth, intrinsics, cameraToWorld, options.depthNoise, fs::path(image).filename().string());
+    return depthFrame(std::move(depth), intrinsics, cameraToWorld, options.depthNoise,
+                      fs::path(image).filename().string());
   } catch (const std::invalid_argument& e) {  // the frame's geometry: its size against the intrinsics
     throw InputError(image, e.what());
   }

@@ -1,6 +1,8 @@
-// levelfuse Python module: keyword arguments as a reconstruction's options.
+// levelfuse Python module: keyword arguments as a reconstruction's and the readers' options.
 
 #include "Options.h"
+
+#include "Arrays.h"
 
 #include <pybind11/stl.h>
 
@@ -49,6 +51,22 @@ DataTermSource dataTermFrom(const std::string& name) {
 }
 
 }  // namespace
+
+io::ScanLoadOptions takeLoadOptions(py::dict& kwargs) {
+  io::ScanLoadOptions load;
+  if (auto toward = take<py::object>(kwargs, "toward_scanner"))
+    load.stanford.towardScanner = vec3From(*toward, "toward_scanner");
+  if (auto sigma = take<double>(kwargs, "sigma")) {
+    load.stanford.sigma = numberFrom(py::float_(*sigma), "sigma", true);
+    load.depthNoise = DepthNoise{*sigma, 0.0};
+  }
+  // The readers check these values and name the input they were given for.
+  takeInto(kwargs, "depth_scale", load.depthScale);
+  takeInto(kwargs, "max_depth", load.maxDepth);
+  takeInto(kwargs, "frame_stride", load.frameStride);
+  takeInto(kwargs, "pose_time_tolerance", load.poseTimeTolerance);
+  return load;
+}
 
 ReconstructionOptions takeReconstructionOptions(py::dict& kwargs) {
   ReconstructionOptions o;

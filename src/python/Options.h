@@ -1,8 +1,9 @@
-// levelfuse Python module: keyword arguments as a reconstruction's options.
+// levelfuse Python module: keyword arguments as a reconstruction's and the readers' options.
 #pragma once
 
 #include "Result.h"
 
+#include <levelfuse/io/Scans.h>
 #include <levelfuse/recon/Reconstructor.h>
 
 #include <pybind11/pybind11.h>
@@ -19,6 +20,11 @@ namespace py = pybind11;
 /// stiffness_step_limit, grain_size. Each keyword it reads is removed from
 /// `kwargs`; TypeError for a value of the wrong type.
 ReconstructionOptions takeReconstructionOptions(py::dict& kwargs);
+/// The readers' keywords, as the converter's options: depth_scale (metres per
+/// unit of 16-bit depth; 0: the layout's), sigma (the readings' noise),
+/// toward_scanner (Stanford scans), max_depth (metres), frame_stride,
+/// pose_time_tolerance (TUM folders; seconds). Removed from `kwargs`.
+io::ScanLoadOptions takeLoadOptions(py::dict& kwargs);
 /// The run's keywords: linear, fit and inputs (removed from `kwargs`).
 RunSettings takeRunSettings(py::dict& kwargs, std::vector<std::string> inputs);
 /// TypeError naming the first keyword left in `kwargs`, which `function` does not take.

@@ -29,27 +29,6 @@ bool isPath(const py::handle& value) {
   return py::isinstance<py::str>(value) || py::isinstance(value, py::module_::import("os").attr("PathLike"));
 }
 
-/// The loading keywords (removed from `kwargs`), as load_scans takes them.
-io::ScanLoadOptions takeLoadOptions(py::dict& kwargs) {
-  io::ScanLoadOptions load;
-  const auto pop = [&](const char* key) {
-    py::object value = kwargs.contains(key) ? py::object(kwargs[key]) : py::none();
-    if (kwargs.contains(key)) PyDict_DelItemString(kwargs.ptr(), key);
-    return value;
-  };
-  if (py::object v = pop("toward_scanner"); !v.is_none()) load.stanford.towardScanner = vec3From(v, "toward_scanner");
-  if (py::object v = pop("sigma"); !v.is_none()) {
-    load.stanford.sigma = numberFrom(v, "sigma", true);
-    load.depthNoise = DepthNoise{load.stanford.sigma, 0.0};
-  }
-  if (py::object v = pop("depth_scale"); !v.is_none()) load.depthScale = numberFrom(v, "depth_scale", false);
-  if (py::object v = pop("max_depth"); !v.is_none()) load.maxDepth = numberFrom(v, "max_depth", true);
-  if (py::object v = pop("frame_stride"); !v.is_none()) load.frameStride = v.cast<int>();
-  if (py::object v = pop("pose_time_tolerance"); !v.is_none())
-    load.poseTimeTolerance = numberFrom(v, "pose_time_tolerance", true);
-  return load;
-}
-
 /// The scans `scans` names: paths read as the converter reads them, or range maps (copied).
 Inputs inputsFrom(const py::handle& scans, io::ScanLoadOptions load, ProgressRelay& relay,
                   Cancellation& cancellation) {

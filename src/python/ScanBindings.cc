@@ -3,6 +3,7 @@
 #include "Arrays.h"
 #include "Bindings.h"
 #include "Cancellation.h"
+#include "Options.h"
 #include "Scans.h"
 
 #include <levelfuse/io/DepthImages.h>
@@ -13,6 +14,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace levelfuse::python {
 namespace {
@@ -66,7 +68,7 @@ RangeMap depthFrameFrom(const py::handle& depth, const py::handle& intrinsics, c
   const double deepest = maxDepthFrom(maxDepth);
   py::gil_scoped_release released;
   if (std::isfinite(deepest)) io::dropReadingsBeyond(image, deepest);
-  return io::depthFrame(image, k, cameraToWorld, noise, name);
+  return io::depthFrame(std::move(image), k, cameraToWorld, noise, name);
 }
 
 void bindScans(py::module_& m) {
@@ -132,32 +134,23 @@ void bindScans(py::module_& m) {
 
   m.def(
       "load_scans",
-      [](const std::string& path, double depthScale, const py::handle& sigma, const py::handle& towardScanner,
-         const py::handle& maxDepth, int frameStride, double poseTimeTolerance, const py::object& progress) {
-        io::ScanLoadOptions load;
-        if (!towardScanner.is_none()) load.stanford.towardScanner = vec3From(towardScanner, "toward_scanner");
-        if (!sigma.is_none()) {
-          load.stanford.sigma = numberFrom(sigma, "sigma", true);
-          load.depthNoise = DepthNoise{load.stanford.sigma, 0.0};
-        }
-        load.depthScale = depthScale;
-        load.maxDepth = maxDepthFrom(maxDepth);
-        load.frameStride = frameStride;
-        load.poseTimeTolerance = poseTimeTolerance;
+      [](const std::string& path, const py::object& progress, py::kwargs kw) {
+        py::dict kwargs(kw);
+        io::ScanLoadOptions load = takeLoadOptions(kwargs);
+        refuseUnknownKeywords(kwargs, "load_scans");
         Cancellation cancellation;
         ProgressRelay relay(progress, cancellation);
         load.interrupter = cancellation.interrupter();
         load.progress = [&](std::size_t read, std::size_t total) { relay.count("loading", read, total); };
         return runReleased(cancellation, &relay, [&] { return io::loadScans(path, load); });
       },
-      py::arg("path"), py::kw_only(), py::arg("depth_scale") = 0.0, py::arg("sigma") = py::none(),
-      py::arg("toward_scanner") = py::none(), py::arg("max_depth") = py::none(), py::arg("frame_stride") = 1,
-      py::arg("pose_time_tolerance") = 0.02, py::arg("progress") = py::none(),
+      py::arg("path"), py::kw_only(), py::arg("progress") = py::none(),
       "The scans at path, as the converter reads them: a Stanford .conf, a JSON manifest, or a folder of depth "
-      "frames (7-Scenes or TUM RGB-D layout). depth_scale: metres per unit of 16-bit depth (0: the layout's); "
-      "sigma: the readings' noise (world units; default: estimated, or the depth camera's model); "
-      "toward_scanner: Stanford scans' direction to the scanner; max_depth: drop deeper readings (metres); "
-      "frame_stride: every n-th frame. progress(dict) is called as scans are read.");
+      "frames (7-Scenes or TUM RGB-D layout). Keywords, as the converter's options: depth_scale (metres per unit "
+      "of 16-bit depth; 0: the layout's), sigma (the readings' noise, world units; default: estimated, or the "
+      "depth camera's model), toward_scanner (Stanford scans' direction to the scanner), max_depth (metres), "
+      "frame_stride (every n-th frame), pose_time_tolerance (TUM; seconds). progress(dict) is called as scans "
+      "are read.");
 
   m.def(
       "read_depth_png",

@@ -141,3 +141,12 @@ def test_read_depth_png_gives_the_samples():
     samples = levelfuse.read_depth_png(str(first))
     assert samples.dtype == np.uint16 and samples.shape == (480, 640)
     assert 0 < np.count_nonzero(samples) <= samples.size
+
+
+def test_load_scans_takes_the_converters_options_and_refuses_others(torus_scans):
+    with pytest.raises(TypeError, match="'stride'"):
+        levelfuse.load_scans(str(torus_scans), stride=2)
+    with pytest.raises(levelfuse.InputError, match="frame stride"):
+        levelfuse.load_scans(str(shared("7scenes")), frame_stride=0)
+    with pytest.raises(TypeError, match="frame_stride must be an integer"):
+        levelfuse.load_scans(str(shared("7scenes")), frame_stride=2.5)

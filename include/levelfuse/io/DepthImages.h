@@ -74,8 +74,8 @@ openvdb::math::Mat4d poseFromRowMajor(const std::vector<double>& values, const s
 /// Per-reading noise of a depth camera (scan/RangeMap.h).
 using DepthNoise = levelfuse::DepthNoise;
 
-/// One depth frame as a pinhole range map.
-RangeMap depthFrame(const DepthImage& image, const PinholeProjection& intrinsics,
-                    const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, const std::string& name);
+/// One depth frame as a pinhole range map (the image's depths move into it).
+RangeMap depthFrame(DepthImage image, const PinholeProjection& intrinsics, const openvdb::math::Mat4d& cameraToWorld,
+                    const DepthNoise& noise, const std::string& name);
 
 }  // namespace levelfuse::io
