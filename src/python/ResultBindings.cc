@@ -138,19 +138,19 @@ void bindResult(py::module_& m) {
   py::class_<Mesh>(m, "Mesh", "A triangle mesh in world units, counter-clockwise seen from outside.")
       .def_property_readonly("vertices", &verticesOf, "(N, 3) float32, a view of the mesh's vertices.")
       .def_property_readonly("triangles", &trianglesOf, "(M, 3) uint32 vertex indices, a view.")
-      .def_property_readonly("area", [](const Mesh& m) { return m.mesh.area(); })
-      .def_property_readonly("volume", [](const Mesh& m) { return m.mesh.volume(); })
+      .def_property_readonly("area", [](const Mesh& held) { return held.mesh.area(); })
+      .def_property_readonly("volume", [](const Mesh& held) { return held.mesh.volume(); })
       .def(
           "write",
-          [](const Mesh& m, const std::string& path) {
+          [](const Mesh& held, const std::string& path) {
             io::requireMeshFileName(path);
             py::gil_scoped_release released;
-            io::writeMesh(path, m.mesh);
+            io::writeMesh(path, held.mesh);
           },
           py::arg("path"), "Writes the mesh as .ply (binary) or .obj, atomically.")
-      .def("__repr__", [](const Mesh& m) {
-        return "<levelfuse.Mesh: " + std::to_string(m.mesh.vertexCount()) + " vertices, " +
-               std::to_string(m.mesh.triangleCount()) + " triangles>";
+      .def("__repr__", [](const Mesh& held) {
+        return "<levelfuse.Mesh: " + std::to_string(held.mesh.vertexCount()) + " vertices, " +
+               std::to_string(held.mesh.triangleCount()) + " triangles>";
       });
 
   py::class_<Result>(m, "Result",
