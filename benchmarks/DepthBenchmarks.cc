@@ -42,9 +42,9 @@
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/levelset/Mesh.h>
-#include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/HeldOutFrames.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/ScansReconstruction.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 
 #if defined(LEVELFUSE_HAVE_OPEN3D)
@@ -103,7 +103,8 @@ bool sequencePresent(benchmark::State& state) {
 
 /// levelfuse from frames on disk to a mesh, as the converter goes: the frames
 /// read one at a time and held packed, the settings derived from their
-/// summary, the frames fused into the grids, then the MAP estimate or the
+/// summary, the frames fused into the grids (prepareReconstruction, as the
+/// converter and the Python module do), then the MAP estimate or the
 /// linear solution it starts from. One function, so that a faster engine can
 /// take its place.
 TriangleMesh fuseDepthFrames(int frameStride, double voxel, bool linearOnly) {
@@ -114,12 +115,10 @@ TriangleMesh fuseDepthFrames(int frameStride, double voxel, bool linearOnly) {
   io::loadScans(kSequence, load);
   ReconstructionOptions options;
   options.voxelSize = voxel;
-  const ReconstructionOptions resolved = resolveReconstructionOptions(options, frames.summary);
   openvdb::FloatGrid::Ptr surface;
   {
-    const std::unique_ptr<Fusion> fusion = fusePackedScans(std::move(frames), resolved);
-    const Reconstructor reconstructor(*fusion, resolved);
-    surface = linearOnly ? reconstructor.linearSolution() : reconstructor.run().levelSet;
+    const ScansReconstruction r = prepareReconstruction(std::move(frames), options);
+    surface = linearOnly ? r.reconstructor->linearSolution() : r.reconstructor->run().levelSet;
   }  // the grids and the frames are let go before meshing
   return meshFromLevelSet(*surface);
 }
