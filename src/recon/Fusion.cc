@@ -78,8 +78,8 @@ SparseField Fusion::linearSolutionField(int level, LinearBand band, const Sparse
   if (!scans && mKeep != Keep::kPacked)
     throw std::invalid_argument("Fusion: it keeps no maps (Keep::kNothing): hand in the maps to carve with");
   const DataTermGrids& grids = dataTerm(level);
-  const AccumulatedField data{grids.gGrid(), grids.weightGrid(), 0};
-  return levelfuse::linearSolutionField(data, scans ? scans : this->scans(), grids.window().reach(), band, engine,
+  return levelfuse::linearSolutionField(AccumulatedField{grids.gGrid(), grids.weightGrid(), 0},
+                                        scans ? scans : this->scans(), grids.window().reach(), band, engine,
                                         interrupter);
 }
 

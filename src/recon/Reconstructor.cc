@@ -241,8 +241,8 @@ SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fu
   if (fusion) return fusion->linearSolutionField(0, band, mOptions.engine, interrupter, carving);
   requireAccumulationMemory(0);
   const ForceFieldOptions f = forceOptions(0);
-  const AccumulatedField data = ForceField(mMaps, f).accumulate(voxelSize(0), interrupter);
-  return linearSolutionField(data, carving, f.dataWindow().reach(), band, mOptions.engine, interrupter);
+  return linearSolutionField(ForceField(mMaps, f).accumulate(voxelSize(0), interrupter), carving,
+                             f.dataWindow().reach(), band, mOptions.engine, interrupter);
 }
 
 void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) const {

@@ -275,32 +275,49 @@ Leaves carvedSurface(const std::vector<Coord>& origins, const RangeMapSequence& 
   return leaves;
 }
 
+/// The data's side of the linear solution: the blocks around the data,
+/// classified, and the data's leaves with their values.
+struct AroundTheData {
+  BlockClasses classes;
+  Leaves leaves;
+};
+
+/// Step 1 of linearSolutionField: space carving decides the voxels of the
+/// data's leaves that no window reaches, and the blocks around the data, at
+/// their centres.
+AroundTheData carveAroundTheData(const AccumulatedField& field, const RangeMapSequence& maps, double margin,
+                                 float width, const Interrupter& interrupter) {
+  const openvdb::math::Transform& xform = field.g->transform();
+  const openvdb::tree::LeafManager<const openvdb::FloatTree> dataLeaves(field.g->tree());
+  AroundTheData around{blocksAroundTheData(dataLeaves), {}};
+  detail::BlockVotes unreached = votesOnUnreached(dataLeaves, xform.voxelSize()[0]);
+  detail::PointVotes centres = votesOnBlockCentres(around.classes, xform);
+  maps([&](const RangeMap& map) {
+    checkInterrupter(interrupter);
+    unreached.add(map, margin);
+    centres.add(map, margin);
+  });
+  around.leaves = dataLeafValues(dataLeaves, *field.weight, unreached, width);
+  classifyBlocks(around.classes, centres);
+  return around;
+}
+
 }  // namespace
 
-SparseField linearSolutionField(const AccumulatedField& field, const RangeMapSequence& maps, double margin,
+SparseField linearSolutionField(AccumulatedField field, const RangeMapSequence& maps, double margin,
                                 LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
   if (field.g->tree().leafCount() == 0)
     throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
   const float width = levelSetBackground(3.0, field.g->voxelSize()[0]);
-  const openvdb::math::Transform& xform = field.g->transform();
-  const double h = xform.voxelSize()[0];
-  const openvdb::tree::LeafManager<const openvdb::FloatTree> dataLeaves(field.g->tree());
+  const openvdb::math::Transform::Ptr xform = field.g->transform().copy();
+  const double h = xform->voxelSize()[0];
 
-  // 1. Space carving decides the voxels of the data's leaves that no window
-  //    reaches, and the blocks around the data, at their centres.
-  BlockClasses classes = blocksAroundTheData(dataLeaves);
-  Leaves leaves;
-  {
-    detail::BlockVotes unreached = votesOnUnreached(dataLeaves, h);
-    detail::PointVotes centres = votesOnBlockCentres(classes, xform);
-    maps([&](const RangeMap& map) {
-      checkInterrupter(interrupter);
-      unreached.add(map, margin);
-      centres.add(map, margin);
-    });
-    leaves = dataLeafValues(dataLeaves, *field.weight, unreached, width);
-    classifyBlocks(classes, centres);
-  }  // the votes are let go
+  // 1. The data's leaves and the blocks around them (carveAroundTheData).
+  //    The accumulated grids are let go then: what follows needs neither.
+  AroundTheData around = carveAroundTheData(field, maps, margin, width, interrupter);
+  field = AccumulatedField();
+  BlockClasses& classes = around.classes;
+  Leaves& leaves = around.leaves;
 
   // 2. Blocks beside a block of the other class hold the carved surface:
   //    carving decides their every voxel.
@@ -311,7 +328,7 @@ SparseField linearSolutionField(const AccumulatedField& field, const RangeMapSeq
   //    steps where carving closes what no scan saw. (Every voxel of the leaves
   //    is active: the mesher of a rebuild sees only active ones.)
   openvdb::FloatGrid::Ptr raw = openvdb::FloatGrid::create(width);
-  raw->setTransform(xform.copy());
+  raw->setTransform(xform);
   raw->setGridClass(openvdb::GRID_LEVEL_SET);
   raw->setName("surface");
   for (Leaves* set : {&leaves, &boundaryLeaves})
@@ -330,9 +347,9 @@ SparseField linearSolutionField(const AccumulatedField& field, const RangeMapSeq
   return SparseField::fromLevelSet(*psi, engine);
 }
 
-SparseField linearSolutionField(const AccumulatedField& data, const std::vector<RangeMap>& maps, double margin,
+SparseField linearSolutionField(AccumulatedField data, const std::vector<RangeMap>& maps, double margin,
                                 LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
-  return linearSolutionField(data, rangeMapsOf(maps), margin, band, engine, interrupter);
+  return linearSolutionField(std::move(data), rangeMapsOf(maps), margin, band, engine, interrupter);
 }
 
 SparseField ForceField::linearSolutionField(double voxelSize, LinearBand band, const SparseFieldOptions& engine,

@@ -84,11 +84,14 @@ enum class LinearBand {
 /// (ForceField::linearSolution). Carving visits the maps twice, one at a
 /// time, so that they need not be held at once. Throws std::invalid_argument
 /// if no reading reaches any voxel, Interrupted if `interrupter` asks to stop.
-SparseField linearSolutionField(const AccumulatedField& data, const RangeMapSequence& maps, double margin,
+/// `data`'s grids are let go as soon as the data's leaves are made (when no
+/// copy of them is held elsewhere, e.g. moved in): carving's second round and
+/// the narrow band do not hold them.
+SparseField linearSolutionField(AccumulatedField data, const RangeMapSequence& maps, double margin,
                                 LinearBand band, const SparseFieldOptions& engine = {},
                                 const Interrupter& interrupter = {});
 /// The same, of a vector of range maps.
-SparseField linearSolutionField(const AccumulatedField& data, const std::vector<RangeMap>& maps, double margin,
+SparseField linearSolutionField(AccumulatedField data, const std::vector<RangeMap>& maps, double margin,
                                 LinearBand band, const SparseFieldOptions& engine = {},
                                 const Interrupter& interrupter = {});
 
