@@ -36,17 +36,23 @@ using LeafT = openvdb::FloatTree::LeafNodeType;
 /// along the lines of sight (longer than to the surface by 1 / cos of the
 /// angle between sight and normal) and carving's steps (+-width) both give
 /// distances to the surface, as the sparse field's active set holds them. The
-/// other voxels keep their values; `raw`'s leaves are replaced, unless
-/// `interrupt` stops the work (Interrupted).
+/// other voxels keep their values. `raw` changes once every distance is
+/// found, unless `interrupt` stops the work (Interrupted).
 void distancesAtZeroCrossings(openvdb::FloatGrid& raw, const ParallelInterrupt& interrupt) {
   const float h = static_cast<float>(raw.voxelSize()[0]);
   openvdb::tree::LeafManager<openvdb::FloatTree> leaves(raw.tree());
-  std::vector<std::unique_ptr<LeafT>> out(leaves.leafCount());
+  // The new values of each leaf's voxels on a crossing, set once all are
+  // found: a quarter of a leaf's voxels where a plane cuts it, so the field
+  // is not held twice.
+  struct Distance {
+    openvdb::Index offset;
+    float value;
+  };
+  std::vector<std::vector<Distance>> out(leaves.leafCount());
   parallelFor(out.size(), 1, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = raw.getConstAccessor();
     for (std::size_t i = begin; i < end && !interrupt.stop(); ++i) {
       const LeafT& in = leaves.leaf(i);
-      out[i] = std::make_unique<LeafT>(in);
       for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
         const float u = in.getValue(o);
         const Coord ijk = in.offsetToGlobalCoord(o);
@@ -64,12 +70,17 @@ void distancesAtZeroCrossings(openvdb::FloatGrid& raw, const ParallelInterrupt& 
           if (nearest > 0.0) inverseSquares += 1.0 / (nearest * nearest);
         }
         if (inverseSquares > 0.0)
-          out[i]->setValueOnly(o, std::copysign(static_cast<float>(h / std::sqrt(inverseSquares)), u));
+          out[i].push_back({o, std::copysign(static_cast<float>(h / std::sqrt(inverseSquares)), u)});
       }
     }
   });
   interrupt.throwIfStopped();
-  for (std::size_t i = 0; i < out.size(); ++i) leaves.leaf(i).swap(out[i]->buffer());
+  parallelFor(out.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      for (const Distance& d : out[i]) leaves.leaf(i).setValueOnly(d.offset, d.value);
+      std::vector<Distance>().swap(out[i]);
+    }
+  });
 }
 
 /// Components of one sign smaller than this many voxels are specks.
