@@ -290,15 +290,21 @@ openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::str
   }
   openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(tree);
   for (int layer = N + 1; layer <= wanted; ++layer) {
+    // The ring's outside face neighbours, each once (a mask, not a list of
+    // every neighbour of every ring voxel), valued from the band as it was.
+    openvdb::MaskTree candidates;
+    {
+      openvdb::tree::ValueAccessor<openvdb::MaskTree> mark(candidates);
+      for (const openvdb::Coord& ijk : ring)
+        for (const auto& e : detail::kFaceOffset) {
+          const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
+          if (!acc.isValueOn(n)) mark.setValueOn(n);
+        }
+    }
     std::vector<std::pair<openvdb::Coord, float>> next;
-    for (const openvdb::Coord& ijk : ring)
-      for (const auto& e : detail::kFaceOffset) {
-        const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
-        if (!acc.isValueOn(n)) next.emplace_back(n, 0.0f);
-      }
-    std::sort(next.begin(), next.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    next.erase(std::unique(next.begin(), next.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
-               next.end());
+    next.reserve(static_cast<std::size_t>(candidates.activeVoxelCount()));
+    for (auto it = candidates.cbeginValueOn(); it; ++it) next.emplace_back(it.getCoord(), 0.0f);
+    candidates.clear();
     for (auto& [ijk, value] : next) {
       const bool inside = acc.getValue(ijk) < 0.0f;
       detail::NearestInner nearest(inside);
