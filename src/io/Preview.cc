@@ -157,8 +157,10 @@ void writePreviewPng(const openvdb::FloatGrid& levelSet, const std::string& path
   outputs.commit();
 }
 
-PreviewImage renderPreview(const openvdb::FloatGrid& levelSet, const PreviewOptions& options) {
-  requireLevelSet(levelSet, "renderPreview");
+namespace {
+
+/// renderPreview's picture of a grid already found to be a level set.
+PreviewImage rayCast(const openvdb::FloatGrid& levelSet, const PreviewOptions& options) {
   if (options.width < 8 || options.height < 8 || options.width > 16384 || options.height > 16384)
     throw std::invalid_argument("preview: the picture must be 8 to 16384 pixels a side");
   if (levelSet.activeVoxelCount() == 0) throw std::invalid_argument("preview: the level set '" + levelSet.getName() + "' has no surface");
@@ -221,10 +223,17 @@ PreviewImage renderPreview(const openvdb::FloatGrid& levelSet, const PreviewOpti
   return image;
 }
 
+}  // namespace
+
+PreviewImage renderPreview(const openvdb::FloatGrid& levelSet, const PreviewOptions& options) {
+  requireLevelSet(levelSet, "renderPreview");
+  return rayCast(levelSet, options);
+}
+
 void writePreviewPng(OutputSet& outputs, const openvdb::FloatGrid& levelSet, const std::string& path,
                      const PreviewOptions& options) {
   requireLevelSet(levelSet, "writePreviewPng");
-  const PreviewImage image = renderPreview(levelSet, options);
+  const PreviewImage image = rayCast(levelSet, options);
   outputs.add(path, [&](const std::string& temporary) { writeRgbPng(temporary, image.width, image.height, image.rgb); });
 }
 
