@@ -56,10 +56,7 @@ io::ScanLoadOptions takeLoadOptions(py::dict& kwargs) {
   io::ScanLoadOptions load;
   if (auto toward = take<py::object>(kwargs, "toward_scanner"))
     load.stanford.towardScanner = vec3From(*toward, "toward_scanner");
-  if (auto sigma = take<double>(kwargs, "sigma")) {
-    load.stanford.sigma = numberFrom(py::float_(*sigma), "sigma", true);
-    load.depthNoise = DepthNoise{*sigma, 0.0};
-  }
+  if (auto sigma = take<double>(kwargs, "sigma")) load.setSigma(numberFrom(py::float_(*sigma), "sigma", true));
   // The readers check these values and name the input they were given for.
   takeInto(kwargs, "depth_scale", load.depthScale);
   takeInto(kwargs, "max_depth", load.maxDepth);

@@ -11,8 +11,7 @@
 #include <levelfuse/io/Preview.h>
 #include <levelfuse/io/VdbFile.h>
 #include <levelfuse/levelset/Mesh.h>
-#include <levelfuse/levelset/MeshTrim.h>
-#include <levelfuse/recon/SurfaceWeight.h>
+#include <levelfuse/recon/ScansReconstruction.h>
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -91,7 +90,7 @@ py::array trianglesOf(const py::object& self) {
 
 /// Whether the result's mesh or preview leaves out what no scan observed.
 bool trims(const Result& r, const std::optional<bool>& asked) {
-  const bool trim = asked.value_or(r.outcome.scene);
+  const bool trim = trimsUnseen(r.outcome.scene, asked);
   if (trim && !r.outcome.result.weight)
     throw py::value_error("trim_unseen: this result has no weight grid to trim by");
   return trim;
@@ -100,9 +99,7 @@ bool trims(const Result& r, const std::optional<bool>& asked) {
 Mesh meshOf(const Result& r, double adaptivity, const std::optional<bool>& trimUnseen) {
   const bool trim = trims(r, trimUnseen);
   py::gil_scoped_release released;
-  Mesh mesh{meshFromLevelSet(*r.outcome.result.levelSet, adaptivity)};
-  if (trim) mesh.mesh = trimMesh(mesh.mesh, *r.outcome.result.weight, kObservedWeight);
-  return mesh;
+  return Mesh{meshShown(*r.outcome.result.levelSet, trim ? r.outcome.result.weight.get() : nullptr, adaptivity)};
 }
 
 io::PreviewOptions previewOptionsOf(const Result& r, int width, const std::optional<int>& height,
@@ -115,14 +112,10 @@ io::PreviewOptions previewOptionsOf(const Result& r, int width, const std::optio
   if (!view.is_none()) options.toward = vec3From(view, "view");
   if (!up.is_none()) options.up = vec3From(up, "up");
   // A scene is seen from where its first frame's camera stood, unless a view is asked for.
-  if (r.outcome.scene && view.is_none() && r.outcome.firstScan) {
-    options = io::seenByFrame(*r.outcome.firstScan, options);
-    if (height) options.height = *height;
-  }
-  if (trims(r, trimUnseen)) {
-    options.weight = r.outcome.result.weight;
-    options.minWeight = kObservedWeight;
-  }
+  const bool fromItsCamera = r.outcome.scene && view.is_none() && r.outcome.firstScan;
+  options = previewShown(options, fromItsCamera ? &*r.outcome.firstScan : nullptr,
+                         trims(r, trimUnseen) ? r.outcome.result.weight : nullptr);
+  if (fromItsCamera && height) options.height = *height;
   return options;
 }
 

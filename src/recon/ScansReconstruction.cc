@@ -2,6 +2,9 @@
 
 #include <levelfuse/recon/ScansReconstruction.h>
 
+#include <levelfuse/levelset/MeshTrim.h>
+#include <levelfuse/recon/SurfaceWeight.h>
+
 #include <utility>
 
 namespace levelfuse {
@@ -33,7 +36,23 @@ ScansReconstruction prepareReconstruction(PackedScans scans, const Reconstructio
   return r;
 }
 
-bool trimsUnseen(const ScanSummary& scans, std::optional<bool> asked) { return asked.value_or(scans.aScene()); }
+bool trimsUnseen(bool scene, std::optional<bool> asked) { return asked.value_or(scene); }
+
+TriangleMesh meshShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatGrid* trimBy, double adaptivity) {
+  TriangleMesh mesh = meshFromLevelSet(levelSet, adaptivity);
+  if (trimBy) mesh = trimMesh(mesh, *trimBy, kObservedWeight);
+  return mesh;
+}
+
+io::PreviewOptions previewShown(io::PreviewOptions options, const RangeMap* camera,
+                                openvdb::FloatGrid::ConstPtr trimBy) {
+  if (camera) options = io::seenByFrame(*camera, options);
+  if (trimBy) {
+    options.weight = std::move(trimBy);
+    options.minWeight = kObservedWeight;
+  }
+  return options;
+}
 
 void describeInputs(openvdb::FloatGrid& surface, const std::vector<std::string>& inputs, bool linear, bool scene) {
   std::string joined;

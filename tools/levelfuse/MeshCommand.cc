@@ -8,8 +8,8 @@
 #include <levelfuse/io/MeshFile.h>
 #include <levelfuse/io/VdbFile.h>
 #include <levelfuse/levelset/Mesh.h>
-#include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/levelset/RequireLevelSet.h>
+#include <levelfuse/recon/ScansReconstruction.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 
 #include <nlohmann/json.hpp>
@@ -60,14 +60,13 @@ int runMesh(const MeshSettings& s) {
     throw std::runtime_error(s.input + ": " + problem);
   const openvdb::FloatGrid::Ptr weight = weightGridOf(*grids, *levelSet);
   const auto scene = levelSet->getMetadata<openvdb::BoolMetadata>("levelfuse_scene");
-  const bool trim = s.trimUnseen.value_or(weight && scene && scene->value());
+  const bool trim = trimsUnseen(weight && scene && scene->value(), s.trimUnseen);
   if (trim && !weight)
     throw std::runtime_error(s.input + ": no weight grid for '" + levelSet->getName() +
                              "' to trim by (levelfuse reconstruct writes one beside the level set); "
                              "drop --trim-unseen");
   enterPhase("meshing");
-  TriangleMesh mesh = meshFromLevelSet(*levelSet, s.adaptivity);
-  if (trim) mesh = trimMesh(mesh, *weight, kObservedWeight);
+  const TriangleMesh mesh = meshShown(*levelSet, trim ? weight.get() : nullptr, s.adaptivity);
   enterPhase("writing");
   io::OutputSet outputs;
   io::writeMesh(outputs, s.output, mesh);

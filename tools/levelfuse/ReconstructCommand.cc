@@ -14,13 +14,11 @@
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/VdbFile.h>
 #include <levelfuse/levelset/Mesh.h>
-#include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/ScansReconstruction.h>
-#include <levelfuse/recon/SurfaceWeight.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 
 #include <nlohmann/json.hpp>
@@ -80,10 +78,7 @@ Inputs loadInputs(const ReconstructSettings& s, ProgressBar& bar) {
   enterPhase("loading");
   io::ScanLoadOptions load;
   if (!s.towardScanner.empty()) load.stanford.towardScanner = parseVec3(s.towardScanner);
-  if (s.sigma > 0.0) {
-    load.stanford.sigma = s.sigma;
-    load.depthNoise = io::DepthNoise{s.sigma, 0.0};
-  }
+  if (s.sigma > 0.0) load.setSigma(s.sigma);
   load.depthScale = s.depthScale;
   if (s.maxDepth > 0.0) load.maxDepth = s.maxDepth;
   load.frameStride = s.frameStride;
@@ -132,7 +127,8 @@ struct Presentation {
 };
 
 Presentation presentationOf(const Reconstructor& reconstructor, const ReconstructSettings& s) {
-  return {reconstructor.summary().aScene(), trimsUnseen(reconstructor.summary(), s.trimUnseen)};
+  const bool scene = reconstructor.summary().aScene();
+  return {scene, trimsUnseen(scene, s.trimUnseen)};
 }
 
 /// The surface, evolved or (--linear) the linear solution, with its weight
@@ -190,18 +186,15 @@ std::size_t writeOutputs(const Inputs& in, const ReconstructionResult& result, c
   std::optional<TriangleMesh> mesh;
   if (!s.mesh.empty()) {
     enterPhase("meshing");
-    mesh = meshFromLevelSet(surface);
-    if (shown.trim) mesh = trimMesh(*mesh, *result.weight, kObservedWeight);
+    mesh = meshShown(surface, shown.trim ? result.weight.get() : nullptr);
   }
   io::PreviewOptions preview;
   if (!s.view.empty()) preview.toward = parseVec3(s.view);
   if (!s.up.empty()) preview.up = parseVec3(s.up);
   // A scene is seen from where its first frame's camera stood, unless a view is asked for.
-  if (shown.scene && s.view.empty()) preview = io::seenByFrame(*in.firstScan, preview);
-  if (shown.trim) {
-    preview.weight = result.weight;
-    preview.minWeight = kObservedWeight;
-  }
+  const bool fromItsCamera = shown.scene && s.view.empty();
+  preview = previewShown(preview, fromItsCamera ? &*in.firstScan : nullptr,
+                         shown.trim ? result.weight : nullptr);
   enterPhase("writing");
   io::OutputSet outputs;
   if (!s.output.empty()) io::writeVdb(outputs, s.output, {result.levelSet, result.weight});

@@ -33,6 +33,13 @@ struct ScanLoadOptions {
   /// TUM RGB-D folders: a frame takes the pose of the nearest timestamp, which
   /// must lie within this many seconds of the frame's.
   double poseTimeTolerance = 0.02;
+  /// Gives every reading the same noise `sigma` (world units), whatever the
+  /// scan: Stanford scans' sigma and depth frames' noise alike.
+  void setSigma(double sigma) {
+    stanford.sigma = sigma;
+    depthNoise = DepthNoise{sigma, 0.0};
+  }
+
   /// If set, each scan is handed over as soon as it is read instead of
   /// collected, and loadScans returns none: a folder of depth frames is then
   /// read holding one frame at a time (Stanford and manifest scans, a few,

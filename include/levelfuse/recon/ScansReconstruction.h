@@ -5,6 +5,8 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/io/Preview.h>
+#include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/scan/PackedRangeMap.h>
@@ -45,8 +47,21 @@ ScansReconstruction prepareReconstruction(PackedScans scans, const Reconstructio
                                           const Interrupter& interrupter = {});
 
 /// Whether meshes and previews leave out the surface no scan observed
-/// (recon/SurfaceWeight.h): as `asked`, else for scenes only (ScanSummary::aScene).
-bool trimsUnseen(const ScanSummary& scans, std::optional<bool> asked = std::nullopt);
+/// (recon/SurfaceWeight.h): as `asked`, else for scenes only (scans of a
+/// scene: ScanSummary::aScene, or a level set's levelfuse_scene metadata).
+bool trimsUnseen(bool scene, std::optional<bool> asked = std::nullopt);
+
+/// The zero set of `levelSet` as a mesh (meshFromLevelSet), without what no
+/// scan observed where `trimBy`, its weight grid (recon/SurfaceWeight.h), is
+/// given: the triangles below kObservedWeight are left out (trimMesh).
+TriangleMesh meshShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatGrid* trimBy,
+                       double adaptivity = 0.0);
+
+/// `options` for the picture of a surface: seen through `camera`'s eyes if it
+/// is given (a scene's first frame, io::seenByFrame), and without what no scan
+/// observed where `trimBy`, its weight grid, is given.
+io::PreviewOptions previewShown(io::PreviewOptions options, const RangeMap* camera,
+                                openvdb::FloatGrid::ConstPtr trimBy);
 
 /// The run's inputs (joined with ", "), its method and whether the scans are a
 /// scene, in the surface's levelfuse_* metadata beside the parameters
