@@ -8,6 +8,12 @@
 //  - pinhole (depth cameras): pixel (u, v) is the ray through
 //    ((u - cx) / fx, (v - cy) / fy, 1) from the camera centre; its reading is the
 //    depth z of the surface point (the Kinect / TUM / 7-Scenes convention).
+//  - spherical (terrestrial laser scanners, spinning LiDAR): the scanner sits
+//    at the origin with its z axis up; pixel (u, v) is the ray at azimuth
+//    theta = theta0 + u dtheta (about z, from +x toward +y) and elevation
+//    phi = phi0 + v dphi (from the xy plane toward +z); its reading is the
+//    range, the distance from the scanner to the surface point. Here alone
+//    the lines of sight do not run along +z.
 // Optional per-pixel ray directions refine the lines of sight of scanners
 // whose rays are neither parallel nor through one centre; pixels are still
 // found through the map's projection.
@@ -42,6 +48,17 @@ struct PinholeProjection {
   double cx = 0.0, cy = 0.0;  ///< principal point in pixels
 };
 
+/// The angular grid of a scanner that sweeps azimuth and elevation from one
+/// centre (radians). Steps may be negative (a scanner turning clockwise);
+/// every row lies strictly between the poles, and the columns span at most a
+/// full turn.
+struct SphericalProjection {
+  double azimuthStart = 0.0;    ///< azimuth of column 0
+  double azimuthStep = 1e-3;    ///< from a column to the next
+  double elevationStart = 0.0;  ///< elevation of row 0
+  double elevationStep = 1e-3;  ///< from a row to the next
+};
+
 /// What a range map says about a world point x (Eqs. 13, 17, 38).
 struct RangeSample {
   double D = 0.0;                ///< signed distance along the line of sight from the reading to x; > 0 behind it
@@ -64,7 +81,7 @@ struct DepthNoise {
 
 class RangeMap {
  public:
-  enum class Kind { kOrthographic, kPinhole };
+  enum class Kind { kOrthographic, kPinhole, kSpherical };
 
   /// `readings` is row-major, `width * height` values in world units; NaN or
   /// values <= 0 (pinhole) mean no reading. `mapToWorld` is rigid. A pinhole
@@ -83,6 +100,14 @@ class RangeMap {
   /// setDepthNoise gives them, without working the map out twice.
   static RangeMap pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
                           const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, std::string name = "");
+
+  /// A scan on a spherical grid: `ranges` row-major (a row per elevation, a
+  /// column per azimuth), distances from the scanner in world units, NaN or
+  /// values <= 0 for no return. `scannerToWorld` is rigid, in OpenVDB's
+  /// row-vector layout. Throws std::invalid_argument for inconsistent sizes or
+  /// geometry (a step of zero, a row at or beyond a pole, more than a turn).
+  static RangeMap spherical(int width, int height, std::vector<float> ranges, const SphericalProjection& p,
+                            const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name = "");
 
   /// Per-pixel lines of sight (unit vectors in the map frame, away from the
   /// scanner), e.g. for scanners with a fan of rays per row.
@@ -180,6 +205,15 @@ class RangeMap {
   const openvdb::math::Mat4d& mapToWorld() const { return mMapToWorld; }
   const OrthographicProjection& orthographicProjection() const { return mOrtho; }
   const PinholeProjection& pinholeProjection() const { return mPinhole; }
+  const SphericalProjection& sphericalProjection() const { return mSpherical; }
+  /// The quantity a point's readings are compared with, for a point in the
+  /// map's frame: its z along parallel rays or a camera's optical axis, its
+  /// distance from a spherical scanner.
+  double readingCoordinate(const openvdb::Vec3d& p) const {
+    return mKind == Kind::kSpherical ? p.length() : p.z();
+  }
+  /// The unit line of sight of a spherical map's pixel coordinates (u, v), in the map's frame.
+  openvdb::Vec3d sphericalDirection(double u, double v) const;
 
   bool valid(int u, int v) const { return mReadings[index(u, v)] == mReadings[index(u, v)]; }
   float reading(int u, int v) const { return mReadings[index(u, v)]; }
@@ -264,6 +298,9 @@ class RangeMap {
   double mInversePixel = 1.0;  ///< 1 / pixel size (orthographic)
   double mRayDensity = 1.0;    ///< gamma of an orthographic map: rays per unit area (1 / pixel size^2 by default)
   PinholeProjection mPinhole;
+  SphericalProjection mSpherical;
+  double mAzimuthPeriod = 0.0;  ///< columns in a full turn (spherical): 2 pi / |azimuth step|
+  double mAngularStep = 0.0;    ///< the larger of a spherical map's two steps (radians)
   openvdb::math::Mat4d mMapToWorld = openvdb::math::Mat4d::identity();
   openvdb::math::Mat4d mWorldToMap = openvdb::math::Mat4d::identity();
   openvdb::math::Mat3d mRotation = openvdb::math::Mat3d::identity();  ///< map-to-world rotation

@@ -1,0 +1,50 @@
+// levelfuse: spherical range maps from the points a scanner measured around
+// itself (terrestrial laser scanners, spinning LiDAR).
+//
+// The points are given in the scanner's own frame: the scanner at the origin,
+// its z axis up (the frame of a PTX scan's points, of a KITTI sweep's). Each
+// point's azimuth and elevation place it on an angular grid; its distance
+// from the scanner is the reading (RangeMap::spherical).
+#pragma once
+
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/math/Mat4.h>
+#include <openvdb/math/Vec3.h>
+
+#include <string>
+#include <vector>
+
+namespace levelfuse {
+
+/// The angles between neighbouring rays of a spherical scanner (radians, positive).
+struct AngularSteps {
+  double azimuth = 0.0;
+  double elevation = 0.0;
+};
+
+/// Points closer to a pole than this (radians, 0.1 degree) have no azimuth a
+/// grid can hold: binning leaves them out.
+inline constexpr double kPoleMargin = 0.1 * M_PI / 180.0;
+
+/// The points binned into a spherical range map with these steps: each pixel
+/// keeps the nearest point that falls in it. The grid is placed so that the
+/// points lie as near their pixels' centres as they can (a scanner's own grid
+/// comes back pixel for pixel), and spans the points' azimuths and
+/// elevations; a full turn of azimuth is closed (the first column is repeated
+/// after the last, so no seam is left). Points that are not finite, at the
+/// scanner, or within kPoleMargin of a pole are left out. Throws
+/// std::invalid_argument for steps that are not positive and finite, a grid
+/// of more than 2^31 pixels, or fewer than two rows or columns of points.
+RangeMap sphericalMapFromPoints(const std::vector<openvdb::Vec3d>& scannerPoints, const AngularSteps& steps,
+                                const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name = "");
+
+/// The steps of a structured scan: `columns` columns of `rows` points each,
+/// column after column (a PTX scan's order), in the scanner's frame, with
+/// non-finite points or the origin where there was no return. Each step is the
+/// median angle between neighbours of a column (elevation) or of a row
+/// (azimuth) that both have a return. Throws std::invalid_argument if the
+/// sizes disagree or no two neighbours along either direction have returns.
+AngularSteps stepsOfGrid(const std::vector<openvdb::Vec3d>& scannerPoints, int columns, int rows);
+
+}  // namespace levelfuse
