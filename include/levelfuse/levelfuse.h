@@ -74,4 +74,5 @@
 #include <levelfuse/scan/ScanSummary.h>
 #include <levelfuse/scan/Scenes.h>
 #include <levelfuse/scan/SightBins.h>
+#include <levelfuse/scan/SphericalScan.h>
 #include <levelfuse/scan/Synth.h>

@@ -129,14 +129,29 @@ Camera framingCamera(const openvdb::FloatGrid& levelSet, const PreviewOptions& o
   return camera;
 }
 
+/// A spherical scanner's view (seenByFrame).
+PreviewOptions seenByScanner(const RangeMap& scan, PreviewOptions options) {
+  const SphericalProjection& grid = scan.sphericalProjection();
+  const double middle = grid.azimuthStart + 0.5 * (scan.width() - 1) * grid.azimuthStep;
+  const openvdb::math::Mat4d& scannerToWorld = scan.mapToWorld();
+  PreviewCamera camera;
+  camera.eye = scannerToWorld.transform(Vec3d(0.0));
+  camera.forward = scannerToWorld.transform3x3(Vec3d(std::cos(middle), std::sin(middle), 0.0));
+  camera.up = scannerToWorld.transform3x3(Vec3d(0, 0, 1));
+  options.camera = camera;
+  options.fieldOfViewDegrees = 60.0;
+  return options;
+}
+
 /// Surfaces a ray passes through where they are left out (PreviewOptions::weight), at most.
 constexpr int kMaxSurfacesPassed = 64;
 
 }  // namespace
 
 PreviewOptions seenByFrame(const RangeMap& frame, PreviewOptions options) {
+  if (frame.kind() == RangeMap::Kind::kSpherical) return seenByScanner(frame, options);
   if (frame.kind() != RangeMap::Kind::kPinhole)
-    throw std::invalid_argument("preview: '" + frame.name() + "' is not a depth camera's frame (a pinhole range map)");
+    throw std::invalid_argument("preview: '" + frame.name() + "' has parallel rays: no camera stood anywhere");
   const PinholeProjection& k = frame.pinholeProjection();
   const openvdb::math::Mat4d& cameraToWorld = frame.mapToWorld();
   // The camera looks along its +z with image rows running down its +y.

@@ -88,7 +88,7 @@ openvdb::FloatGrid::Ptr surfaceWeight(const openvdb::FloatGrid& levelSet, const 
 
 bool scansOfAScene(const std::vector<RangeMap>& maps) {
   return !maps.empty() &&
-         std::all_of(maps.begin(), maps.end(), [](const RangeMap& m) { return m.kind() == RangeMap::Kind::kPinhole; });
+         std::all_of(maps.begin(), maps.end(), [](const RangeMap& m) { return m.ofAScene(); });
 }
 
 }  // namespace levelfuse

@@ -25,7 +25,7 @@ int sightVote(RangeMap::Sight sight, RangeMap::Kind kind) {
     case RangeMap::Sight::kBehind:
       return 1;  // behind and speaking: 2 - 1
     case RangeMap::Sight::kOutside:
-      return kind == RangeMap::Kind::kPinhole ? 0 : -1;  // parallel rays speak for every point
+      return kind == RangeMap::Kind::kOrthographic ? -1 : 0;  // parallel rays speak for every point
     case RangeMap::Sight::kUnknown:
     case RangeMap::Sight::kEmpty:
       break;

@@ -16,6 +16,15 @@ using openvdb::Coord;
 using openvdb::Vec3d;
 constexpr int kLeafDim = 8;
 
+/// How far the rays of a spherical map's tile of du x dv pixels, out to
+/// `range`, reach beyond the box of their corners: the arcs between the
+/// corners bulge by at most range (1 - cos(the tile's diagonal angle)).
+double sphericalBulge(const RangeMap& m, int du, int dv, double range) {
+  const SphericalProjection& p = m.sphericalProjection();
+  const double diagonal = std::hypot(du * p.azimuthStep, dv * p.elevationStep);
+  return range * (1.0 - std::cos(diagonal)) + 1e-9 * range;
+}
+
 /// Calls visit(box) with the world box that the lines of sight through each
 /// tile of kTile x kTile pixels span, from its nearest reading less the reach
 /// to its farthest plus the reach (a box for parallel rays, a frustum's for a
@@ -36,9 +45,11 @@ void forEachTileBox(const RangeMap& m, double reach, const Visit& visit) {
       if (nearest > farthest) continue;
       double front = nearest - reach;
       if (m.kind() == RangeMap::Kind::kPinhole) front = std::max(front, 1e-6 * farthest);
+      if (m.kind() == RangeMap::Kind::kSpherical) front = std::max(front, 0.0);
       openvdb::BBoxd box;
       for (int c = 0; c < 8; ++c)
         box.expand(m.pointAt(c & 1 ? u1 : u0, c & 2 ? v1 : v0, c & 4 ? farthest + reach : front));
+      if (m.kind() == RangeMap::Kind::kSpherical) box.expand(sphericalBulge(m, u1 - u0, v1 - v0, farthest + reach));
       visit(box);
     }
 }
@@ -88,10 +99,46 @@ struct CubeFootprint {
   double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300, z0 = 1e300, z1 = -1e300;
 };
 
+/// A spherical map's footprint of the ball of `radius` around `centre` (map
+/// frame): ranges from its nearest to its farthest point, elevations and
+/// azimuths within its angular radius. A ball around the scanner, over a pole,
+/// or across the first column of a map that closes the turn has no bounded
+/// footprint (inFront < 8).
+CubeFootprint sphericalFootprint(const RangeMap& m, const Vec3d& centre, double radius) {
+  CubeFootprint f;
+  const double distance = centre.length();
+  f.z0 = std::max(0.0, distance - radius);
+  f.z1 = distance + radius;
+  if (!(distance > radius * (1.0 + 1e-9))) {
+    f.inFront = 4;
+    return f;
+  }
+  const SphericalProjection& p = m.sphericalProjection();
+  const double angularRadius = std::asin(radius / distance);
+  const double elevation = std::atan2(centre.z(), std::hypot(centre.x(), centre.y()));
+  if (std::fabs(elevation) + angularRadius >= 0.5 * M_PI) {
+    f.inFront = 4;
+    return f;
+  }
+  const double halfAzimuth = std::asin(std::sin(angularRadius) / std::cos(elevation)) / std::fabs(p.azimuthStep);
+  const double column = m.project(centre).x();
+  f.u0 = column - halfAzimuth;
+  f.u1 = column + halfAzimuth;
+  const bool wrapsIntoTheMap = (f.u0 < 0.0 && f.u0 + m.azimuthPeriod() <= m.width() - 1) || f.u1 >= m.azimuthPeriod();
+  f.inFront = wrapsIntoTheMap ? 4 : 8;
+  const double r0 = (elevation - angularRadius - p.elevationStart) / p.elevationStep;
+  const double r1 = (elevation + angularRadius - p.elevationStart) / p.elevationStep;
+  f.v0 = std::min(r0, r1);
+  f.v1 = std::max(r0, r1);
+  return f;
+}
+
 CubeFootprint cubeFootprint(const RangeMap& m, const Coord& origin, double voxelSize, int dim = kLeafDim) {
   const openvdb::math::Mat4d& toMap = m.worldToMap();
   const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
   const double span = voxelSize * (dim - 1);
+  if (m.kind() == RangeMap::Kind::kSpherical)
+    return sphericalFootprint(m, base + toMap.transform3x3(Vec3d(0.5 * span)), 0.5 * std::sqrt(3.0) * span);
   CubeFootprint f;
   for (int c = 0; c < 8; ++c) {
     const Vec3d q = base + toMap.transform3x3(Vec3d((c & 1) * span, ((c >> 1) & 1) * span, (c >> 2) * span));

@@ -44,7 +44,7 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
   mValidCount = 0;
   mLargestReading = 0.0;
   for (float& r : readings) {
-    if (!std::isfinite(r) || (mKind == Kind::kPinhole && r <= 0.0f)) {
+    if (!std::isfinite(r) || (mKind != Kind::kOrthographic && r <= 0.0f)) {
       r = nan;
     } else {
       ++mValidCount;
@@ -101,7 +101,9 @@ void RangeMap::findUsableCells() {
       const double hi = std::max(std::max(r[0], r[1]), std::max(r[2], r[3]));
       // The distance between neighbouring rays at the readings, and the noise:
       // two readings of one surface differ by sqrt(2) sigma typically.
-      const double spacing = mKind == Kind::kOrthographic ? mOrtho.pixelSize : hi / std::min(mPinhole.fx, mPinhole.fy);
+      const double spacing = mKind == Kind::kOrthographic ? mOrtho.pixelSize
+                             : mKind == Kind::kPinhole    ? hi / std::min(mPinhole.fx, mPinhole.fy)
+                                                          : hi * mAngularStep;
       const std::size_t u = static_cast<std::size_t>(i);
       const double sigma = std::max(std::max(above[u], above[u + 1]), std::max(below[u], below[u + 1]));
       mUsableCell.set(at, hi - lo <= mJumpFactor * spacing + kJumpNoise * sigma);
@@ -126,6 +128,51 @@ RangeMap RangeMap::orthographic(int width, int height, std::vector<float> readin
   m.mInversePixel = 1.0 / p.pixelSize;
   m.mRayDensity = m.mInversePixel * m.mInversePixel;
   m.finish(std::move(readings), mapToWorld, sigma);
+  return m;
+}
+
+RangeMap RangeMap::sphericalWithoutReadings(int width, int height, const SphericalProjection& p, std::string name) {
+  RangeMap m(Kind::kSpherical, width, height, std::move(name));
+  const std::string who = "range map '" + m.mName + "'";
+  if (!std::isfinite(p.azimuthStart) || !std::isfinite(p.elevationStart) || !std::isfinite(p.azimuthStep) ||
+      !std::isfinite(p.elevationStep) || p.azimuthStep == 0.0 || p.elevationStep == 0.0)
+    throw std::invalid_argument(who + ": the angular steps must be finite and not zero");
+  const double lastElevation = p.elevationStart + (height - 1) * p.elevationStep;
+  if (!(std::fabs(p.elevationStart) < 0.5 * M_PI) || !(std::fabs(lastElevation) < 0.5 * M_PI))
+    throw std::invalid_argument(who + ": its rows reach a pole (elevations from " +
+                                std::to_string(p.elevationStart * 180.0 / M_PI) + " to " +
+                                std::to_string(lastElevation * 180.0 / M_PI) + " degrees)");
+  // A closed turn repeats its first column after its last: one step more than a turn.
+  if ((width - 1) * std::fabs(p.azimuthStep) > 2.0 * M_PI * (1.0 + 1e-9))
+    throw std::invalid_argument(who + ": its " + std::to_string(width) + " columns span more than a turn");
+  m.mSpherical = p;
+  m.mAzimuthPeriod = 2.0 * M_PI / std::fabs(p.azimuthStep);
+  m.mAngularStep = std::max(std::fabs(p.azimuthStep), std::fabs(p.elevationStep));
+  return m;
+}
+
+RangeMap RangeMap::spherical(int width, int height, std::vector<float> ranges, const SphericalProjection& p,
+                             const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name) {
+  return finished(sphericalWithoutReadings(width, height, p, std::move(name)), std::move(ranges), scannerToWorld,
+                  sigma);
+}
+
+RangeMap RangeMap::spherical(int width, int height, std::vector<float> ranges, const SphericalProjection& p,
+                             const openvdb::math::Mat4d& scannerToWorld, const DepthNoise& noise, std::string name) {
+  return finished(sphericalWithoutReadings(width, height, p, std::move(name)), std::move(ranges), scannerToWorld,
+                  noise);
+}
+
+RangeMap RangeMap::finished(RangeMap m, std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld,
+                            double sigma) {
+  m.finish(std::move(readings), mapToWorld, sigma);
+  return m;
+}
+
+RangeMap RangeMap::finished(RangeMap m, std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld,
+                            const DepthNoise& noise) {
+  m.adoptDepthNoise(noise);
+  m.finish(std::move(readings), mapToWorld, noise.at(1.0));
   return m;
 }
 
@@ -154,17 +201,12 @@ RangeMap RangeMap::pinholeWithoutReadings(int width, int height, const PinholePr
 
 RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
                            const openvdb::math::Mat4d& cameraToWorld, double sigma, std::string name) {
-  RangeMap m = pinholeWithoutReadings(width, height, p, std::move(name));
-  m.finish(std::move(depths), cameraToWorld, sigma);
-  return m;
+  return finished(pinholeWithoutReadings(width, height, p, std::move(name)), std::move(depths), cameraToWorld, sigma);
 }
 
 RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
                            const openvdb::math::Mat4d& cameraToWorld, const DepthNoise& noise, std::string name) {
-  RangeMap m = pinholeWithoutReadings(width, height, p, std::move(name));
-  m.adoptDepthNoise(noise);
-  m.finish(std::move(depths), cameraToWorld, std::max(noise.minimum, noise.perSquareMetre));
-  return m;
+  return finished(pinholeWithoutReadings(width, height, p, std::move(name)), std::move(depths), cameraToWorld, noise);
 }
 
 void RangeMap::setRayDirections(std::vector<openvdb::Vec3f> directions) {
@@ -192,7 +234,7 @@ void RangeMap::setSigmas(std::vector<float> sigmas) {
 
 void RangeMap::adoptDepthNoise(const DepthNoise& noise) {
   if (!(noise.minimum > 0.0) || !std::isfinite(noise.minimum) || !(noise.perSquareMetre >= 0.0) ||
-      !std::isfinite(noise.perSquareMetre))
+      !std::isfinite(noise.perSquareMetre) || !(noise.perMetre >= 0.0) || !std::isfinite(noise.perMetre))
     throw std::invalid_argument("range map '" + mName + "': the depth noise must be positive and finite");
   mSigmas.clear();
   mSigmas.shrink_to_fit();
@@ -208,7 +250,7 @@ void RangeMap::setDepthNoise(const DepthNoise& noise) {
 float RangeMap::depthNoiseSigma(float reading) const {
   const double z = reading == reading ? reading : 1.0;
   // Readings so far away that their sigma overflows a float carry no weight anyway.
-  const double sigma = std::max(mDepthNoise.minimum, mDepthNoise.perSquareMetre * z * z);
+  const double sigma = mDepthNoise.at(z);
   return static_cast<float>(std::min(sigma, double(std::numeric_limits<float>::max())));
 }
 
@@ -252,11 +294,13 @@ void RangeMap::setMissesAreEmpty(bool empty, int dropoutReach) {
 RangeMap::Sight RangeMap::sight(const Vec3d& x, double margin) const {
   const Vec3d p = mWorldToMap.transform(x);
   if (mKind == Kind::kPinhole && !(p.z() > 0.0)) return Sight::kOutside;
+  if (mKind == Kind::kSpherical && !(p.x() * p.x() + p.y() * p.y() > 0.0)) return Sight::kOutside;
   const openvdb::math::Vec2d uv = project(p);
   if (!(uv.x() >= 0.0 && uv.y() >= 0.0 && uv.x() <= mWidth - 1 && uv.y() <= mHeight - 1)) return Sight::kOutside;
   // The four pixels around x must agree: near a depth discontinuity or a
   // silhouette the nearest ray alone could pass either side of x.
   const int i = std::min(static_cast<int>(uv.x()), mWidth - 2), j = std::min(static_cast<int>(uv.y()), mHeight - 2);
+  const double along = readingCoordinate(p);
   int empty = 0, behind = 0;
   for (int c = 0; c < 4; ++c) {
     const std::size_t at = index(i + (c & 1), j + (c >> 1));
@@ -265,7 +309,7 @@ RangeMap::Sight RangeMap::sight(const Vec3d& x, double margin) const {
       empty += !mMisses.empty() && mMisses[at];
       continue;
     }
-    const double D = p.z() - r;  // along the rays (parallel) or the optical axis (pinhole)
+    const double D = along - r;  // along the rays (parallel), the optical axis (pinhole) or the ray (spherical)
     empty += D < -margin;
     behind += D > margin;
   }
@@ -298,40 +342,13 @@ bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double&
 }
 
 bool RangeMap::sample(const openvdb::Vec3d& x, RangeSample& out) const {
-  const Vec3d p = mWorldToMap.transform(x);
-  if (mKind == Kind::kPinhole && !(p.z() > 0.0)) return false;
-  const openvdb::math::Vec2d uv = project(p);
-  double r, ru, rv, fu, fv;
-  int i, j;
-  if (!interpolate(uv.x(), uv.y(), r, ru, rv, i, j, fu, fv)) return false;
-  Vec3d grad, los;
-  if (mKind == Kind::kOrthographic) {
-    // D = z - r(u(x), v(x)) (Eq. 13), rays along +z.
-    out.D = p.z() - r;
-    grad = Vec3d(-ru / mOrtho.pixelSize, -rv / mOrtho.pixelSize, 1.0);
-    los = Vec3d(0.0, 0.0, 1.0);
-    out.gamma = mRayDensity;
-  } else {
-    // Readings are depths z; along the ray the reading lies at rho = z k, with
-    // k = |(a, b, 1)|. D = |p| - rho(u(x), v(x)).
-    const double a = (uv.x() - mPinhole.cx) / mPinhole.fx, b = (uv.y() - mPinhole.cy) / mPinhole.fy;
-    const double k = std::sqrt(1.0 + a * a + b * b);
-    const double distance = p.length();
-    out.D = distance - r * k;
-    const double rhoU = ru * k + r * a / (mPinhole.fx * k);
-    const double rhoV = rv * k + r * b / (mPinhole.fy * k);
-    const double z = p.z();
-    const Vec3d gradU(mPinhole.fx / z, 0.0, -mPinhole.fx * p.x() / (z * z));
-    const Vec3d gradV(0.0, mPinhole.fy / z, -mPinhole.fy * p.y() / (z * z));
-    los = p / distance;
-    grad = los - (gradU * rhoU + gradV * rhoV);
-    // Rays per unit area across the line of sight: fx fy / (|p|^2 cos^3) = fx fy k / z^2.
-    out.gamma = mPinhole.fx * mPinhole.fy * k / (z * z);
-  }
-  if (!mDirections.empty()) los = Vec3d(mDirections[index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1)]);
-  out.gradD = mMapToWorld.transform3x3(grad);
-  out.lineOfSight = mMapToWorld.transform3x3(los);
-  out.sigma = sigmaAt(index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1));
+  LocalSample s;
+  if (!sampleLocal(mWorldToMap.transform(x), std::numeric_limits<double>::infinity(), s)) return false;
+  out.D = s.D;
+  out.gradD = mMapToWorld.transform3x3(s.gradD);
+  out.lineOfSight = mMapToWorld.transform3x3(s.lineOfSight);
+  out.gamma = s.gamma;
+  out.sigma = s.sigma;
   return true;
 }
 
@@ -341,13 +358,26 @@ openvdb::Vec3d RangeMap::pointAt(double u, double v, double r) const {
   Vec3d p;
   if (mKind == Kind::kOrthographic)
     p = Vec3d(mOrtho.origin.x() + u * mOrtho.pixelSize, mOrtho.origin.y() + v * mOrtho.pixelSize, r);
-  else
+  else if (mKind == Kind::kPinhole)
     p = Vec3d((u - mPinhole.cx) / mPinhole.fx * r, (v - mPinhole.cy) / mPinhole.fy * r, r);
+  else
+    p = sphericalDirection(mSpherical, u, v) * r;
   return mMapToWorld.transform(p);
 }
 
+openvdb::Vec3d sphericalDirection(const SphericalProjection& p, double u, double v) {
+  const double azimuth = p.azimuthStart + u * p.azimuthStep;
+  const double elevation = p.elevationStart + v * p.elevationStep;
+  return Vec3d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+}
+
+bool RangeMap::ofAScene() const {
+  if (mKind == Kind::kPinhole) return true;
+  return mKind == Kind::kSpherical && mReadingBounds.isInside(scannerPosition());
+}
+
 openvdb::Vec3d RangeMap::scannerPosition() const {
-  if (mKind == Kind::kPinhole) return mMapToWorld.transform(Vec3d(0.0));
+  if (mKind != Kind::kOrthographic) return mMapToWorld.transform(Vec3d(0.0));
   double zmin = std::numeric_limits<double>::max();
   for (float r : mReadings)
     if (r == r) zmin = std::min(zmin, static_cast<double>(r));
@@ -360,7 +390,8 @@ openvdb::Vec3d RangeMap::scannerPosition() const {
 
 double RangeMap::maxRaySpacing() const {
   if (mKind == Kind::kOrthographic) return 1.0 / std::sqrt(mRayDensity);
-  return mLargestReading / std::min(mPinhole.fx, mPinhole.fy);
+  if (mKind == Kind::kPinhole) return mLargestReading / std::min(mPinhole.fx, mPinhole.fy);
+  return mLargestReading * mAngularStep;
 }
 
 openvdb::BBoxd RangeMap::boundsOfReadings() const {
@@ -376,6 +407,18 @@ std::size_t RangeMap::memoryBytes() const {
          mBlockMax.capacity() * sizeof(float) + mBlockComplete.capacity() + mReadings.capacity() * sizeof(float) +
          mUsableCell.memoryBytes() + mDirections.capacity() * sizeof(openvdb::Vec3f) +
          mSigmas.capacity() * sizeof(float) + mSamples.capacity() * sizeof(openvdb::Vec3d) + mMisses.memoryBytes();
+}
+
+const char* projectionName(RangeMap::Kind kind) {
+  switch (kind) {
+    case RangeMap::Kind::kOrthographic:
+      return "orthographic";
+    case RangeMap::Kind::kPinhole:
+      return "pinhole";
+    case RangeMap::Kind::kSpherical:
+      return "spherical";
+  }
+  return "unknown";
 }
 
 RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps) {

@@ -15,7 +15,7 @@ void ScanSummary::add(const RangeMap& map) {
   mBounds.expand(map.readingBounds());
   mRaySpacings.push_back(map.maxRaySpacing());
   mSigmas.push_back(map.sigma());
-  mPinholes += map.kind() == RangeMap::Kind::kPinhole;
+  mScenes += map.ofAScene();
 }
 
 double ScanSummary::medianRaySpacing() const { return median(mRaySpacings); }

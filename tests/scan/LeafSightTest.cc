@@ -3,7 +3,9 @@
 
 #include "../../src/scan/LeavesReached.h"
 
+#include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/scan/RangeMap.h>
+#include <levelfuse/scan/Synth.h>
 
 #include <gtest/gtest.h>
 
@@ -46,6 +48,25 @@ RangeMap tiltedPlaneAlongZ() {
                                 openvdb::math::Mat4d::identity(), 0.002, "plane");
 }
 
+/// A room 3 x 3 x 2.5 m with a box on its floor and a sphere, seen by a
+/// spherical scanner standing in it; a sector of rays without returns. With
+/// `wholeTurn` the scanner sweeps every azimuth, else 300 degrees of them.
+RangeMap roomAroundAScanner(bool wholeTurn) {
+  const shapes::Box room{Vec3d(0.0, 0.0, 1.25), Vec3d(1.5, 1.5, 1.25)};
+  const shapes::Box box{Vec3d(0.6, 0.5, 0.3), Vec3d(0.3, 0.25, 0.3)};
+  const shapes::Sphere ball{Vec3d(-0.7, 0.4, 1.2), 0.3};
+  const auto distance = [&](const Vec3d& p) { return std::min(-room(p), std::min(box(p), ball(p))); };
+  const synth::View view = synth::sphericalView(Vec3d(0.1, -0.05, 1.0), wholeTurn ? -180.0 : -150.0,
+                                                wholeTurn ? 180.0 : 150.0, -70.0, 70.0, 2.0,
+                                                wholeTurn ? "room, whole turn" : "room");
+  RangeMap map = synth::renderDistanceFunction(distance, view, synth::Noise{}, 0.002);
+  std::vector<float> ranges;
+  for (int v = 0; v < map.height(); ++v)
+    for (int u = 0; u < map.width(); ++u) ranges.push_back(v > 40 && v < 50 && u > 20 && u < 30 ? NAN : map.reading(u, v));
+  return RangeMap::spherical(map.width(), map.height(), ranges, map.sphericalProjection(), map.mapToWorld(), 0.002,
+                             map.name());
+}
+
 constexpr double kVoxel = 0.02, kMargin = 0.03;
 
 /// What `map` says of the cubes of `dim` voxels a side over a box around its
@@ -73,7 +94,7 @@ std::array<std::size_t, 4> cubesTold(const RangeMap& map, int dim) {
 }
 
 TEST(LeafSight, WhatALeafIsToldEveryVoxelIsToo) {
-  for (const RangeMap& map : {wallWithABox(), tiltedPlaneAlongZ()}) {
+  for (const RangeMap& map : {wallWithABox(), tiltedPlaneAlongZ(), roomAroundAScanner(false)}) {
     const std::array<std::size_t, 4> leaves = cubesTold(map, 8);
     // The shortcut answers for most leaves: in front, behind and beside.
     EXPECT_GT(leaves[static_cast<std::size_t>(Sight::kEmpty)], 100u);
@@ -86,7 +107,7 @@ TEST(LeafSight, WhatACubeIsToldEveryVoxelIsToo) {
   // The cubes of 4 voxels a side that carving splits a leaf into when a map
   // cannot speak for the whole leaf at once (detail::BlockVotes): they decide
   // where leaves cannot.
-  for (const RangeMap& map : {wallWithABox(), tiltedPlaneAlongZ()}) {
+  for (const RangeMap& map : {wallWithABox(), tiltedPlaneAlongZ(), roomAroundAScanner(false)}) {
     const std::array<std::size_t, 4> cubes = cubesTold(map, 4);
     for (const Sight s : {Sight::kEmpty, Sight::kBehind, Sight::kOutside})
       EXPECT_GT(cubes[static_cast<std::size_t>(s)], 1000u) << map.name();
@@ -101,6 +122,37 @@ TEST(LeafSight, WhatACubeIsToldEveryVoxelIsToo) {
           }
         }
     EXPECT_GT(decidedInUnknownLeaves, 100u) << map.name();
+  }
+}
+
+TEST(LeafSight, AWholeTurnSpeaksForLeavesAllRound) {
+  const std::array<std::size_t, 4> leaves = cubesTold(roomAroundAScanner(true), 8);
+  EXPECT_GT(leaves[static_cast<std::size_t>(Sight::kEmpty)], 100u);
+  EXPECT_GT(leaves[static_cast<std::size_t>(Sight::kBehind)], 100u);
+}
+
+TEST(LeavesReached, EveryVoxelAReadingReachesIsInALeafReached) {
+  // The leaves and cubes that accumulation visits (DataTermGrids::integrate)
+  // hold every voxel within the reach of a reading: checked voxel by voxel.
+  const double reach = 0.07;
+  for (const RangeMap& map : {wallWithABox(), roomAroundAScanner(false), roomAroundAScanner(true)}) {
+    const std::vector<Coord> leaves = detail::leavesReached(map, kVoxel, reach);
+    std::size_t reached = 0;
+    for (int x = -96; x < 96; ++x)
+      for (int y = -96; y < 96; ++y)
+        for (int z = -16; z < 160; ++z) {
+          const Coord ijk(x, y, z);
+          RangeMap::LocalSample s;
+          if (!map.sampleLocal(map.worldToMap().transform(ijk.asVec3d() * kVoxel), reach, s)) continue;
+          ++reached;
+          const Coord leaf(x & ~7, y & ~7, z & ~7);
+          ASSERT_TRUE(std::binary_search(leaves.begin(), leaves.end(), leaf)) << map.name() << " voxel " << ijk;
+          ASSERT_TRUE(detail::leafMayBeReached(map, leaf, kVoxel, reach)) << map.name() << " voxel " << ijk;
+          const int cube = (((x >> 2) & 1) << 2) | (((y >> 2) & 1) << 1) | ((z >> 2) & 1);
+          ASSERT_TRUE(detail::leafCubesMayBeReached(map, leaf, kVoxel, reach) & (1 << cube))
+              << map.name() << " voxel " << ijk;
+        }
+    EXPECT_GT(reached, 10000u) << map.name();
   }
 }
 

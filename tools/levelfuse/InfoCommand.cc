@@ -68,19 +68,20 @@ nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
     all.expand(m.readingBounds());
     readings += m.validCount();
     points += m.sampleCount();
-    const openvdb::Vec3d scanner = m.kind() == RangeMap::Kind::kPinhole
-                                       ? m.scannerPosition()
-                                       : -m.mapToWorld().transform3x3(openvdb::Vec3d(0, 0, 1));
+    const openvdb::Vec3d scanner = m.raysFromOneCentre() ? m.scannerPosition()
+                                                         : -m.mapToWorld().transform3x3(openvdb::Vec3d(0, 0, 1));
+    const char* scannerKey = m.kind() == RangeMap::Kind::kPinhole     ? "camera_position"
+                             : m.kind() == RangeMap::Kind::kSpherical ? "scanner_position"
+                                                                      : "toward_scanner";
     list.push_back({{"name", m.name()},
-                    {"projection", m.kind() == RangeMap::Kind::kOrthographic ? "orthographic" : "pinhole"},
+                    {"projection", projectionName(m.kind())},
                     {"width", m.width()},
                     {"height", m.height()},
                     {"points", m.sampleCount()},
                     {"readings", m.validCount()},
                     {"ray_spacing", m.maxRaySpacing()},
                     {"sigma", m.sigma()},
-                    {m.kind() == RangeMap::Kind::kPinhole ? "camera_position" : "toward_scanner",
-                     {scanner.x(), scanner.y(), scanner.z()}}});
+                    {scannerKey, {scanner.x(), scanner.y(), scanner.z()}}});
   }
   nlohmann::json j{{"path", path},
                    {"kind", "scans"},

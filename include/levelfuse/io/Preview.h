@@ -41,8 +41,10 @@ struct PreviewOptions {
 
 /// `options` seen through a depth frame's camera: its pose, its vertical field
 /// of view, and a picture of the options' width with the frame's aspect. For
-/// a scene, whose surfaces a camera that saw them stood among. Throws
-/// std::invalid_argument for a map that is not a pinhole camera's.
+/// a scene, whose surfaces a camera that saw them stood among. A spherical
+/// scanner's view is a camera at the scanner looking level toward the middle
+/// of its sweep, its z axis up, 60 degrees high at the options' width and
+/// height. Throws std::invalid_argument for an orthographic map.
 PreviewOptions seenByFrame(const RangeMap& frame, PreviewOptions options = {});
 
 /// An 8-bit RGB picture, row-major from the top left, three bytes a pixel.

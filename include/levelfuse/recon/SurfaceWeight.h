@@ -47,9 +47,10 @@ openvdb::FloatGrid::Ptr surfaceWeight(const openvdb::FloatGrid& levelSet, const 
 openvdb::FloatGrid::Ptr surfaceWeight(const openvdb::FloatGrid& levelSet, const DataTermGrids& data,
                                       const Interrupter& interrupter = {});
 
-/// True when every scan is a depth frame (a pinhole range map): the surface is
-/// a scene seen from inside (a room, a desk) rather than an object seen from
-/// around it, and what no frame saw is left out of meshes and previews by
+/// True when every scan is of a scene around its scanner (RangeMap::ofAScene:
+/// depth frames, spherical scans that surround their scanner): the surface is
+/// a scene seen from inside (a room, a desk, a street) rather than an object
+/// seen from around it, and what no scan saw is left out of meshes and previews by
 /// default.
 bool scansOfAScene(const std::vector<RangeMap>& maps);
 

@@ -59,6 +59,10 @@ struct SphericalProjection {
   double elevationStep = 1e-3;  ///< from a row to the next
 };
 
+/// The unit line of sight of pixel coordinates (u, v) of a spherical grid, in
+/// the scanner's frame.
+openvdb::Vec3d sphericalDirection(const SphericalProjection& p, double u, double v);
+
 /// What a range map says about a world point x (Eqs. 13, 17, 38).
 struct RangeSample {
   double D = 0.0;                ///< signed distance along the line of sight from the reading to x; > 0 behind it
@@ -72,11 +76,17 @@ struct RangeSample {
 /// takes: a rectilinear camera's image stretches without bound toward 180.
 inline constexpr double kWidestPinholeView = 170.0;
 
-/// Per-reading noise of a depth camera: sigma(z) = max(minimum, perSquareMetre z^2)
-/// (structured-light cameras lose precision with the square of the depth).
+/// Per-reading noise that follows the reading: sigma(z) = max(minimum,
+/// perMetre z + perSquareMetre z^2), z the depth (a camera's) or the range (a
+/// spherical scanner's), in metres. Structured-light cameras lose precision
+/// with the square of the depth; laser scanners' specifications state a
+/// constant and a part per metre of range.
 struct DepthNoise {
   double minimum = 0.001;
   double perSquareMetre = 0.0015;
+  double perMetre = 0.0;
+  /// sigma at depth or range z (metres).
+  double at(double z) const { return std::max(minimum, perSquareMetre * z * z + perMetre * z); }
 };
 
 class RangeMap {
@@ -108,6 +118,11 @@ class RangeMap {
   /// geometry (a step of zero, a row at or beyond a pole, more than a turn).
   static RangeMap spherical(int width, int height, std::vector<float> ranges, const SphericalProjection& p,
                             const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name = "");
+  /// The same with sigmas that follow the range (setDepthNoise); the map's
+  /// sigma is the noise's at 1 m.
+  static RangeMap spherical(int width, int height, std::vector<float> ranges, const SphericalProjection& p,
+                            const openvdb::math::Mat4d& scannerToWorld, const DepthNoise& noise,
+                            std::string name = "");
 
   /// Per-pixel lines of sight (unit vectors in the map frame, away from the
   /// scanner), e.g. for scanners with a fan of rays per row.
@@ -120,6 +135,8 @@ class RangeMap {
   /// per-pixel ones: what setSigmas would hold, computed where it is needed
   /// instead of held per pixel (a depth frame's memory falls by 44%).
   void setDepthNoise(const DepthNoise& noise);
+  /// The noise that the sigmas follow (setDepthNoise), or none.
+  const DepthNoise* depthNoise() const { return mHasDepthNoise ? &mDepthNoise : nullptr; }
   /// The points the scanner measured (world units), `raySpacing` apart, where
   /// an orthographic map was resampled from them on finer pixels (a range grid
   /// rasterised along the line of sight). The fit of a surface to the data is
@@ -206,14 +223,23 @@ class RangeMap {
   const OrthographicProjection& orthographicProjection() const { return mOrtho; }
   const PinholeProjection& pinholeProjection() const { return mPinhole; }
   const SphericalProjection& sphericalProjection() const { return mSpherical; }
+  /// True when the lines of sight fan out from the scanner's position (a
+  /// camera, a spherical scanner): such a map sees the surfaces around it, and
+  /// says nothing of points outside its view.
+  bool raysFromOneCentre() const { return mKind != Kind::kOrthographic; }
+  /// True for a scan of a scene around its scanner rather than of an object
+  /// before it: a depth frame (a camera among the surfaces it films), or a
+  /// spherical scan whose readings surround the scanner (a room, a street;
+  /// not a region scan of an object from a tripod outside it).
+  bool ofAScene() const;
   /// The quantity a point's readings are compared with, for a point in the
   /// map's frame: its z along parallel rays or a camera's optical axis, its
   /// distance from a spherical scanner.
   double readingCoordinate(const openvdb::Vec3d& p) const {
     return mKind == Kind::kSpherical ? p.length() : p.z();
   }
-  /// The unit line of sight of a spherical map's pixel coordinates (u, v), in the map's frame.
-  openvdb::Vec3d sphericalDirection(double u, double v) const;
+  /// Columns in a full turn of a spherical map (2 pi / |azimuth step|).
+  double azimuthPeriod() const { return mAzimuthPeriod; }
 
   bool valid(int u, int v) const { return mReadings[index(u, v)] == mReadings[index(u, v)]; }
   float reading(int u, int v) const { return mReadings[index(u, v)]; }
@@ -243,6 +269,15 @@ class RangeMap {
   std::size_t index(int u, int v) const {
     return static_cast<std::size_t>(v) * static_cast<std::size_t>(mWidth) + static_cast<std::size_t>(u);
   }
+  /// `m` given its readings, pose and sigma (finish).
+  static RangeMap finished(RangeMap m, std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld,
+                           double sigma);
+  /// `m` given its readings and pose, its sigmas following `noise` (the map's
+  /// sigma is the noise's at 1 m).
+  static RangeMap finished(RangeMap m, std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld,
+                           const DepthNoise& noise);
+  /// A spherical map of checked geometry that has yet to be given its readings (finish).
+  static RangeMap sphericalWithoutReadings(int width, int height, const SphericalProjection& p, std::string name);
   /// A pinhole map of checked geometry that has yet to be given its readings (finish).
   static RangeMap pinholeWithoutReadings(int width, int height, const PinholeProjection& p, std::string name);
   void finish(std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld, double sigma);
@@ -311,7 +346,13 @@ class RangeMap {
 inline openvdb::math::Vec2d RangeMap::project(const openvdb::Vec3d& p) const {
   if (mKind == Kind::kOrthographic)
     return {(p.x() - mOrtho.origin.x()) / mOrtho.pixelSize, (p.y() - mOrtho.origin.y()) / mOrtho.pixelSize};
-  return {mPinhole.fx * p.x() / p.z() + mPinhole.cx, mPinhole.fy * p.y() / p.z() + mPinhole.cy};
+  if (mKind == Kind::kPinhole)
+    return {mPinhole.fx * p.x() / p.z() + mPinhole.cx, mPinhole.fy * p.y() / p.z() + mPinhole.cy};
+  // Columns counted from the first in the direction of the sweep, within one turn.
+  double column = (std::atan2(p.y(), p.x()) - mSpherical.azimuthStart) / mSpherical.azimuthStep;
+  column -= mAzimuthPeriod * std::floor(column / mAzimuthPeriod);
+  const double elevation = std::atan2(p.z(), std::sqrt(p.x() * p.x() + p.y() * p.y()));
+  return {column, (elevation - mSpherical.elevationStart) / mSpherical.elevationStep};
 }
 
 inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
@@ -343,10 +384,15 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
     if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
     const std::size_t at = index(static_cast<int>(u), static_cast<int>(v));
     if (!mUsableCell[at] || std::fabs(p.z() - mReadings[at]) > reach + mLargestStep) return false;
-  } else {
+  } else if (mKind == Kind::kPinhole) {
     if (!(p.z() > 0.0)) return false;
     u = mPinhole.fx * p.x() / p.z() + mPinhole.cx;
     v = mPinhole.fy * p.y() / p.z() + mPinhole.cy;
+  } else {
+    if (!(p.x() * p.x() + p.y() * p.y() > 0.0)) return false;  // on the scanner's axis: no azimuth
+    const openvdb::math::Vec2d uv = project(p);
+    u = uv.x();
+    v = uv.y();
   }
   double r, ru, rv, fu, fv;
   int i, j;
@@ -358,6 +404,23 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
     out.gradDSquared = out.gradD.lengthSqr();
     out.lineOfSight = openvdb::Vec3d(0.0, 0.0, 1.0);
     out.gamma = mRayDensity;
+  } else if (mKind == Kind::kSpherical) {
+    const double distance = p.length();
+    out.D = distance - r;  // Eq. 13, along the ray from the scanner
+    if (!(std::fabs(out.D) <= reach)) return false;
+    // grad D = grad |p| - r_u grad u - r_v grad v, with u and v the azimuth and
+    // elevation in steps.
+    const double across2 = p.x() * p.x() + p.y() * p.y(), across = std::sqrt(across2);
+    const double distance2 = distance * distance;
+    const openvdb::Vec3d gradU = openvdb::Vec3d(-p.y(), p.x(), 0.0) / (across2 * mSpherical.azimuthStep);
+    const openvdb::Vec3d gradV = openvdb::Vec3d(-p.z() * p.x() / across, -p.z() * p.y() / across, across) /
+                                 (distance2 * mSpherical.elevationStep);
+    out.lineOfSight = p / distance;
+    out.gradD = out.lineOfSight - gradU * ru - gradV * rv;
+    out.gradDSquared = out.gradD.lengthSqr();
+    // Rays per unit area across the line of sight: one per solid angle
+    // |dtheta dphi| cos(phi), at distance |p|.
+    out.gamma = distance / (distance2 * across * std::fabs(mSpherical.azimuthStep * mSpherical.elevationStep));
   } else {
     // D = k (z - r) with k >= 1: a depth farther than the reach from the
     // reading is out of the window (a relative slack leaves ties within
@@ -365,6 +428,8 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
     if (std::fabs(p.z() - r) > reach * (1.0 + 1e-9)) return false;
     const double a = (u - mPinhole.cx) / mPinhole.fx, b = (v - mPinhole.cy) / mPinhole.fy;
     const double k = std::sqrt(1.0 + a * a + b * b);
+    // Readings are depths z; along the ray the reading lies at rho = z k, with
+    // k = |(a, b, 1)|: D = |p| - rho(u(x), v(x)) (Eq. 13).
     const double distance = p.length();
     out.D = distance - r * k;
     if (!(std::fabs(out.D) <= reach)) return false;
@@ -375,6 +440,7 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
     out.gradD = out.lineOfSight - openvdb::Vec3d(mPinhole.fx / z, 0.0, -mPinhole.fx * p.x() / (z * z)) * rhoU -
                 openvdb::Vec3d(0.0, mPinhole.fy / z, -mPinhole.fy * p.y() / (z * z)) * rhoV;
     out.gradDSquared = out.gradD.lengthSqr();
+    // Rays per unit area across the line of sight: fx fy / (|p|^2 cos^3) = fx fy k / z^2.
     out.gamma = mPinhole.fx * mPinhole.fy * k / (z * z);
   }
   const std::size_t nearest = index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1);
@@ -382,6 +448,10 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
   out.sigma = sigmaAt(nearest);
   return true;
 }
+
+/// The name of a projection, as the converter and the Python module print it:
+/// "orthographic", "pinhole" or "spherical".
+const char* projectionName(RangeMap::Kind kind);
 
 /// Visits range maps one at a time, in their order; a map need not outlive its visit.
 using RangeMapVisitor = std::function<void(const RangeMap&)>;

@@ -33,14 +33,15 @@ class ScanSummary {
   double medianRaySpacing() const;
   /// The median of the scans' noise sigma; 0 without scans.
   double medianSigma() const;
-  /// True when every scan is a depth frame (a pinhole range map): the surface
-  /// is a scene seen from inside (a room, a desk) rather than an object seen
-  /// from around it.
-  bool aScene() const { return !mSigmas.empty() && mPinholes == mSigmas.size(); }
+  /// True when every scan is of a scene around its scanner
+  /// (RangeMap::ofAScene: depth frames, spherical scans that surround their
+  /// scanner): the surface is a scene seen from inside (a room, a desk, a
+  /// street) rather than an object seen from around it.
+  bool aScene() const { return !mSigmas.empty() && mScenes == mSigmas.size(); }
 
  private:
   std::vector<double> mRaySpacings, mSigmas;
-  std::size_t mReadings = 0, mPoints = 0, mPinholes = 0;
+  std::size_t mReadings = 0, mPoints = 0, mScenes = 0;
   openvdb::BBoxd mBounds;
 };
 

@@ -38,6 +38,10 @@ inline constexpr double kPoleMargin = 0.1 * M_PI / 180.0;
 /// of more than 2^31 pixels, or fewer than two rows or columns of points.
 RangeMap sphericalMapFromPoints(const std::vector<openvdb::Vec3d>& scannerPoints, const AngularSteps& steps,
                                 const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name = "");
+/// The same with sigmas that follow the range (RangeMap::setDepthNoise).
+RangeMap sphericalMapFromPoints(const std::vector<openvdb::Vec3d>& scannerPoints, const AngularSteps& steps,
+                                const openvdb::math::Mat4d& scannerToWorld, const DepthNoise& noise,
+                                std::string name = "");
 
 /// The steps of a structured scan: `columns` columns of `rows` points each,
 /// column after column (a PTX scan's order), in the scanner's frame, with

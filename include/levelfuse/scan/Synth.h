@@ -1,7 +1,7 @@
 // levelfuse: synthetic range maps of analytic shapes and triangle meshes.
 //
 // Test worlds for the reconstruction: render a shape from chosen viewpoints
-// (orthographic or pinhole), add Gaussian range noise (a fraction of a stated
+// (orthographic, pinhole or spherical), add Gaussian range noise (a fraction of a stated
 // size, as in the paper) and replacement noise (a fraction of readings replaced
 // by uniform outliers), and keep the exact distance function to measure errors.
 #pragma once
@@ -26,6 +26,7 @@ struct View {
   int width = 200, height = 200;
   OrthographicProjection orthographic;
   PinholeProjection pinhole;
+  SphericalProjection spherical;
   std::string name;
 };
 
@@ -33,9 +34,21 @@ struct View {
 /// square of side `extent` centred on `centre`, `resolution` pixels a side.
 View orthographicView(const openvdb::Vec3d& direction, const openvdb::Vec3d& centre, double extent, int resolution,
                       const std::string& name = "");
+/// A spherical scanner at `eye` that sweeps only the directions toward the
+/// ball of `radius` around `target` (a region scan), about `resolution`
+/// rays across the ball.
+View sphericalViewOf(const openvdb::Vec3d& eye, const openvdb::Vec3d& target, double radius, int resolution,
+                     const std::string& name = "");
 /// A pinhole camera at `eye` looking at `target`, with `fovDegrees` across its width.
 View pinholeView(const openvdb::Vec3d& eye, const openvdb::Vec3d& target, double fovDegrees, int width, int height,
                  const std::string& name = "");
+/// A spherical scanner standing at `position`, its z axis along the world's,
+/// sweeping azimuths from `azimuthFrom` to `azimuthTo` and elevations from
+/// `elevationFrom` to `elevationTo` (degrees; elevations strictly between the
+/// poles) in steps of `stepDegrees`; a whole turn of azimuth repeats its first
+/// column after its last.
+View sphericalView(const openvdb::Vec3d& position, double azimuthFrom, double azimuthTo, double elevationFrom,
+                   double elevationTo, double stepDegrees, const std::string& name = "");
 /// Orthographic views from the six axis directions.
 std::vector<View> sixAxisViews(const openvdb::Vec3d& centre, double extent, int resolution);
 /// `count` orthographic views evenly spaced in azimuth about the z axis, looking
@@ -48,12 +61,17 @@ std::vector<View> viewsAround(const openvdb::Vec3d& centre, double extent, int r
 
 struct Noise {
   double gaussianSigma = 0.0;        ///< standard deviation of additive range noise (world units)
+  /// More standard deviation per unit of a reading (a range or depth): noise
+  /// that grows with distance, as a laser scanner's does. The maps then state
+  /// their noise per reading (RangeMap::setDepthNoise).
+  double gaussianPerReading = 0.0;
   double replacementFraction = 0.0;  ///< fraction of readings replaced by uniform outliers
   std::uint64_t seed = 1;
 };
 
 /// Renders a 1-Lipschitz signed distance function by sphere tracing: exact
-/// first hits along every ray. `sigma` is the range maps' stated noise. In the
+/// first hits along every ray (`signedDistance` is called from several
+/// threads at once). `sigma` is the range maps' stated noise. In the
 /// maps of both renderers a pixel without a reading missed the shape: its
 /// misses are empty (RangeMap::setMissesAreEmpty).
 RangeMap renderDistanceFunction(const std::function<double(const openvdb::Vec3d&)>& signedDistance, const View& view,

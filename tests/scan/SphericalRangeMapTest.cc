@@ -1,0 +1,248 @@
+// Spherical range maps (terrestrial laser scanners, spinning LiDAR) against
+// analytic spheres and planes, and the binning of a scanner's points.
+
+#include <levelfuse/scan/RangeMap.h>
+#include <levelfuse/scan/SphericalScan.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace levelfuse {
+namespace {
+
+using openvdb::Vec3d;
+using Mat4d = openvdb::math::Mat4d;
+
+constexpr double kDegree = M_PI / 180.0;
+
+/// A scanner turned 30 degrees about z and standing at (1, 2, 3).
+Mat4d scannerPose() {
+  Mat4d m = Mat4d::identity();
+  m.preRotate(openvdb::math::Z_AXIS, 30.0 * kDegree);
+  m.setTranslation(Vec3d(1.0, 2.0, 3.0));
+  return m;
+}
+
+/// Azimuths -60 to 60 degrees and elevations -30 to 40 in half-degree steps.
+SphericalProjection halfDegreeGrid() { return {-60.0 * kDegree, 0.5 * kDegree, -30.0 * kDegree, 0.5 * kDegree}; }
+constexpr int kColumns = 241, kRows = 141;
+
+/// The ranges of the grid's rays to the surface whose range along a unit
+/// direction (scanner frame) `rangeOf` gives.
+template <typename RangeOf>
+std::vector<float> rangesOf(const SphericalProjection& grid, int columns, int rows, const RangeOf& rangeOf) {
+  std::vector<float> ranges;
+  for (int v = 0; v < rows; ++v)
+    for (int u = 0; u < columns; ++u) ranges.push_back(static_cast<float>(rangeOf(sphericalDirection(grid, u, v))));
+  return ranges;
+}
+
+/// The wall x = 4 of the scanner's frame.
+RangeMap wall(const Mat4d& pose) {
+  const auto range = [](const Vec3d& d) { return 4.0 / d.x(); };
+  return RangeMap::spherical(kColumns, kRows, rangesOf(halfDegreeGrid(), kColumns, kRows, range), halfDegreeGrid(),
+                             pose, 0.002, "wall");
+}
+
+TEST(SphericalRangeMap, ASphereAroundTheScanner) {
+  // Every range 5: D is the distance from the sphere, grad D the line of sight.
+  const Mat4d pose = scannerPose();
+  const RangeMap map =
+      RangeMap::spherical(kColumns, kRows, std::vector<float>(kColumns * kRows, 5.0f), halfDegreeGrid(), pose, 0.002);
+  EXPECT_EQ(map.kind(), RangeMap::Kind::kSpherical);
+  EXPECT_TRUE(map.raysFromOneCentre());
+  EXPECT_STREQ(projectionName(map.kind()), "spherical");
+  EXPECT_NEAR((map.scannerPosition() - Vec3d(1.0, 2.0, 3.0)).length(), 0.0, 1e-12);
+  for (const Vec3d& local : {Vec3d(5.1, 0.3, 0.4), Vec3d(3.0, -2.0, 1.5), Vec3d(4.0, 1.0, -2.0)}) {
+    RangeSample s;
+    ASSERT_TRUE(map.sample(pose.transform(local), s)) << local;
+    EXPECT_NEAR(s.D, local.length() - 5.0, 1e-6);
+    EXPECT_NEAR((s.gradD - pose.transform3x3(local.unit())).length(), 0.0, 1e-6);
+    EXPECT_NEAR((s.lineOfSight - pose.transform3x3(local.unit())).length(), 0.0, 1e-12);
+    // Rays per unit area across the line of sight: 1 / (r^2 cos(elevation) dtheta dphi), Eq. 13's Jacobian.
+    const double cosElevation = std::hypot(local.x(), local.y()) / local.length();
+    EXPECT_NEAR(s.gamma, 1.0 / (local.lengthSqr() * cosElevation * std::pow(0.5 * kDegree, 2)), 1e-9 * s.gamma);
+    EXPECT_DOUBLE_EQ(s.sigma, 0.002);
+  }
+  RangeSample s;
+  EXPECT_FALSE(map.sample(pose.transform(Vec3d(-5.0, 0.0, 0.0)), s));  // behind the sweep's azimuths
+  EXPECT_FALSE(map.sample(pose.transform(Vec3d(1.0, 0.0, 5.0)), s));   // above its elevations
+  EXPECT_FALSE(map.sample(pose.transform(Vec3d(0.0, 0.0, 0.0)), s));   // at the scanner
+}
+
+TEST(SphericalRangeMap, AWallGradientIsThatOfItsDistance) {
+  const Mat4d pose = scannerPose();
+  const RangeMap map = wall(pose);
+  EXPECT_EQ(map.validCount(), static_cast<std::size_t>(kColumns * kRows));
+  // Each reading's point lies on the wall, and projects back to its pixel.
+  for (const auto& [u, v] : {std::pair<int, int>{0, 0}, {120, 70}, {240, 140}, {17, 101}}) {
+    const Vec3d local = pose.inverse().transform(map.readingPoint(u, v));
+    EXPECT_NEAR(local.x(), 4.0, 1e-5);
+    const openvdb::math::Vec2d uv = map.project(local);
+    EXPECT_NEAR(uv.x(), u, 1e-6);
+    EXPECT_NEAR(uv.y(), v, 1e-6);
+  }
+  // A point 0.1 in front of the wall along its ray, and D's gradient by differences.
+  const Vec3d ray = Vec3d(1.0, 0.3, 0.2).unit();
+  const Vec3d x = pose.transform(ray * (4.0 / ray.x() - 0.1));
+  RangeSample s;
+  ASSERT_TRUE(map.sample(x, s));
+  EXPECT_NEAR(s.D, -0.1, 2e-4);  // the bilinear readings of a plane bend by a little
+  const double h = 1e-5;
+  for (int a = 0; a < 3; ++a) {
+    Vec3d step(0.0);
+    step[a] = h;
+    RangeSample plus, minus;
+    ASSERT_TRUE(map.sample(x + step, plus));
+    ASSERT_TRUE(map.sample(x - step, minus));
+    EXPECT_NEAR(s.gradD[a], (plus.D - minus.D) / (2 * h), 1e-3) << "axis " << a;
+  }
+  // For a plane, grad D points along the wall's normal scaled by the ray's
+  // slant: |grad D| = 1 / cos(incidence) at the wall.
+  const Vec3d normal = pose.transform3x3(Vec3d(1, 0, 0));
+  EXPECT_NEAR(s.gradD.unit().dot(normal), 1.0, 1e-3);
+  // The fast path gives the same answers in the map's frame.
+  RangeMap::LocalSample fast;
+  ASSERT_TRUE(map.sampleLocal(map.worldToMap().transform(x), 1.0, fast));
+  EXPECT_NEAR(fast.D, s.D, 1e-12);
+  EXPECT_NEAR(fast.gamma, s.gamma, 1e-9 * s.gamma);
+  EXPECT_FALSE(map.sampleLocal(map.worldToMap().transform(x), 0.05, fast));  // beyond the reach
+}
+
+TEST(SphericalRangeMap, SightAlongTheRays) {
+  const Mat4d pose = scannerPose();
+  RangeMap map = wall(pose);
+  const Vec3d ray = Vec3d(1.0, -0.2, 0.1).unit();
+  const double atWall = 4.0 / ray.x();
+  EXPECT_EQ(map.sight(pose.transform(ray * (atWall - 0.5)), 0.05), RangeMap::Sight::kEmpty);
+  EXPECT_EQ(map.sight(pose.transform(ray * (atWall + 0.5)), 0.05), RangeMap::Sight::kBehind);
+  EXPECT_EQ(map.sight(pose.transform(ray * atWall), 0.05), RangeMap::Sight::kUnknown);
+  EXPECT_EQ(map.sight(pose.transform(Vec3d(-3.0, 0.5, 0.0)), 0.05), RangeMap::Sight::kOutside);
+  // The largest distance between rays at the readings: the farthest reading times the step.
+  double farthest = 0.0;
+  for (int v = 0; v < kRows; ++v)
+    for (int u = 0; u < kColumns; ++u) farthest = std::max(farthest, double(map.reading(u, v)));
+  EXPECT_NEAR(map.maxRaySpacing(), farthest * 0.5 * kDegree, 1e-6);
+}
+
+TEST(SphericalRangeMap, RangesFollowTheNoiseModel) {
+  const DepthNoise noise{0.001, 0.0, 0.0005};  // 0.5 mm per metre of range, at least 1 mm
+  const RangeMap map = RangeMap::spherical(kColumns, kRows, std::vector<float>(kColumns * kRows, 6.0f),
+                                           halfDegreeGrid(), Mat4d::identity(), noise, "noisy");
+  RangeSample s;
+  ASSERT_TRUE(map.sample(Vec3d(6.0, 0.1, 0.1), s));
+  EXPECT_NEAR(s.sigma, 0.0005 * 6.0, 1e-7);
+  EXPECT_DOUBLE_EQ(map.sigma(), noise.at(1.0));
+  ASSERT_NE(map.depthNoise(), nullptr);
+}
+
+TEST(SphericalRangeMap, RejectsImpossibleGrids) {
+  const std::vector<float> ranges(16, 1.0f);
+  const auto make = [&](const SphericalProjection& p, int width = 4, int height = 4) {
+    return RangeMap::spherical(width, height, std::vector<float>(static_cast<std::size_t>(width * height), 1.0f), p,
+                               Mat4d::identity(), 0.01, "bad");
+  };
+  EXPECT_THROW(make({0.0, 0.0, 0.0, 0.01}), std::invalid_argument);                     // no azimuth step
+  EXPECT_THROW(make({0.0, 0.01, 0.0, std::nan("")}), std::invalid_argument);            // not finite
+  EXPECT_THROW(make({0.0, 0.01, 80.0 * kDegree, 4.0 * kDegree}), std::invalid_argument);  // past the pole
+  EXPECT_THROW(make({0.0, 0.01, -90.0 * kDegree, 0.01}), std::invalid_argument);          // at the pole
+  EXPECT_THROW(make({0.0, 2.0 * M_PI / 3.0 + 0.01, 0.0, 0.01}), std::invalid_argument);   // more than a turn
+  EXPECT_NO_THROW(make({0.0, 2.0 * M_PI / 3.0, 0.0, 0.01}));                             // a closed turn
+  EXPECT_NO_THROW(make({0.0, -0.01, 0.3, -0.01}));                                        // sweeping backwards
+}
+
+/// Points of the wall x = 4 and the floor z = -1.5 around the scanner, on a
+/// scanner's grid of `step` radians starting at the given phases.
+std::vector<Vec3d> roomPoints(double step, double azimuthPhase, double elevationPhase, double azimuthSpan) {
+  std::vector<Vec3d> points;
+  for (double azimuth = azimuthPhase - 0.5 * azimuthSpan; azimuth < azimuthPhase + 0.5 * azimuthSpan - 1e-9;
+       azimuth += step)
+    for (double elevation = elevationPhase - 40.0 * kDegree; elevation < 40.0 * kDegree; elevation += step) {
+      const Vec3d d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                    std::sin(elevation));
+      double range = std::numeric_limits<double>::infinity();
+      if (d.x() > 0.0) range = std::min(range, 4.0 / d.x());
+      if (d.z() < 0.0) range = std::min(range, -1.5 / d.z());
+      if (std::isfinite(range)) points.push_back(d * range);
+      else points.emplace_back(0.0);  // no return
+    }
+  return points;
+}
+
+TEST(SphericalScan, BinningKeepsTheScannersGrid) {
+  const double step = 0.25 * kDegree;
+  const std::vector<Vec3d> points = roomPoints(step, 0.1 * kDegree, 0.07 * kDegree, 120.0 * kDegree);
+  const RangeMap map = sphericalMapFromPoints(points, AngularSteps{step, step}, scannerPose(), 0.002, "room");
+  EXPECT_EQ(map.kind(), RangeMap::Kind::kSpherical);
+  // Every point has a pixel of its own, at its own direction.
+  std::size_t returns = 0;
+  for (const Vec3d& p : points) returns += p.lengthSqr() > 0.0;
+  EXPECT_EQ(map.validCount(), returns);
+  EXPECT_NEAR(map.sphericalProjection().azimuthStep, step, 1e-12);
+  for (int v = 0; v < map.height(); v += 13)
+    for (int u = 0; u < map.width(); u += 17) {
+      if (!map.valid(u, v)) continue;
+      const Vec3d local = scannerPose().inverse().transform(map.readingPoint(u, v));
+      const bool onWall = std::fabs(local.x() - 4.0) < 1e-4, onFloor = std::fabs(local.z() + 1.5) < 1e-4;
+      EXPECT_TRUE(onWall || onFloor) << u << " " << v << ": " << local;
+    }
+}
+
+TEST(SphericalScan, AWholeTurnIsClosed) {
+  const double step = 1.0 * kDegree;
+  std::vector<Vec3d> points;
+  for (int column = 0; column < 360; ++column)
+    for (int row = -20; row <= 20; ++row) {
+      const double azimuth = (column + 0.3) * step, elevation = row * step;
+      points.push_back(Vec3d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                             std::sin(elevation)) *
+                       3.0);  // a sphere of radius 3 around the scanner
+    }
+  const RangeMap map = sphericalMapFromPoints(points, AngularSteps{step * 1.0001, step}, Mat4d::identity(), 0.002);
+  EXPECT_EQ(map.width(), 361);  // the first column again after the last
+  EXPECT_EQ(map.height(), 41);
+  EXPECT_NEAR(map.sphericalProjection().azimuthStep, step, 1e-12);  // a whole number of columns a turn
+  // A step that does not divide the turn leaves the turn open.
+  EXPECT_EQ(sphericalMapFromPoints(points, AngularSteps{step * 1.01, step}, Mat4d::identity(), 0.002).width(), 357);
+  // The seam between the last column and the first is data like anywhere else.
+  const double seam = map.sphericalProjection().azimuthStart - 0.5 * step;
+  RangeSample s;
+  ASSERT_TRUE(map.sample(Vec3d(std::cos(seam), std::sin(seam), 0.0) * 3.2, s));
+  EXPECT_NEAR(s.D, 0.2, 1e-6);
+}
+
+TEST(SphericalScan, StepsOfAStructuredGrid) {
+  const double step = 0.3 * kDegree;
+  const std::vector<Vec3d> points = roomPoints(step, 0.0, 0.0, 90.0 * kDegree);
+  // roomPoints lists a column of elevations after another: rows per column.
+  int perColumn = 0;
+  for (double elevation = -40.0 * kDegree; elevation < 40.0 * kDegree; elevation += step) ++perColumn;
+  const int columns = static_cast<int>(points.size()) / perColumn;
+  const AngularSteps steps = stepsOfGrid(points, columns, perColumn);
+  EXPECT_NEAR(steps.azimuth, step, 1e-9);
+  EXPECT_NEAR(steps.elevation, step, 1e-9);
+  EXPECT_THROW(stepsOfGrid(points, columns + 1, perColumn), std::invalid_argument);
+  EXPECT_THROW(stepsOfGrid(std::vector<Vec3d>(100, Vec3d(0.0)), 10, 10), std::invalid_argument);
+}
+
+TEST(SphericalScan, RejectsUnusablePointsAndSteps) {
+  const std::vector<Vec3d> points = roomPoints(kDegree, 0.0, 0.0, 60.0 * kDegree);
+  EXPECT_THROW(sphericalMapFromPoints(points, AngularSteps{0.0, kDegree}, Mat4d::identity(), 0.002),
+               std::invalid_argument);
+  EXPECT_THROW(sphericalMapFromPoints(points, AngularSteps{kDegree, -1.0}, Mat4d::identity(), 0.002),
+               std::invalid_argument);
+  // Steps far finer than the scanner's: a grid too large to hold.
+  EXPECT_THROW(sphericalMapFromPoints(points, AngularSteps{1e-7, 1e-7}, Mat4d::identity(), 0.002),
+               std::invalid_argument);
+  // Only points at the poles or the scanner.
+  EXPECT_THROW(sphericalMapFromPoints({Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 0, -2)}, AngularSteps{kDegree, kDegree},
+                                      Mat4d::identity(), 0.002),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace levelfuse
