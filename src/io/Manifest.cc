@@ -136,10 +136,11 @@ DepthNoise depthNoiseOf(const Entry& e) {
     if (s.contains("minimum")) noise.minimum = e.numberIn(s["minimum"], "'sigma.minimum'");
     if (s.contains("per_square_metre"))
       noise.perSquareMetre = e.numberIn(s["per_square_metre"], "'sigma.per_square_metre'");
+    if (s.contains("per_metre")) noise.perMetre = e.numberIn(s["per_metre"], "'sigma.per_metre'");
   } else {
-    e.fail("'sigma' must be a number or {\"minimum\", \"per_square_metre\"}");
+    e.fail("'sigma' must be a number or {\"minimum\", \"per_metre\", \"per_square_metre\"}");
   }
-  if (!(noise.minimum > 0.0) || noise.perSquareMetre < 0.0) e.fail("'sigma' must be positive");
+  if (!(noise.minimum > 0.0) || noise.perSquareMetre < 0.0 || noise.perMetre < 0.0) e.fail("'sigma' must be positive");
   return noise;
 }
 
@@ -158,6 +159,21 @@ std::vector<RangeMap> loadTumEntry(const Entry& e, const ScanLoadOptions& defaul
   const std::string folder = e.folder("folder");
   if (!isTumFolder(folder)) e.fail("'folder': " + folder + " holds no depth.txt: not a TUM RGB-D folder");
   return loadTumFolder(folder, o);
+}
+
+/// A spherical scan's angular grid: "azimuth_start", "azimuth_step",
+/// "elevation_start", "elevation_step", in degrees.
+SphericalProjection sphericalGridOf(const Entry& e) {
+  constexpr double kRadians = M_PI / 180.0;
+  SphericalProjection grid;
+  for (const auto& [key, target] : {std::pair<const char*, double*>{"azimuth_start", &grid.azimuthStart},
+                                    {"azimuth_step", &grid.azimuthStep},
+                                    {"elevation_start", &grid.elevationStart},
+                                    {"elevation_step", &grid.elevationStep}}) {
+    if (!e.has(key)) e.fail(std::string("missing '") + key + "' (degrees)");
+    *target = e.number(key, 0.0) * kRadians;
+  }
+  return grid;
 }
 
 openvdb::math::Mat4d poseOf(const Entry& e, const std::string& manifest) {
@@ -248,9 +264,20 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       } catch (const std::invalid_argument& error) {
         e.fail(error.what());
       }
+    } else if (format == "spherical-pfm") {
+      const std::string file = e.path("file");
+      DepthImage image = readDepthPfm(file);
+      if (!e.has("sigma")) e.fail("missing 'sigma'");
+      const SphericalProjection grid = sphericalGridOf(e);
+      try {
+        maps.push_back(RangeMap::spherical(image.width, image.height, std::move(image.depth), grid, poseOf(e, path),
+                                           depthNoiseOf(e), fs::path(file).filename().string()));
+      } catch (const std::invalid_argument& error) {
+        e.fail(error.what());
+      }
     } else {
       e.fail("unknown format " + quote(format) +
-             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum or orthographic-pfm)");
+             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, orthographic-pfm or spherical-pfm)");
     }
     if (e.has("misses_are_empty")) {
       if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");
@@ -296,8 +323,13 @@ std::optional<shapes::AnalyticShape> loadManifestTruth(const std::string& path) 
     truth.kind = shapes::AnalyticShape::Kind::kMug;
     truth.mug = shapes::Mug{centre,          number("radius"),      number("height"),
                             number("wall"), number("handle_bend"), number("handle_radius")};
+  } else if (shape == "room") {
+    truth.kind = shapes::AnalyticShape::Kind::kRoom;
+    truth.room = shapes::Room{centre, openvdb::Vec3d(number("width"), number("depth"), number("height"))};
+    if (!(truth.room.size.x() > 0.0 && truth.room.size.y() > 0.0 && truth.room.size.z() > 0.0))
+      fail("a room's width, depth and height must be positive");
   } else {
-    fail("unknown shape " + quote(shape) + " (sphere, torus or mug)");
+    fail("unknown shape " + quote(shape) + " (sphere, torus, mug or room)");
   }
   return truth;
 }
@@ -334,10 +366,21 @@ std::string writeScanSet(OutputSet& outputs, const std::string& directory, const
       for (int u = 0; u < m.width(); ++u) image.depth.push_back(m.reading(u, v));
     writeDepthPfm(outputs, (fs::path(directory) / file).string(), image);
     json entry{{"file", file}, {"pose", rowMajor(m.mapToWorld())}, {"sigma", m.sigma()}};
+    if (const DepthNoise* noise = m.depthNoise())
+      entry["sigma"] = {
+          {"minimum", noise->minimum}, {"per_metre", noise->perMetre}, {"per_square_metre", noise->perSquareMetre}};
     if (m.kind() == RangeMap::Kind::kOrthographic) {
       entry["format"] = "orthographic-pfm";
       entry["pixel_size"] = m.orthographicProjection().pixelSize;
       entry["origin"] = {m.orthographicProjection().origin.x(), m.orthographicProjection().origin.y()};
+    } else if (m.kind() == RangeMap::Kind::kSpherical) {
+      constexpr double kDegrees = 180.0 / M_PI;
+      const SphericalProjection& p = m.sphericalProjection();
+      entry["format"] = "spherical-pfm";
+      entry["azimuth_start"] = p.azimuthStart * kDegrees;
+      entry["azimuth_step"] = p.azimuthStep * kDegrees;
+      entry["elevation_start"] = p.elevationStart * kDegrees;
+      entry["elevation_step"] = p.elevationStep * kDegrees;
     } else {
       const PinholeProjection& p = m.pinholeProjection();
       entry["format"] = "depth-pfm";
@@ -365,6 +408,13 @@ std::string writeScanSet(OutputSet& outputs, const std::string& directory, const
                          {"radius", truth->mug.radius}, {"height", truth->mug.height},
                          {"wall", truth->mug.wall},     {"handle_bend", truth->mug.handleBend},
                          {"handle_radius", truth->mug.handleRadius}};
+        break;
+      case shapes::AnalyticShape::Kind::kRoom:
+        root["truth"] = {{"shape", "room"},
+                         {"centre", vec(truth->room.centre)},
+                         {"width", truth->room.size.x()},
+                         {"depth", truth->room.size.y()},
+                         {"height", truth->room.size.z()}};
         break;
     }
   }

@@ -30,27 +30,45 @@ std::vector<View> viewsFor(const std::optional<shapes::AnalyticShape>& shape, co
   } else {
     views = viewsAround(centre, extent, options.resolution, count);
   }
-  if (options.pinhole)
+  if (options.scanner == RangeMap::Kind::kPinhole)
     for (View& v : views) {
       const Vec3d forward = v.mapToWorld.transform3x3(Vec3d(0, 0, 1));
       v = pinholeView(centre - forward * 2.5 * extent, centre, 25.0, options.resolution, options.resolution, v.name);
     }
+  if (options.scanner == RangeMap::Kind::kSpherical)
+    for (View& v : views) {
+      const Vec3d forward = v.mapToWorld.transform3x3(Vec3d(0, 0, 1));
+      v = sphericalViewOf(centre - forward * 2.5 * extent, centre, 0.5 * std::sqrt(3.0) * extent, options.resolution,
+                          v.name);
+    }
   return views;
 }
 
+/// Renders every view with the options' noise. A spherical scanner's noise
+/// grows with range: it is the options' at `noiseDistance` from the scanner.
 template <typename Render>
-void renderAll(Scene& scene, const std::vector<View>& views, const SceneOptions& options, const Render& render) {
+void renderAll(Scene& scene, const std::vector<View>& views, const SceneOptions& options, double noiseDistance,
+               const Render& render) {
   if (options.noise < 0.0 || options.outliers < 0.0 || options.outliers > 1.0)
     throw std::invalid_argument("synthetic scene: the noise must be >= 0 and the outliers a fraction in [0, 1]");
   Noise noise;
   noise.gaussianSigma = options.noise * scene.size;
   noise.replacementFraction = options.outliers;
   scene.noiseSigma = noise.gaussianSigma;
-  const double sigma = std::max(noise.gaussianSigma, 1e-3 * scene.size);  // the maps' stated noise
+  if (options.scanner == RangeMap::Kind::kSpherical) {
+    noise.gaussianPerReading = noise.gaussianSigma / noiseDistance;
+    noise.gaussianSigma = 0.0;
+  }
+  const double sigma = std::max(scene.noiseSigma, 1e-3 * scene.size);  // the maps' stated noise, at least
   for (std::size_t i = 0; i < views.size(); ++i) {
     noise.seed = options.seed + i;
     scene.maps.push_back(render(views[i], noise, sigma));
   }
+}
+
+/// How far the scanners of viewsFor stand from the centre of `bounds`.
+double scannerDistance(const openvdb::BBoxd& bounds, double margin) {
+  return 2.5 * (1.2 * bounds.extents()[bounds.maxExtent()] + margin);
 }
 
 }  // namespace
@@ -92,7 +110,8 @@ Scene analyticScene(const shapes::AnalyticShape& shape, const SceneOptions& opti
     }
   }
   const auto distance = [&shape](const Vec3d& p) { return shape(p); };
-  renderAll(scene, viewsFor(shape, bounds, 0.2 * scene.size, options), options,
+  const double margin = 0.2 * scene.size;
+  renderAll(scene, viewsFor(shape, bounds, margin, options), options, scannerDistance(bounds, margin),
             [&](const View& v, const Noise& n, double sigma) { return renderDistanceFunction(distance, v, n, sigma); });
   return scene;
 }
@@ -105,8 +124,31 @@ Scene meshScene(const std::vector<Vec3d>& points, const std::vector<openvdb::Vec
   for (const Vec3d& p : points) bounds.expand(p);
   scene.size = bounds.extents()[bounds.maxExtent()];
   scene.sizeName = "the mesh's largest extent";
-  renderAll(scene, viewsFor(std::nullopt, bounds, 0.2 * scene.size, options), options,
+  const double margin = 0.2 * scene.size;
+  renderAll(scene, viewsFor(std::nullopt, bounds, margin, options), options, scannerDistance(bounds, margin),
             [&](const View& v, const Noise& n, double sigma) { return renderMesh(points, triangles, v, n, sigma); });
+  return scene;
+}
+
+Scene roomScene(const shapes::Room& room, const SceneOptions& options) {
+  Scene scene;
+  scene.truth = shapes::AnalyticShape{};
+  scene.truth->kind = Kind::kRoom;
+  scene.truth->room = room;
+  scene.size = room.size.z();
+  scene.sizeName = "the room's height";
+  SceneOptions spherical = options;
+  spherical.scanner = RangeMap::Kind::kSpherical;
+  const double step = 90.0 / options.resolution;
+  const Vec3d tripods[3] = {Vec3d(-0.3, -0.05, 0.6), Vec3d(0.1, 0.33, 0.6), Vec3d(0.05, -0.37, 0.6)};
+  std::vector<View> views;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3d at = room.centre + tripods[i] * room.size;
+    views.push_back(sphericalView(at, -180.0, 180.0, -75.0, 75.0, step, "tripod " + std::to_string(i + 1)));
+  }
+  const auto distance = [&room](const Vec3d& p) { return room(p); };
+  renderAll(scene, views, spherical, 1.0,
+            [&](const View& v, const Noise& n, double sigma) { return renderDistanceFunction(distance, v, n, sigma); });
   return scene;
 }
 

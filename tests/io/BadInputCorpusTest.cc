@@ -120,6 +120,10 @@ const BadInput kCorpus[] = {
   {"manifest/focal-length-of-a-thousandth.json", Reader::kManifest, "scans[0]: range map 'depth.png': focal lengths of 0.001 x 0.001 pixels give a 4 x 4 image a field of view of 179.9"},
   {"manifest/focal-length-of-1e-300.json", Reader::kManifest, "scans[0]: range map 'depth.png': focal lengths of 1e-300 x 1e-300 pixels give a 4 x 4 image a field of view of 180 degrees, more than the 170 of a pinhole camera"},
   {"manifest/one-pixel-image.json", Reader::kManifest, "the image has 1 x 1 pixels; a depth image needs at least 2 x 2", "png/one-pixel.png"},
+  {"manifest/spherical-rows-past-the-pole.json", Reader::kManifest, "scans[0]: range map 'plane.pfm': its rows reach a pole (elevations from 80.000000 to 95.000000 degrees)"},
+  {"manifest/spherical-without-an-azimuth-step.json", Reader::kManifest, "scans[0]: missing 'azimuth_step' (degrees)"},
+  {"manifest/spherical-more-than-a-turn.json", Reader::kManifest, "scans[0]: range map 'plane.pfm': its 4 columns span more than a turn"},
+  {"manifest/spherical-step-of-zero.json", Reader::kManifest, "scans[0]: range map 'plane.pfm': the angular steps must be finite and not zero"},
   // Depth PNG (readDepthPng)
   {"png/empty.png", Reader::kDepthPng, "not a PNG file"},
   {"png/not-a-png.png", Reader::kDepthPng, "not a PNG file"},

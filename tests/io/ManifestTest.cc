@@ -5,6 +5,7 @@
 
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/Manifest.h>
+#include <levelfuse/scan/Scenes.h>
 
 #include <gtest/gtest.h>
 
@@ -80,6 +81,39 @@ TEST(Manifest, NamesTheEntryAtFault) {
   expectManifestError(manifest(R"({ "scans": [ { "format": "depth-png", "file": "d.png", "depth_scale": -1,
                                    "intrinsics_file": "k.txt", "pose_file": "k.txt" } ] })"),
                       "'depth_scale' must be positive");
+}
+
+TEST(Manifest, WritesAndReadsSphericalScans) {
+  // The synthetic room's tripods, their noise growing with range, and its truth.
+  synth::SceneOptions options;
+  options.resolution = 20;
+  options.noise = 0.0004;
+  const synth::Scene scene = synth::roomScene(shapes::Room{}, options);
+  TempDir dir;
+  const std::string manifest = writeScanSet(dir.path("room"), scene.maps, scene.truth);
+  const std::vector<RangeMap> maps = loadManifest(manifest);
+  ASSERT_EQ(maps.size(), scene.maps.size());
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    const RangeMap &a = scene.maps[i], &b = maps[i];
+    ASSERT_EQ(b.kind(), RangeMap::Kind::kSpherical);
+    ASSERT_EQ(b.width(), a.width());
+    ASSERT_EQ(b.height(), a.height());
+    EXPECT_NEAR(b.sphericalProjection().azimuthStart, a.sphericalProjection().azimuthStart, 1e-12);
+    EXPECT_NEAR(b.sphericalProjection().azimuthStep, a.sphericalProjection().azimuthStep, 1e-12);
+    EXPECT_NEAR(b.sphericalProjection().elevationStart, a.sphericalProjection().elevationStart, 1e-12);
+    EXPECT_NEAR(b.sphericalProjection().elevationStep, a.sphericalProjection().elevationStep, 1e-12);
+    EXPECT_TRUE(b.mapToWorld().eq(a.mapToWorld(), 1e-12));
+    ASSERT_NE(b.depthNoise(), nullptr);
+    EXPECT_DOUBLE_EQ(b.depthNoise()->perMetre, a.depthNoise()->perMetre);
+    EXPECT_DOUBLE_EQ(b.depthNoise()->minimum, a.depthNoise()->minimum);
+    EXPECT_EQ(b.validCount(), a.validCount());
+    for (int v = 0; v < a.height(); ++v)
+      for (int u = 0; u < a.width(); ++u) ASSERT_EQ(b.reading(u, v), a.reading(u, v)) << u << " " << v;
+  }
+  const std::optional<shapes::AnalyticShape> truth = loadManifestTruth(manifest);
+  ASSERT_TRUE(truth);
+  EXPECT_STREQ(truth->name(), "room");
+  EXPECT_EQ(truth->room.size, shapes::Room{}.size);
 }
 
 TEST(Manifest, RefusesAFileTooLargeToBeOne) {

@@ -10,9 +10,11 @@
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/SurfaceWeight.h>
+#include <levelfuse/scan/Scenes.h>
 #include <levelfuse/scan/Synth.h>
 
 #include <openvdb/tools/Diagnostics.h>
+#include <openvdb/tools/Interpolation.h>
 #include <tbb/global_control.h>
 
 #include <gtest/gtest.h>
@@ -116,6 +118,69 @@ TEST(Reconstructor, BeatsTheLinearSolutionOnNoisyData) {
   RecordProperty("rms_over_sigma", std::to_string(rms / sigma));
   EXPECT_LT(rms, 0.7 * linearRms);
   EXPECT_LT(rms, 0.25 * sigma);
+}
+
+TEST(Reconstructor, SphericalScansOfASphere) {
+  // Six region scans by spherical scanners whose noise grows with range.
+  synth::SceneOptions scan;
+  scan.scanner = RangeMap::Kind::kSpherical;
+  scan.resolution = 120;
+  scan.noise = 0.02;  // of the diameter at the scanners' distance from the centre: 0.04
+  const synth::Scene scene = synth::analyticScene(synth::standardShape(shapes::AnalyticShape::Kind::kSphere), scan);
+  const Reconstructor r(scene.maps, smallOptions());
+  EXPECT_FALSE(r.summary().aScene());  // the scanners stood around the object, but fanned out from their centres
+  const ReconstructionResult result = r.run();
+  EXPECT_EQ(openvdb::tools::checkLevelSet(*result.levelSet, 6), "");
+  EXPECT_EQ(insideComponents(*result.levelSet), 1);
+  const ForceField force(scene.maps, r.forceOptions(1));
+  const double linearRms = rmsOver(zeroCrossings(*force.linearSolution(0.04)), *scene.truth);
+  const double rms = rmsOver(zeroCrossings(*result.levelSet), *scene.truth);
+  RecordProperty("rms_linear_over_sigma", std::to_string(linearRms / scene.noiseSigma));
+  RecordProperty("rms_over_sigma", std::to_string(rms / scene.noiseSigma));
+  EXPECT_LT(rms, linearRms);
+  EXPECT_LT(rms, 0.3 * scene.noiseSigma);
+}
+
+TEST(Reconstructor, TheRoomFromThreeTripods) {
+  // A scene seen from inside by spherical scanners: what they saw comes back
+  // within a fraction of a voxel of the true room.
+  synth::SceneOptions scan;
+  scan.resolution = 100;  // 0.9 degree steps: 4.7 cm between rays 3 m away
+  scan.noise = 0.0004;    // 1 mm per metre of range
+  const synth::Scene scene = synth::roomScene(shapes::Room{}, scan);
+  ReconstructionOptions options;
+  options.voxelSize = 0.05;
+  const Reconstructor r(scene.maps, options);
+  EXPECT_TRUE(r.summary().aScene());
+  const ReconstructionResult result = r.run();
+  EXPECT_EQ(openvdb::tools::checkLevelSet(*result.levelSet, 6), "");
+  ASSERT_TRUE(result.weight);
+  // The surface the scanners saw (the level set also closes the walls'
+  // solid from behind, where no scanner looked).
+  std::vector<Vec3d> seen;
+  const auto weight = result.weight->getConstAccessor();
+  for (const Vec3d& p : zeroCrossings(*result.levelSet))
+    if (weight.getValue(result.weight->transform().worldToIndexNodeCentered(p)) >= kObservedWeight) seen.push_back(p);
+  const double rms = rmsOver(seen, *scene.truth);
+  RecordProperty("rms_seen_over_voxel", std::to_string(rms / 0.05));
+  EXPECT_LT(rms, 0.2 * 0.05);
+  // Every wall, the floor and the ceiling come back: points of them (not
+  // under the table nor in the pillar) lie within half a voxel of the surface.
+  const shapes::Room& room = scene.truth->room;
+  std::vector<Vec3d> onTheRoom;
+  for (double a = 0.05; a < 1.0; a += 0.1)
+    for (double b = 0.05; b < 1.0; b += 0.1) {
+      const Vec3d s = room.size;
+      for (const Vec3d& p : {Vec3d((a - 0.5) * s.x(), (b - 0.5) * s.y(), 0.0), Vec3d((a - 0.5) * s.x(), (b - 0.5) * s.y(), s.z()),
+                             Vec3d(-0.5 * s.x(), (a - 0.5) * s.y(), b * s.z()), Vec3d(0.5 * s.x(), (a - 0.5) * s.y(), b * s.z()),
+                             Vec3d((a - 0.5) * s.x(), -0.5 * s.y(), b * s.z()), Vec3d((a - 0.5) * s.x(), 0.5 * s.y(), b * s.z())})
+        if (std::fabs(room(p)) < 1e-9) onTheRoom.push_back(p);
+    }
+  ASSERT_GT(onTheRoom.size(), 500u);
+  openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> phi(*result.levelSet);
+  std::size_t near = 0;
+  for (const Vec3d& p : onTheRoom) near += std::fabs(phi.wsSample(p)) < 0.5 * 0.05;
+  EXPECT_GT(near, 0.97 * onTheRoom.size()) << near << " of " << onTheRoom.size();
 }
 
 TEST(Reconstructor, ChoosesTheDataTermByTheNumberOfScans) {

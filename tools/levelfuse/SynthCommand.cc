@@ -1,4 +1,4 @@
-// levelfuse synth: synthetic range scans of a sphere, torus, mug or mesh.
+// levelfuse synth: synthetic range scans of a sphere, torus, mug, room or mesh.
 
 #include "Cancellation.h"
 #include "Commands.h"
@@ -29,6 +29,7 @@ struct SynthSettings {
   double outliers = 0.0;
   std::uint64_t seed = 1;
   bool pinhole = false;
+  std::string scanner = "parallel";
   std::string output;
   bool json = false;
 };
@@ -60,14 +61,28 @@ void readMeshPly(const std::string& path, std::vector<Vec3d>& points, std::vecto
   if (triangles.empty()) throw io::InputError(path, "the mesh has no faces");
 }
 
+RangeMap::Kind scannerOf(const SynthSettings& s) {
+  if (s.pinhole || s.scanner == "pinhole") return RangeMap::Kind::kPinhole;
+  return s.scanner == "spherical" || s.shape == "room" ? RangeMap::Kind::kSpherical : RangeMap::Kind::kOrthographic;
+}
+
+/// The views' sizes, "W x H pixels" if they all share one.
+std::string pixelsOf(const std::vector<RangeMap>& maps) {
+  for (const RangeMap& m : maps)
+    if (m.width() != maps.front().width() || m.height() != maps.front().height()) return "views of several sizes";
+  return std::to_string(maps.front().width()) + " x " + std::to_string(maps.front().height()) + " pixels";
+}
+
 int runSynth(const SynthSettings& s) {
+  if (s.shape == "room" && (s.pinhole || s.scanner != "parallel") && s.scanner != "spherical")
+    throw std::invalid_argument("synth: the room is scanned by spherical scanners (--scanner spherical)");
   synth::SceneOptions options;
   options.views = s.views;
   options.resolution = s.resolution;
   options.noise = s.noise;
   options.outliers = s.outliers;
   options.seed = s.seed;
-  options.pinhole = s.pinhole;
+  options.scanner = scannerOf(s);
   enterPhase("scanning");
   synth::Scene scene;
   if (!s.mesh.empty()) {
@@ -75,6 +90,8 @@ int runSynth(const SynthSettings& s) {
     std::vector<openvdb::Vec3I> triangles;
     readMeshPly(s.mesh, points, triangles);
     scene = synth::meshScene(points, triangles, options);
+  } else if (s.shape == "room") {
+    scene = synth::roomScene(shapes::Room{}, options);
   } else {
     using Kind = shapes::AnalyticShape::Kind;
     const Kind kind = s.shape == "sphere" ? Kind::kSphere : s.shape == "torus" ? Kind::kTorus : Kind::kMug;
@@ -92,16 +109,16 @@ int runSynth(const SynthSettings& s) {
     nlohmann::json j{{"shape", s.mesh.empty() ? s.shape : s.mesh},
                      {"views", maps.size()},
                      {"resolution", s.resolution},
-                     {"projection", s.pinhole ? "pinhole" : "orthographic"},
+                     {"projection", projectionName(options.scanner)},
                      {"readings", readings},
                      {"noise_sigma", scene.noiseSigma},
                      {"outlier_fraction", s.outliers},
                      {"manifest", manifest}};
     std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << "levelfuse synth: " << maps.size() << " " << (s.pinhole ? "pinhole" : "orthographic") << " views of "
-              << (s.mesh.empty() ? "a " + s.shape : s.mesh) << ", " << s.resolution << " x " << s.resolution
-              << " pixels, " << withCommas(readings) << " readings\n"
+    std::cout << "levelfuse synth: " << maps.size() << " " << projectionName(options.scanner) << " views of "
+              << (s.mesh.empty() ? "a " + s.shape : s.mesh) << ", " << pixelsOf(maps) << ", " << withCommas(readings)
+              << " readings\n"
               << "  noise: Gaussian sigma " << length(scene.noiseSigma) << " (" << fixed(100.0 * s.noise, 3)
               << "% of " << scene.sizeName << "), " << fixed(100.0 * s.outliers, 3) << "% outliers\n"
               << "  wrote " << manifest << " and " << maps.size() << " range images beside it\n";
@@ -113,25 +130,34 @@ int runSynth(const SynthSettings& s) {
 
 Command addSynthCommand(CLI::App& app) {
   auto s = std::make_shared<SynthSettings>();
-  CLI::App* cmd = app.add_subcommand("synth", "Make synthetic range scans of a sphere, torus, mug or mesh");
-  cmd->add_option("--shape", s->shape, "Analytic shape (its truth goes into the manifest)")
-      ->check(CLI::IsMember({"sphere", "torus", "mug"}))
+  CLI::App* cmd = app.add_subcommand("synth", "Make synthetic range scans of a sphere, torus, mug, room or mesh");
+  cmd->add_option("--shape", s->shape,
+                  "Analytic shape (its truth goes into the manifest); the room (6 x 4 x 2.5 m, with a table, a "
+                  "ball, a ring and a pillar) is scanned from three tripods by spherical scanners")
+      ->check(CLI::IsMember({"sphere", "torus", "mug", "room"}))
       ->capture_default_str();
   cmd->add_option("--mesh", s->mesh, "Scan a triangle mesh (.ply) instead")->check(CLI::ExistingFile);
   cmd->add_option("--views", s->views, "Number of views (default 6; 10 for the mug)")->check(CLI::Range(1, 1000));
-  cmd->add_option("--resolution", s->resolution, "Pixels along each side of a view")
+  cmd->add_option("--resolution", s->resolution,
+                  "Pixels along each side of a view (spherical scanners: rays across the shape; the room's: rays "
+                  "per quarter turn)")
       ->check(CLI::Range(8, 8192))
       ->capture_default_str();
   cmd->add_option("--noise", s->noise,
                   "Gaussian range noise as a fraction of the shape's size (sphere: diameter; torus: tube "
-                  "diameter; mug: handle width; mesh: largest extent), as in the paper")
+                  "diameter; mug: handle width; mesh: largest extent; room: height, at 1 m of range), as in the paper")
       ->check(numberIn(0.0, 10.0))
       ->capture_default_str();
   cmd->add_option("--outliers", s->outliers, "Fraction of readings replaced by uniform outliers")
       ->check(numberIn(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--seed", s->seed, "Seed of the noise")->capture_default_str();
-  cmd->add_flag("--pinhole", s->pinhole, "Depth cameras instead of parallel rays");
+  cmd->add_option("--scanner", s->scanner,
+                  "parallel (laser stripes), pinhole (depth cameras) or spherical (terrestrial laser scanners, "
+                  "noise growing with range)")
+      ->check(CLI::IsMember({"parallel", "pinhole", "spherical"}))
+      ->capture_default_str();
+  cmd->add_flag("--pinhole", s->pinhole, "Depth cameras instead of parallel rays (--scanner pinhole)");
   cmd->add_option("-o,--output", s->output, "Folder for scans.json and the range images")->required();
   cmd->add_flag("--json", s->json, "Print the summary as JSON");
   cmd->footer(
@@ -139,7 +165,8 @@ Command addSynthCommand(CLI::App& app) {
       "  levelfuse synth --shape torus --noise 0.2 -o torus-scans     # the paper's Fig. 10\n"
       "  levelfuse synth --shape mug --noise 0.5 -o mug-scans         # Fig. 14\n"
       "  levelfuse synth --shape mug --outliers 0.01 -o mug-outliers  # Fig. 15\n"
-      "  levelfuse synth --mesh part.ply --views 12 --pinhole -o part-scans");
+      "  levelfuse synth --mesh part.ply --views 12 --pinhole -o part-scans\n"
+      "  levelfuse synth --shape room --noise 0.0004 -o room-scans   # three tripods, 1 mm at 1 m");
   return {cmd, [s] { return runSynth(*s); }};
 }
 

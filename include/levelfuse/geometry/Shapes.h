@@ -109,19 +109,39 @@ struct Mug {
   }
 };
 
+/// A room seen from inside, `size` wide, deep and high, its floor on z = 0
+/// around `centre` (on the floor), with things in it: a table, a ball on the
+/// floor, a ring lying on the floor and a pillar from floor to ceiling. The
+/// walls and the things are the solid (negative); the room's air is outside.
+struct Room {
+  Vec3d centre{0.0};
+  Vec3d size{6.0, 4.0, 2.5};
+  double operator()(const Vec3d& p) const {
+    const Vec3d q = p - centre;
+    const Box interior{Vec3d(0.0, 0.0, 0.5 * size.z()), 0.5 * size};
+    const Box table{Vec3d(0.2 * size.x(), -0.2 * size.y(), 0.375), Vec3d(0.6, 0.4, 0.375)};
+    const Sphere ball{Vec3d(-0.25 * size.x(), 0.25 * size.y(), 0.5), 0.5};
+    const Torus ring{Vec3d(-0.15 * size.x(), -0.25 * size.y(), 0.15), 0.45, 0.15};
+    const CappedCylinder pillar{Vec3d(0.3 * size.x(), 0.3 * size.y(), 0.0), 0.2, 0.0, size.z()};
+    return std::min({-interior(q), table(q), ball(q), ring(q), pillar(q)});
+  }
+};
+
 /// One of the analytic shapes the synthetic experiments use, chosen at run time.
 struct AnalyticShape {
-  enum class Kind { kSphere, kTorus, kMug };
+  enum class Kind { kSphere, kTorus, kMug, kRoom };
   Kind kind = Kind::kSphere;
   Sphere sphere;
   Torus torus;
   Mug mug;
+  Room room;
 
   double operator()(const Vec3d& p) const {
     switch (kind) {
       case Kind::kSphere: return sphere(p);
       case Kind::kTorus: return torus(p);
       case Kind::kMug: return mug(p);
+      case Kind::kRoom: return room(p);
     }
     return 0.0;
   }
@@ -130,6 +150,7 @@ struct AnalyticShape {
       case Kind::kSphere: return "sphere";
       case Kind::kTorus: return "torus";
       case Kind::kMug: return "mug";
+      case Kind::kRoom: return "room";
     }
     return "";
   }

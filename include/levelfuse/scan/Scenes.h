@@ -18,7 +18,10 @@ struct SceneOptions {
   double noise = 0.0;     ///< Gaussian range noise as a fraction of the scene's size (see Scene::size)
   double outliers = 0.0;  ///< fraction of readings replaced by uniform outliers
   std::uint64_t seed = 1;
-  bool pinhole = false;   ///< depth cameras instead of parallel rays
+  /// The scanners: parallel rays, depth cameras, or spherical scanners whose
+  /// noise grows with range (`noise` is then its standard deviation at the
+  /// distance from the scanner to the shape's centre).
+  RangeMap::Kind scanner = RangeMap::Kind::kOrthographic;
 };
 
 struct Scene {
@@ -41,6 +44,13 @@ shapes::AnalyticShape standardShape(shapes::AnalyticShape::Kind kind);
 /// straight down into the cup and up at its base, the sphere from views spread
 /// evenly; each view frames the shape with a margin.
 Scene analyticScene(const shapes::AnalyticShape& shape, const SceneOptions& options = {});
+
+/// The room of shapes::Room scanned from three tripods standing in it, each a
+/// spherical scanner sweeping a whole turn and elevations from -75 to 75
+/// degrees in steps of 90 / `resolution` degrees (the default 200: 0.45
+/// degrees), its noise growing with range (`noise`, a fraction of the room's
+/// height, is its standard deviation at 1 m). The views option is ignored.
+Scene roomScene(const shapes::Room& room, const SceneOptions& options = {});
 
 /// Range maps of a triangle mesh from views spread evenly around it.
 Scene meshScene(const std::vector<openvdb::Vec3d>& points, const std::vector<openvdb::Vec3I>& triangles,
