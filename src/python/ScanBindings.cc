@@ -8,6 +8,7 @@
 
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/Scans.h>
+#include <levelfuse/scan/SphericalScan.h>
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -54,7 +55,51 @@ io::DepthImage depthImageFrom(const py::handle& value, double depthScale) {
   return image;
 }
 
-const char* kindName(RangeMap::Kind kind) { return kind == RangeMap::Kind::kPinhole ? "pinhole" : "orthographic"; }
+constexpr double kRadians = M_PI / 180.0;
+
+/// A laser scanner's noise: `sigma`, and more per metre of range if `perMetre` > 0.
+DepthNoise rangeNoiseFrom(double sigma, double perMetre) {
+  numberFrom(py::float_(sigma), "sigma", true);
+  if (!(perMetre >= 0.0) || !std::isfinite(perMetre))
+    throw py::value_error("sigma_per_metre must be finite and not negative");
+  return DepthNoise{sigma, 0.0, perMetre};
+}
+
+/// Two finite numbers (degrees), as a start and a step.
+std::pair<double, double> startAndStepFrom(const py::handle& value, const std::string& name) {
+  const auto pair = py::cast<std::pair<double, double>>(value);
+  if (!std::isfinite(pair.first) || !std::isfinite(pair.second))
+    throw py::value_error(name + " must be two finite numbers (start, step) in degrees");
+  return pair;
+}
+
+RangeMap sphericalMapFrom(const py::handle& ranges, const py::handle& azimuth, const py::handle& elevation,
+                          const py::handle& pose, double sigma, double sigmaPerMetre, const std::string& name) {
+  const py::array r = requireArray(ranges, "ranges", 2);
+  if (!holds<float>(r)) throw wrongDtype("ranges", r, "float32 (world units)");
+  const float* d = static_cast<const float*>(r.data());
+  std::vector<float> values(d, d + r.size());
+  const auto [azimuthStart, azimuthStep] = startAndStepFrom(azimuth, "azimuth");
+  const auto [elevationStart, elevationStep] = startAndStepFrom(elevation, "elevation");
+  const SphericalProjection grid{azimuthStart * kRadians, azimuthStep * kRadians, elevationStart * kRadians,
+                                 elevationStep * kRadians};
+  const openvdb::math::Mat4d scannerToWorld = rigidMotionFrom(pose, "pose");
+  const DepthNoise noise = rangeNoiseFrom(sigma, sigmaPerMetre);
+  py::gil_scoped_release released;
+  return RangeMap::spherical(static_cast<int>(r.shape(1)), static_cast<int>(r.shape(0)), std::move(values), grid,
+                             scannerToWorld, noise, name);
+}
+
+RangeMap sphericalMapOfPoints(const py::handle& points, double azimuthStep, double elevationStep,
+                              const py::handle& pose, double sigma, double sigmaPerMetre, const std::string& name) {
+  const std::vector<openvdb::Vec3d> scannerPoints = pointsFrom(points, "points");
+  const AngularSteps steps{numberFrom(py::float_(azimuthStep), "azimuth_step", true) * kRadians,
+                           numberFrom(py::float_(elevationStep), "elevation_step", true) * kRadians};
+  const openvdb::math::Mat4d scannerToWorld = rigidMotionFrom(pose, "pose");
+  const DepthNoise noise = rangeNoiseFrom(sigma, sigmaPerMetre);
+  py::gil_scoped_release released;
+  return sphericalMapFromPoints(scannerPoints, steps, scannerToWorld, noise, name);
+}
 
 }  // namespace
 
@@ -73,8 +118,9 @@ RangeMap depthFrameFrom(const py::handle& depth, const py::handle& intrinsics, c
 
 void bindScans(py::module_& m) {
   py::class_<RangeMap>(m, "RangeMap",
-                       "A range map: a depth camera's frame (pinhole) or a scan of parallel rays (orthographic), "
-                       "registered in the world by its pose.")
+                       "A range map: a depth camera's frame (pinhole), a terrestrial laser scanner's or a "
+                       "LiDAR's scan (spherical) or a scan of parallel rays (orthographic), registered in the "
+                       "world by its pose.")
       .def_static("pinhole", &depthFrameFrom, py::arg("depth"), py::arg("K"), py::arg("pose"),
                   py::arg("depth_scale") = 0.001, py::arg("sigma") = py::none(), py::arg("max_depth") = py::none(),
                   py::arg("name") = "",
@@ -104,7 +150,21 @@ void bindScans(py::module_& m) {
           "A scan of parallel rays along +z of its frame: readings (H, W) float32, world units along the rays "
           "(NaN: no reading); pixel_size between rays; pose 4x4 map-to-world (column vectors); origin (x, y, "
           "unused z) of pixel (0, 0) in the map's frame.")
-      .def_property_readonly("kind", [](const RangeMap& r) { return kindName(r.kind()); })
+      .def_static("spherical", &sphericalMapFrom, py::arg("ranges"), py::arg("azimuth"), py::arg("elevation"),
+                  py::arg("pose"), py::arg("sigma"), py::arg("sigma_per_metre") = 0.0, py::arg("name") = "",
+                  "A scan on a spherical scanner's grid: ranges (H, W) float32, distances from the scanner in world "
+                  "units (NaN or <= 0: no return), a row per elevation and a column per azimuth. azimuth, "
+                  "elevation: (start, step) in degrees; azimuth about the scanner's z axis (up) from its x axis, "
+                  "elevation from its xy plane. pose: 4x4 scanner-to-world, column vectors. sigma: the noise, at "
+                  "least; sigma_per_metre: noise per metre of range (sigma(r) = max(sigma, sigma_per_metre r)).")
+      .def_static("from_points", &sphericalMapOfPoints, py::arg("points"), py::arg("azimuth_step"),
+                  py::arg("elevation_step"), py::arg("pose"), py::arg("sigma"), py::arg("sigma_per_metre") = 0.0,
+                  py::arg("name") = "",
+                  "A spherical scan from the points a scanner measured: points (N, 3) in the scanner's frame (z "
+                  "up; points at the scanner are no return), binned at the scanner's angular steps (degrees); a "
+                  "pixel that several points fall in keeps the nearest. pose, sigma, sigma_per_metre: as for "
+                  "spherical().")
+      .def_property_readonly("kind", [](const RangeMap& r) { return projectionName(r.kind()); })
       .def_property_readonly("width", &RangeMap::width)
       .def_property_readonly("height", &RangeMap::height)
       .def_property_readonly("name", &RangeMap::name)
@@ -126,9 +186,10 @@ void bindScans(py::module_& m) {
               for (int u = 0; u < r.width(); ++u) o(v, u) = r.reading(u, v);
             return out;
           },
-          "The readings, (H, W) float32 (NaN: none): depths along the optical axis, or along the rays.")
+          "The readings, (H, W) float32 (NaN: none): depths along the optical axis or along parallel rays, "
+          "ranges from a spherical scanner.")
       .def("__repr__", [](const RangeMap& r) {
-        return "<levelfuse.RangeMap '" + r.name() + "': " + kindName(r.kind()) + ", " + std::to_string(r.width()) +
+        return "<levelfuse.RangeMap '" + r.name() + "': " + projectionName(r.kind()) + ", " + std::to_string(r.width()) +
                " x " + std::to_string(r.height()) + ", " + std::to_string(r.validCount()) + " readings>";
       });
 
