@@ -3,8 +3,12 @@
 #include <levelfuse/recon/ScansReconstruction.h>
 
 #include <levelfuse/levelset/MeshTrim.h>
+#include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 
+#include <openvdb/tools/Interpolation.h>
+
+#include <algorithm>
 #include <utility>
 
 namespace levelfuse {
@@ -42,6 +46,16 @@ TriangleMesh meshShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatG
   TriangleMesh mesh = meshFromLevelSet(levelSet, adaptivity);
   if (trimBy) mesh = trimMesh(mesh, *trimBy, kObservedWeight);
   return mesh;
+}
+
+std::vector<openvdb::Vec3d> zeroCrossingsShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatGrid* trimBy) {
+  std::vector<openvdb::Vec3d> crossings = zeroCrossings(levelSet);
+  if (!trimBy) return crossings;
+  const openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> weight(*trimBy);
+  crossings.erase(std::remove_if(crossings.begin(), crossings.end(),
+                                 [&](const openvdb::Vec3d& p) { return !(weight.wsSample(p) >= kObservedWeight); }),
+                  crossings.end());
+  return crossings;
 }
 
 io::PreviewOptions previewShown(io::PreviewOptions options, const RangeMap* camera,

@@ -169,13 +169,15 @@ struct Measures {
   double truthRms = -1.0;
 };
 
-Measures measure(const ScansReconstruction& r, const openvdb::FloatGrid& surface, const Inputs& in) {
+Measures measure(const ScansReconstruction& r, const ReconstructionResult& result, const Presentation& shown,
+                 const Inputs& in) {
+  const openvdb::FloatGrid& surface = *result.levelSet;
   Measures m;
   m.readings = r.reconstructor->summary().readings();
   m.points = r.reconstructor->summary().points();
   m.fitSample = fitStride(r.scans, kFitPointsAtMost);
   m.fit = measureDataFit(surface, r.scans, m.fitSample);
-  if (in.truth) m.truthRms = rmsOver(zeroCrossings(surface), *in.truth);
+  if (in.truth) m.truthRms = rmsOver(zeroCrossingsShown(surface, shown.trim ? result.weight.get() : nullptr), *in.truth);
   return m;
 }
 
@@ -260,6 +262,7 @@ void printJson(const Summary& r) {
   if (r.inputs.truth)
     j["truth"] = {{"shape", r.inputs.truth->name()},
                   {"rms_error", r.measures.truthRms},
+                  {"measured_on", r.trimmed ? "the surface seen" : "the whole surface"},
                   {"rms_error_voxels", r.measures.truthRms / *o.voxelSize}};
   std::cout << j.dump(2) << "\n";
 }
@@ -292,7 +295,8 @@ void printText(const Summary& r) {
             << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, " << fixed(100.0 * fit.beyondBand, 3)
             << "% beyond the band\n";
   if (r.inputs.truth)
-    std::cout << "  error against the true " << r.inputs.truth->name() << ": rms " << length(m.truthRms) << " ("
+    std::cout << "  error against the true " << r.inputs.truth->name() << (r.trimmed ? " where seen" : "")
+              << ": rms " << length(m.truthRms) << " ("
               << fixed(m.truthRms / *o.voxelSize, 3) << " voxel)\n";
   std::cout << "  " << fixed(r.seconds, 3) << " s\n";
   for (const std::string* path : {&s.output, &s.mesh, &s.preview})
@@ -316,7 +320,7 @@ int runReconstruct(ReconstructSettings s) {
   const Presentation shown = presentationOf(reconstructor, s);
   const ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
   made.letTheGridsGo();
-  const Measures measures = measure(made, *result.levelSet, inputs);
+  const Measures measures = measure(made, result, shown, inputs);
   const std::size_t triangles = writeOutputs(inputs, result, shown, s);
   const Summary summary{s, reconstructor, result, inputs, measures, shown.trim, triangles,
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()};

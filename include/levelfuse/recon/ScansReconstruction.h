@@ -57,6 +57,12 @@ bool trimsUnseen(bool scene, std::optional<bool> asked = std::nullopt);
 TriangleMesh meshShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatGrid* trimBy,
                        double adaptivity = 0.0);
 
+/// The zero crossings of `levelSet` (levelset/ZeroCrossings.h) that its mesh
+/// shows: without those where `trimBy`, its weight grid, interpolated
+/// trilinearly, is below kObservedWeight. What measures of the surface shown
+/// (an error against a true scene) are taken at.
+std::vector<openvdb::Vec3d> zeroCrossingsShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatGrid* trimBy);
+
 /// `options` for the picture of a surface: seen through `camera`'s eyes if it
 /// is given (a scene's first frame, io::seenByFrame), and without what no scan
 /// observed where `trimBy`, its weight grid, is given.
