@@ -33,43 +33,54 @@ struct Direction {
 
 /// Where a grid of `step` puts the angles' pixel centres so that the angles
 /// lie nearest them: the circular mean of their phases within a step.
-double phaseOf(const std::vector<Direction>& directions, double Direction::*angle, double step) {
+template <typename AngleOf>
+double phaseOf(const std::vector<Direction>& directions, const AngleOf& angleOf, double step) {
   double s = 0.0, c = 0.0;
   for (const Direction& d : directions) {
-    const double phase = kTurn * (d.*angle) / step;
+    const double phase = kTurn * angleOf(d) / step;
     s += std::sin(phase);
     c += std::cos(phase);
   }
   return std::atan2(s, c) / kTurn * step;
 }
 
-/// The columns a sweep fills out of the `columns` of a turn: the first after
-/// the longest run of empty ones, and how many up to the last filled one.
-struct Sweep {
-  long first = 0, count = 0;
-  bool closed = false;  ///< every column of a whole turn is filled
+/// Where a turn of azimuths may be cut without cutting the sweep: the
+/// middle of the widest run of empty bins of `step` (absolute azimuths from
+/// -pi), or, with every bin filled, nowhere (`cut` is then -pi and `closed`
+/// tells whether the turn is a whole number of steps, to be closed).
+struct TurnCut {
+  double cut = -M_PI;
+  bool closed = false;
 };
 
-Sweep sweepOf(const std::vector<std::uint8_t>& filled, bool wholeTurn) {
-  const long columns = static_cast<long>(filled.size());
-  long longestRun = 0, runEnd = 0, run = 0;
-  // Twice round, so that a run of empty columns across column 0 is counted whole.
-  for (long k = 0; k < 2 * columns; ++k) {
-    run = filled[static_cast<std::size_t>(k % columns)] ? 0 : run + 1;
-    if (run > longestRun && run <= columns) {
-      longestRun = run;
-      runEnd = k % columns;
+TurnCut turnCutOf(const std::vector<Direction>& directions, double step, bool wholeTurn) {
+  const long bins = static_cast<long>(std::ceil(kTurn / step - 1e-9));
+  std::vector<std::uint8_t> filled(static_cast<std::size_t>(bins), 0);
+  for (const Direction& d : directions)
+    filled[static_cast<std::size_t>(std::clamp(static_cast<long>((d.azimuth + M_PI) / step), 0L, bins - 1))] = 1;
+  long widest = 0, widestEnd = 0, run = 0;
+  // Twice round, so that a run of empty bins across the first is counted whole.
+  for (long k = 0; k < 2 * bins; ++k) {
+    run = filled[static_cast<std::size_t>(k % bins)] ? 0 : run + 1;
+    if (run > widest && run <= bins) {
+      widest = run;
+      widestEnd = k % bins;
     }
   }
-  Sweep sweep;
-  if (longestRun == 0) {
-    sweep.count = columns;
-    sweep.closed = wholeTurn;
-    return sweep;
+  TurnCut turn;
+  if (widest == 0) {
+    turn.closed = wholeTurn;
+    return turn;
   }
-  sweep.first = (runEnd + 1) % columns;
-  sweep.count = columns - longestRun;
-  return sweep;
+  // The middle of the run, from the start of its first bin to the end of its last.
+  turn.cut = -M_PI + (static_cast<double>(widestEnd + 1) - 0.5 * static_cast<double>(widest)) * step;
+  return turn;
+}
+
+/// An angle's turn from `from`, in [0, 2 pi).
+double turnFrom(double angle, double from) {
+  const double turn = angle - from;
+  return turn - kTurn * std::floor(turn / kTurn);
 }
 
 /// The points' directions, those that can be binned (kPoleMargin).
@@ -102,30 +113,39 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, AngularSteps steps, cons
   // A scanner turns a whole number of columns: a step within a twentieth of
   // one of that is taken to be it, so that a whole turn closes.
   const double perTurn = kTurn / steps.azimuth;
-  const double wholeColumns = std::round(perTurn);
-  const bool wholeTurn = std::fabs(perTurn - wholeColumns) < 0.05;
-  if (wholeTurn) steps.azimuth = kTurn / wholeColumns;
-  const long columns = static_cast<long>(std::ceil(kTurn / steps.azimuth - 1e-9));
+  const long wholeColumns = std::lround(perTurn);
+  const bool wholeTurn = std::fabs(perTurn - static_cast<double>(wholeColumns)) < 0.05;
+  if (wholeTurn) steps.azimuth = kTurn / static_cast<double>(wholeColumns);
+  const double elevationPhase = phaseOf(directions, [](const Direction& d) { return d.elevation; }, steps.elevation);
+  const auto nearest = [](double x) { return static_cast<long>(std::floor(x + 0.5)); };
+  const auto rowOf = [&](const Direction& d) { return nearest((d.elevation - elevationPhase) / steps.elevation); };
 
-  const double azimuthPhase = phaseOf(directions, &Direction::azimuth, steps.azimuth);
-  const double elevationPhase = phaseOf(directions, &Direction::elevation, steps.elevation);
-  const auto columnOf = [&](const Direction& d) {
-    const long k = std::lround((d.azimuth - azimuthPhase) / steps.azimuth);
-    return ((k % columns) + columns) % columns;
-  };
-  const auto rowOf = [&](const Direction& d) { return std::lround((d.elevation - elevationPhase) / steps.elevation); };
-
-  std::vector<std::uint8_t> filled(static_cast<std::size_t>(columns), 0);
+  // The sweep's columns, counted from its first by each point's azimuth from
+  // the cut: the turn is cut in the sweep's widest gap, so that a step which
+  // does not divide the turn misplaces no column across it; a whole turn
+  // every column of which is filled is closed.
+  const TurnCut turn = turnCutOf(directions, steps.azimuth, wholeTurn);
+  const auto turnOf = [&](const Direction& d) { return turnFrom(d.azimuth, turn.cut); };
+  const double turnPhase = phaseOf(directions, turnOf, steps.azimuth);
+  double firstTurn = kTurn;
   long lowestRow = std::numeric_limits<long>::max(), highestRow = std::numeric_limits<long>::min();
   for (const Direction& d : directions) {
-    filled[static_cast<std::size_t>(columnOf(d))] = 1;
+    firstTurn = std::min(firstTurn, turnOf(d));
     lowestRow = std::min(lowestRow, rowOf(d));
     highestRow = std::max(highestRow, rowOf(d));
   }
-  const Sweep sweep = sweepOf(filled, wholeTurn);
+  // The first column on the points' phase, at most half a step from the first point.
+  const double startTurn =
+      turnPhase + steps.azimuth * static_cast<double>(nearest((firstTurn - turnPhase) / steps.azimuth));
+  const auto columnOf = [&](const Direction& d) {
+    const long u = nearest((turnOf(d) - startTurn) / steps.azimuth);
+    return turn.closed ? ((u % wholeColumns) + wholeColumns) % wholeColumns : std::max(0L, u);
+  };
+  long lastColumn = 0;
+  for (const Direction& d : directions) lastColumn = std::max(lastColumn, columnOf(d));
 
   BinnedScan scan;
-  const long width = sweep.count + (sweep.closed ? 1 : 0), height = highestRow - lowestRow + 1;
+  const long width = turn.closed ? wholeColumns + 1 : lastColumn + 1, height = highestRow - lowestRow + 1;
   if (width < 2 || height < 2)
     throw std::invalid_argument(who + ": its points span " + std::to_string(width) + " column(s) and " +
                                 std::to_string(height) +
@@ -136,20 +156,20 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, AngularSteps steps, cons
                                 std::to_string(height) + " pixels is too large (are the angular steps the scanner's?)");
   scan.width = static_cast<int>(width);
   scan.height = static_cast<int>(height);
-  scan.grid.azimuthStart = azimuthPhase + static_cast<double>(sweep.first) * steps.azimuth;
+  scan.grid.azimuthStart = turn.cut + startTurn;
   scan.grid.azimuthStep = steps.azimuth;
   scan.grid.elevationStart = elevationPhase + static_cast<double>(lowestRow) * steps.elevation;
   scan.grid.elevationStep = steps.elevation;
   scan.ranges.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height),
                      std::numeric_limits<float>::quiet_NaN());
   for (const Direction& d : directions) {
-    const long u = ((columnOf(d) - sweep.first) % columns + columns) % columns;
+    const long u = columnOf(d);
     const long v = rowOf(d) - lowestRow;
     float& reading = scan.ranges[static_cast<std::size_t>(v) * static_cast<std::size_t>(width) +
                                  static_cast<std::size_t>(u)];
     if (!(reading <= d.range)) reading = d.range;  // the nearest point of a pixel
   }
-  if (sweep.closed)  // the first column again after the last: no seam
+  if (turn.closed)  // the first column again after the last: no seam
     for (long v = 0; v < height; ++v) {
       const std::size_t row = static_cast<std::size_t>(v) * static_cast<std::size_t>(width);
       scan.ranges[row + static_cast<std::size_t>(width - 1)] = scan.ranges[row];

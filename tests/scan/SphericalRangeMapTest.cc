@@ -207,12 +207,37 @@ TEST(SphericalScan, AWholeTurnIsClosed) {
   EXPECT_EQ(map.height(), 41);
   EXPECT_NEAR(map.sphericalProjection().azimuthStep, step, 1e-12);  // a whole number of columns a turn
   // A step that does not divide the turn leaves the turn open.
-  EXPECT_EQ(sphericalMapFromPoints(points, AngularSteps{step * 1.01, step}, Mat4d::identity(), 0.002).width(), 357);
+  const RangeMap open = sphericalMapFromPoints(points, AngularSteps{step * 1.01, step}, Mat4d::identity(), 0.002);
+  EXPECT_LE(open.width(), 357);
+  EXPECT_NEAR(open.sphericalProjection().azimuthStep, step * 1.01, 1e-12);
   // The seam between the last column and the first is data like anywhere else.
   const double seam = map.sphericalProjection().azimuthStart - 0.5 * step;
   RangeSample s;
   ASSERT_TRUE(map.sample(Vec3d(std::cos(seam), std::sin(seam), 0.0) * 3.2, s));
   EXPECT_NEAR(s.D, 0.2, 1e-6);
+}
+
+TEST(SphericalScan, ASweepAcrossTheBackOfTheScannerKeepsItsColumns) {
+  // 0.7 degree steps (no whole number of them in a turn) from 150 to 210
+  // degrees of azimuth, across the cut of atan2 at 180: every point is a
+  // reading at its own direction.
+  const double step = 0.7 * kDegree;
+  std::vector<Vec3d> points;
+  for (int column = 0; column < 86; ++column)
+    for (int row = 0; row < 20; ++row) {
+      const double azimuth = (150.0 + 0.7 * column) * kDegree, elevation = (row - 10) * step;
+      points.push_back(Vec3d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                             std::sin(elevation)) *
+                       (2.0 + 0.01 * column));
+    }
+  const RangeMap map = sphericalMapFromPoints(points, AngularSteps{step, step}, Mat4d::identity(), 0.002);
+  ASSERT_EQ(map.width(), 86);
+  ASSERT_EQ(map.height(), 20);
+  EXPECT_EQ(map.validCount(), points.size());
+  for (int v = 0; v < map.height(); ++v)
+    for (int u = 0; u < map.width(); ++u)
+      ASSERT_NEAR((map.readingPoint(u, v) - points[static_cast<std::size_t>(u) * 20 + v]).length(), 0.0, 1e-5)
+          << u << " " << v;
 }
 
 TEST(SphericalScan, StepsOfAStructuredGrid) {
