@@ -74,6 +74,23 @@ RangeMap everythingPerPixel() {
   return map;
 }
 
+/// A terrestrial scanner in a room, a whole turn, its noise following the range, a few rays without return.
+RangeMap roomAroundAScanner() {
+  const int width = 121, height = 41;  // 3 degree steps, the first column again after the last
+  const SphericalProjection grid{-M_PI, 2.0 * M_PI / 120.0, -60.0 * M_PI / 180.0, 3.0 * M_PI / 180.0};
+  std::vector<float> ranges;
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) {
+      const Vec3d d = sphericalDirection(grid, u % 120, v);
+      const double wall = 2.0 / std::max(std::fabs(d.x()), std::max(std::fabs(d.y()), std::fabs(d.z())));
+      ranges.push_back(u % 120 == 17 && v > 30 ? 0.0f : static_cast<float>(wall));
+    }
+  openvdb::math::Mat4d pose = openvdb::math::Mat4d::identity();
+  pose.setToRotation(openvdb::math::Z_AXIS, 0.4);
+  pose.setTranslation(Vec3d(1.0, -0.5, 1.5));
+  return RangeMap::spherical(width, height, ranges, grid, pose, DepthNoise{0.002, 0.0, 0.001}, "room");
+}
+
 bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 /// Every reading, and what the map says at points around its readings, the same bit for bit.
@@ -123,7 +140,7 @@ RangeMap cornerFrameOffStep() {
 }
 
 TEST(PackedRangeMap, UnpacksToTheMapItPacked) {
-  for (const RangeMap& map : {cornerFrame(), cornerFrameOffStep(), everythingPerPixel()}) {
+  for (const RangeMap& map : {cornerFrame(), cornerFrameOffStep(), everythingPerPixel(), roomAroundAScanner()}) {
     const PackedRangeMap packed{RangeMap(map)};
     expectSameMap(map, packed.unpack());
     expectSameMap(map, packed.unpack());  // as often as asked
