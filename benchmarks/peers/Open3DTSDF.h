@@ -19,6 +19,13 @@ struct DepthFrameFile {
   std::array<double, 16> cameraToWorld{};  ///< row-major, points as row vectors: p_world = p * M
 };
 
+/// A depth frame in memory: depths along the optical axis, world units,
+/// row-major, 0 where there is no reading.
+struct DepthFrameImage {
+  std::vector<float> depth;
+  std::array<double, 16> cameraToWorld{};  ///< row-major, points as row vectors: p_world = p * M
+};
+
 struct DepthCamera {
   int width = 640, height = 480;
   double fx = 585.0, fy = 585.0, cx = 320.0, cy = 240.0;  ///< pixels
@@ -37,5 +44,9 @@ struct TsdfSettings {
 /// OpenMP on its default number of threads (OMP_NUM_THREADS, OMP_WAIT_POLICY). Throws std::runtime_error for a
 /// PNG that Open3D cannot read or whose size is not the camera's.
 PeerMesh open3dTsdf(const std::vector<DepthFrameFile>& frames, const DepthCamera& camera, const TsdfSettings& settings);
+/// The same from frames in memory (their depths as they are: no depth scale),
+/// readings beyond the settings' maximum depth dropped. Throws
+/// std::invalid_argument for a frame whose size is not the camera's.
+PeerMesh open3dTsdf(const std::vector<DepthFrameImage>& frames, const DepthCamera& camera, const TsdfSettings& settings);
 
 }  // namespace levelfuse::peers
