@@ -69,7 +69,7 @@ int columnCount(const TextLineReader& lines, const PtxHeader* previous) {
                " rows): its columns and rows disagree with its points");
   const std::optional<long long> columns = fields == 1 ? lines.wholeNumberIn(0, 1, kMaxCount) : std::nullopt;
   if (!columns)
-    lines.fail(fieldsFound(lines) + " after " + previous->describe() +
+    lines.fail(quote(lines.line()) + " after " + previous->describe() +
                ": neither the column count of another scan (a whole number from 1 to 2147483647) nor the end of "
                "the file");
   return static_cast<int>(*columns);

@@ -35,6 +35,8 @@ class TextLineReader {
   /// Bytes of the file after the line last read.
   std::uintmax_t bytesLeft() const { return mFileBytes - mConsumed; }
 
+  /// The line last read, without its line break.
+  std::string_view line() const { return mLine; }
   std::size_t fieldCount() const { return mFields.size(); }
   std::string_view field(std::size_t i) const { return mFields[i]; }
 
