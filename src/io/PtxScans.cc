@@ -4,6 +4,7 @@
 #include <levelfuse/io/PtxScans.h>
 #include <levelfuse/scan/SphericalScan.h>
 
+#include "PtxGridSize.h"
 #include "PtxHeader.h"
 #include "PtxPoints.h"
 #include "ScanDelivery.h"
@@ -29,6 +30,7 @@ void readPtxScans(const std::string& path, const PtxScanTaker& take, const Inter
 RangeMap rangeMapFromPtxScan(const PtxScan& scan, double sigma, const std::string& path, const std::string& name) {
   try {
     const AngularSteps steps = stepsOfGrid(scan.points, scan.columns, scan.rows);
+    requireGridOfTheScansSize(scan, steps, path);
     return sphericalMapFromPoints(scan.points, steps, scan.scannerToWorld, sigma, name);
   } catch (const std::invalid_argument& e) {  // the returns make no grid, or no map
     throw InputError(path, describePtxScan(scan.index, scan.firstLine, scan.lastLine) + ": " + e.what());

@@ -193,6 +193,8 @@ const BadInput kCorpus[] = {
   {"ptx/mixed-field-counts.ptx", Reader::kPtx, "line 13: expected point 3 of the 6 (2 columns x 3 rows) of scan 1 with 4 fields as the scan's first point (line 11), found 7 fields"},
   {"ptx/colour-above-255.ptx", Reader::kPtx, "line 14: '300' is not a colour (a whole number from 0 to 255)"},
   {"ptx/no-returns.ptx", Reader::kPtx, "scan 1 (lines 1 to 16) has no returns: all its 6 points are 0 0 0"},
+  // Its returns' azimuths lie 1e-7 rad apart but span a radian: a grid of 30 million pixels for 10 points.
+  {"ptx/points-off-their-grid.ptx", Reader::kPtx, "scan 1 (lines 1 to 20): its returns span up to 3e+07 pixels of its grid's steps (1e-07 x 0.1 rad), more than 4 per point of its 5 columns x 2 rows: its points do not lie on one scanner's grid"},
   {"ptx/garbage-after-the-last-scan.ptx", Reader::kPtx, "line 18: 'end of scans' after scan 1 (lines 1 to 16): neither the column count of another scan"},
   // .vdb files (readVdb): truncated and corrupted copies of a small float level set
   {"vdb/empty.vdb", Reader::kVdb, "not a valid .vdb file: the header: the file ends in the magic number (8 bytes needed, 0 left; truncated?)"},
