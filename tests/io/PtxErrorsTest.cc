@@ -33,7 +33,7 @@ std::string validScan(bool colours = false) {
   grid.columns = 3;
   grid.rows = 4;
   grid.scannerToWorld = test::turnedScanner();
-  return test::ptxScanText(grid, test::scanPoints(grid, test::sphereAround(Vec3d(0.5, 0.0, 0.0), 4.0)),
+  return test::ptxScanText(grid, test::scanPoints(grid, test::sphere(Vec3d(0.5, 0.0, 0.0), 4.0)),
                            PtxFrame::kScanner, colours);
 }
 
@@ -155,7 +155,7 @@ TEST(MalformedPtx, AScanWhoseReturnsMakeNoGridIsNamed) {
   test::PtxGrid grid;
   grid.columns = 1;  // no neighbours along a row: no azimuth step
   grid.rows = 12;
-  writeText(path, test::ptxScanText(grid, test::scanPoints(grid, test::sphereAround(Vec3d(0.0), 3.0)),
+  writeText(path, test::ptxScanText(grid, test::scanPoints(grid, test::sphere(Vec3d(0.0), 3.0)),
                                     PtxFrame::kScanner));
   test::expectInputError([&] { loadScans(path); }, path, "scan 1 (lines 1 to 22): ");
 }

@@ -40,7 +40,7 @@ test::PtxGrid turnedGrid() {
 }
 
 std::vector<Vec3d> spherePoints(const test::PtxGrid& grid) {
-  return test::scanPoints(grid, test::sphereAround(kSphereCentre, kSphereRadius));
+  return test::scanPoints(grid, test::sphere(kSphereCentre, kSphereRadius));
 }
 
 std::vector<Vec3d> floorPoints(const test::PtxGrid& grid) {

@@ -34,16 +34,29 @@ openvdb::math::Mat4d turnedScanner() {
   return openvdb::math::Mat4d(c, s, 0.0, 0.0, -s, c, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 2.0, 3.0, 1.0);
 }
 
+openvdb::math::Mat4d scannerLookingAt(const Vec3d& position, const Vec3d& target) {
+  Vec3d forward = target - position;
+  forward.z() = 0.0;
+  forward.normalize();
+  const Vec3d up(0.0, 0.0, 1.0);
+  const Vec3d left = up.cross(forward);
+  return openvdb::math::Mat4d(forward.x(), forward.y(), 0.0, 0.0, left.x(), left.y(), 0.0, 0.0, 0.0, 0.0, 1.0, 0.0,
+                              position.x(), position.y(), position.z(), 1.0);
+}
+
 Vec3d ptxRay(const PtxGrid& grid, int c, int r) {
   const double azimuth = grid.azimuthStart + c * grid.azimuthStep;
   const double elevation = grid.elevationStart + r * grid.elevationStep;
   return Vec3d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
 }
 
-RangeAlong sphereAround(const Vec3d& centre, double radius) {
+RangeAlong sphere(const Vec3d& centre, double radius) {
   return [=](const Vec3d& ray) {
     const double along = ray.dot(centre);
-    return along + std::sqrt(along * along - centre.lengthSqr() + radius * radius);
+    const double discriminant = along * along - centre.lengthSqr() + radius * radius;
+    if (discriminant < 0.0) return -1.0;
+    const double nearer = along - std::sqrt(discriminant);
+    return nearer > 0.0 ? nearer : along + std::sqrt(discriminant);
   };
 }
 

@@ -24,14 +24,19 @@ struct PtxGrid {
 /// The scanner at (1, 2, 3), turned 30 degrees about z.
 openvdb::math::Mat4d turnedScanner();
 
+/// A level scanner at `position` whose x axis (azimuth 0) looks at `target`'s
+/// vertical line.
+openvdb::math::Mat4d scannerLookingAt(const openvdb::Vec3d& position, const openvdb::Vec3d& target);
+
 /// The unit ray of column `c` and row `r` in the scanner's frame (x forward at azimuth 0, z up).
 openvdb::Vec3d ptxRay(const PtxGrid& grid, int c, int r);
 
 /// Distance along a unit ray from the scanner to a surface; 0 or less for a miss.
 using RangeAlong = std::function<double(const openvdb::Vec3d& ray)>;
 
-/// Where the rays of a sphere around the scanner (which stands inside it) meet it; scanner frame.
-RangeAlong sphereAround(const openvdb::Vec3d& centre, double radius);
+/// Where the rays first meet a sphere ahead of the scanner, which may stand
+/// inside it or outside; scanner frame.
+RangeAlong sphere(const openvdb::Vec3d& centre, double radius);
 
 /// Where the rays meet the plane {x : normal . x = offset}; scanner frame.
 RangeAlong plane(const openvdb::Vec3d& normal, double offset);
