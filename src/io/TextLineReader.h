@@ -32,8 +32,8 @@ class TextLineReader {
   std::int64_t lineNumber() const { return mLineNumber; }
   /// "line N: ", for messages.
   std::string at() const;
-  /// Bytes of the file after the line last read.
-  std::uintmax_t bytesLeft() const { return mFileBytes - mConsumed; }
+  /// Bytes of the file after the line last read (by its size when opened).
+  std::uintmax_t bytesLeft() const { return mConsumed < mFileBytes ? mFileBytes - mConsumed : 0; }
 
   /// The line last read, without its line break.
   std::string_view line() const { return mLine; }
