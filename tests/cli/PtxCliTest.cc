@@ -23,8 +23,9 @@ constexpr double kScannerDistance = 2.0;
 class PtxCli : public Cli {
  protected:
   /// A ball of radius 0.5 at the origin, scanned from four tripods 2 m away
-  /// at its height, each scan 51 x 51 rays 0.012 rad apart about the ball;
-  /// the points in the scanner's frame, the transform its pose.
+  /// at its height, each scan 51 x 51 rays about 0.012 rad apart (512 a
+  /// turn) about the ball; the points in the scanner's frame, the transform
+  /// its pose.
   std::string ballScans() {
     std::string text;
     for (int k = 0; k < 4; ++k) {
@@ -32,7 +33,7 @@ class PtxCli : public Cli {
       test::PtxGrid grid;
       grid.columns = grid.rows = 51;
       grid.azimuthStart = grid.elevationStart = -0.3;
-      grid.azimuthStep = grid.elevationStep = 0.012;
+      grid.azimuthStep = grid.elevationStep = 2.0 * M_PI / 512.0;
       grid.scannerToWorld = test::scannerLookingAt(
           Vec3d(kScannerDistance * std::cos(angle), kScannerDistance * std::sin(angle), 0.0), Vec3d(0.0));
       const auto ball = test::sphere(Vec3d(kScannerDistance, 0.0, 0.0), kBallRadius);

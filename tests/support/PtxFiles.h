@@ -6,16 +6,18 @@
 #include <openvdb/math/Mat4.h>
 #include <openvdb/math/Vec3.h>
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
 
 namespace levelfuse::test {
 
-/// A scanner's grid of rays (radians) and where it stands.
+/// A scanner's grid of rays (radians) and where it stands. A scanner turns a
+/// whole number of azimuth steps per turn (here 128).
 struct PtxGrid {
   int columns = 24, rows = 16;
-  double azimuthStart = -0.6, azimuthStep = 0.05;    ///< column c looks at azimuth start + c step
+  double azimuthStart = -0.6, azimuthStep = 2.0 * M_PI / 128.0;  ///< column c looks at azimuth start + c step
   double elevationStart = -0.4, elevationStep = 0.05;  ///< row r at elevation start + r step
   /// Rows: the scanner's axes x, y, z, then its position (OpenVDB's row-vector layout).
   openvdb::math::Mat4d scannerToWorld = openvdb::math::Mat4d::identity();
