@@ -4,7 +4,7 @@
 #include <levelfuse/io/PtxScans.h>
 #include <levelfuse/scan/SphericalScan.h>
 
-#include "PtxGridSize.h"
+#include "PtxGridChecks.h"
 #include "PtxHeader.h"
 #include "PtxPoints.h"
 #include "ScanDelivery.h"
@@ -31,7 +31,9 @@ RangeMap rangeMapFromPtxScan(const PtxScan& scan, double sigma, const std::strin
   try {
     const AngularSteps steps = stepsOfGrid(scan.points, scan.columns, scan.rows);
     requireGridOfTheScansSize(scan, steps, path);
-    return sphericalMapFromPoints(scan.points, steps, scan.scannerToWorld, sigma, name);
+    RangeMap map = sphericalMapFromPoints(scan.points, steps, scan.scannerToWorld, sigma, name);
+    requireReturnsOnTheirOwnPixels(scan, map, path);
+    return map;
   } catch (const std::invalid_argument& e) {  // the returns make no grid, or no map
     throw InputError(path, describePtxScan(scan.index, scan.firstLine, scan.lastLine) + ": " + e.what());
   }

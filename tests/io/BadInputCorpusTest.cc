@@ -195,6 +195,8 @@ const BadInput kCorpus[] = {
   {"ptx/no-returns.ptx", Reader::kPtx, "scan 1 (lines 1 to 16) has no returns: all its 6 points are 0 0 0"},
   // Its returns' azimuths lie 1e-7 rad apart but span a radian: a grid of 30 million pixels for 10 points.
   {"ptx/points-off-their-grid.ptx", Reader::kPtx, "scan 1 (lines 1 to 20): its returns span up to 3e+07 pixels of its grid's steps (1e-07 x 0.1 rad), more than 4 per point of its 5 columns x 2 rows: its points do not lie on one scanner's grid"},
+  // Its 16 points look along 4 directions only: 4 columns and 4 rows that repeat each other's angles.
+  {"ptx/points-sharing-pixels.ptx", Reader::kPtx, "scan 1 (lines 1 to 26): its 16 returns fill only 4 pixels of its grid (2 x 2 of 0.1 x 0.1 rad): its points do not lie on one scanner's grid"},
   {"ptx/garbage-after-the-last-scan.ptx", Reader::kPtx, "line 18: 'end of scans' after scan 1 (lines 1 to 16): neither the column count of another scan"},
   // .vdb files (readVdb): truncated and corrupted copies of a small float level set
   {"vdb/empty.vdb", Reader::kVdb, "not a valid .vdb file: the header: the file ends in the magic number (8 bytes needed, 0 left; truncated?)"},

@@ -69,7 +69,8 @@ TEST(PdalPtxFiles, AScannersExportWithItsPose) {
   test::expectInputError([&] { loadPtxScans(path); }, path, "scan 1 (lines 1 to 22): ");
 }
 
-// Points already in the world (UTM coordinates), the transform the identity.
+// Points already in the world (UTM coordinates), the transform the identity:
+// an airborne survey's points written 15 to a column, on no scanner's grid.
 TEST(PdalPtxFiles, ARegisteredExportInTheWorld) {
   const std::string path = pdalFile("1.2-with-color.ptx");
   if (path.empty()) GTEST_SKIP() << absent("1.2-with-color.ptx");
@@ -84,6 +85,8 @@ TEST(PdalPtxFiles, ARegisteredExportInTheWorld) {
   EXPECT_NEAR(bounds.max().y(), 853535.43, 1e-6);
   EXPECT_NEAR(bounds.min().z(), 406.59, 1e-6);
   EXPECT_NEAR(bounds.max().z(), 586.38, 1e-6);
+  test::expectInputError([&] { loadPtxScans(path); }, path,
+                         "scan 1 (lines 1 to 1075): its 1065 returns fill only 81 pixels of its grid (6 x 26 of ");
 }
 
 // One row of 15 points without colour.

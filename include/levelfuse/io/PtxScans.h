@@ -82,8 +82,9 @@ void readPtxScans(const std::string& path, const PtxScanTaker& take, const Inter
 /// (stepsOfGrid), each reading of noise `sigma`, named `name`. Throws
 /// InputError naming `path` and the scan's lines if its returns make no grid
 /// (no two neighbours along a column or a row both have one), one of more
-/// than four pixels per point it declares (its points lie on no one grid;
-/// refused before the map is allocated), or no map.
+/// than four pixels per point it declares (refused before the map is
+/// allocated), a map on which fewer than half its returns have a pixel of
+/// their own (either way its points lie on no one grid), or no map.
 RangeMap rangeMapFromPtxScan(const PtxScan& scan, double sigma, const std::string& path, const std::string& name);
 
 /// Every scan of a PTX file as a spherical range map, named "<file stem> scan

@@ -1,7 +1,8 @@
-// levelfuse: how large a grid a PTX scan's returns make (private to the PTX
-// reader): a scanner's own grid comes back about pixel for pixel, so a grid
-// much larger than the scan's declared points means the points do not lie on
-// the grid their steps say, and is refused before it is allocated.
+// levelfuse: checks that a PTX scan's points lie on one scanner's grid
+// (private to the PTX reader). A scanner's own grid comes back about pixel for
+// pixel: a grid much larger than the scan's declared points is refused before
+// it is allocated, and a map on which many returns share a pixel after it is
+// made.
 #pragma once
 
 #include <levelfuse/io/PtxScans.h>
@@ -23,5 +24,9 @@ double gridPixelsAtMost(const PtxScan& scan, const AngularSteps& steps);
 /// Throws InputError naming `path` and the scan if binning its returns with
 /// `steps` could make more than kMaxPixelsPerPoint pixels per point.
 void requireGridOfTheScansSize(const PtxScan& scan, const AngularSteps& steps, const std::string& path);
+
+/// Throws InputError naming `path` and the scan if `map`, the scan binned,
+/// has readings for fewer than half its returns (the others shared a pixel).
+void requireReturnsOnTheirOwnPixels(const PtxScan& scan, const RangeMap& map, const std::string& path);
 
 }  // namespace levelfuse::io

@@ -1,6 +1,6 @@
-// levelfuse: the size of a PTX scan's grid.
+// levelfuse: a PTX scan's points on one grid.
 
-#include "PtxGridSize.h"
+#include "PtxGridChecks.h"
 
 #include "PtxHeader.h"
 
@@ -75,6 +75,17 @@ void requireGridOfTheScansSize(const PtxScan& scan, const AngularSteps& steps, c
                                rounded(steps.elevation) + " rad), more than " + rounded(kMaxPixelsPerPoint) +
                                " per point of its " + std::to_string(scan.columns) + " columns x " +
                                std::to_string(scan.rows) + " rows: its points do not lie on one scanner's grid");
+}
+
+void requireReturnsOnTheirOwnPixels(const PtxScan& scan, const RangeMap& map, const std::string& path) {
+  if (2 * map.validCount() >= scan.returns) return;
+  const SphericalProjection& grid = map.sphericalProjection();
+  throw InputError(path, describePtxScan(scan.index, scan.firstLine, scan.lastLine) + ": its " +
+                             std::to_string(scan.returns) + " returns fill only " + std::to_string(map.validCount()) +
+                             " pixels of its grid (" + std::to_string(map.width()) + " x " +
+                             std::to_string(map.height()) + " of " + rounded(std::fabs(grid.azimuthStep)) + " x " +
+                             rounded(std::fabs(grid.elevationStep)) +
+                             " rad): its points do not lie on one scanner's grid");
 }
 
 }  // namespace levelfuse::io
