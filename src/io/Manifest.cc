@@ -5,6 +5,7 @@
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/PtxScans.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/io/TumScans.h>
 
@@ -176,6 +177,16 @@ SphericalProjection sphericalGridOf(const Entry& e) {
   return grid;
 }
 
+/// A PTX file's entry: the file, and optionally the noise of its readings.
+/// Its scans are collected with the manifest's others, not handed over one
+/// at a time, so that the entry's own options apply to them.
+std::vector<RangeMap> loadPtxEntry(const Entry& e, const ScanLoadOptions& defaults) {
+  ScanLoadOptions o;
+  o.interrupter = defaults.interrupter;
+  o.ptxSigma = e.positive("sigma", defaults.ptxSigma);
+  return loadPtxScans(e.path("file"), o);
+}
+
 openvdb::math::Mat4d poseOf(const Entry& e, const std::string& manifest) {
   if (e.has("pose_file")) return readPose(e.path("pose_file"));
   if (!e.has("pose")) e.fail("missing 'pose' or 'pose_file'");
@@ -246,6 +257,8 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       }
     } else if (format == "tum") {
       for (RangeMap& m : loadTumEntry(e, defaults)) maps.push_back(std::move(m));
+    } else if (format == "ptx") {
+      for (RangeMap& m : loadPtxEntry(e, defaults)) maps.push_back(std::move(m));
     } else if (format == "orthographic-pfm") {
       const std::string file = e.path("file");
       DepthImage image = readDepthPfm(file, false);
@@ -277,7 +290,8 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       }
     } else {
       e.fail("unknown format " + quote(format) +
-             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, orthographic-pfm or spherical-pfm)");
+             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, orthographic-pfm or "
+             "spherical-pfm)");
     }
     if (e.has("misses_are_empty")) {
       if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");

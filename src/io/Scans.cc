@@ -3,6 +3,7 @@
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/PtxScans.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/TumScans.h>
 
@@ -105,8 +106,9 @@ std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& 
     return handedOver(loadStanfordScans(path, stanford), options);
   }
   if (extension == ".json") return handedOver(loadManifest(path, options), options);
+  if (extension == ".ptx") return loadPtxScans(path, options);
   throw InputError(path, "not a kind of scan levelfuse reads: give a Stanford .conf file, a JSON manifest "
-                         "(.json) or a folder of depth frames (7-Scenes or TUM RGB-D)");
+                         "(.json), a PTX file (.ptx) or a folder of depth frames (7-Scenes or TUM RGB-D)");
 }
 
 }  // namespace levelfuse::io

@@ -1,7 +1,7 @@
-// Every bad scan set of the corpus (tests/data/bad: .conf files, manifests and
-// folders of depth frames) and every bad .vdb file given to the converter as a
-// user gives it: one line that names a file and the problem, exit code 1, and
-// no output file.
+// Every bad scan set of the corpus (tests/data/bad: .conf files, manifests,
+// PTX files and folders of depth frames) and every bad .vdb file given to the
+// converter as a user gives it: one line that names a file and the problem,
+// exit code 1, and no output file.
 
 #include "CliSupport.h"
 
@@ -25,9 +25,11 @@ std::vector<std::string> corpusFiles(std::initializer_list<const char*> kinds) {
   return files;
 }
 
-/// Files for .conf and manifests; folders of depth frames for 7-Scenes and TUM RGB-D; scans that read
-/// well but that no reconstruction can take.
-std::vector<std::string> badScanSets() { return corpusFiles({"conf", "manifest", "7scenes", "tum", "reconstruct"}); }
+/// Files for .conf, manifests and PTX; folders of depth frames for 7-Scenes and TUM RGB-D; scans that
+/// read well but that no reconstruction can take.
+std::vector<std::string> badScanSets() {
+  return corpusFiles({"conf", "manifest", "7scenes", "tum", "ptx", "reconstruct"});
+}
 
 std::vector<std::string> badVdbFiles() { return corpusFiles({"vdb"}); }
 

@@ -5,6 +5,7 @@
 #include "FuzzInput.h"
 #include "support/Files.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -23,6 +24,19 @@ std::string rangeGridPly() {
   return ply;
 }
 
+std::string sphericalScanPtx() {
+  std::string ptx = "3\n3\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
+  const double step = 2.0 * M_PI / 128.0;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) {
+      const double azimuth = step * c, elevation = step * r;
+      ptx += std::to_string(2.0 * std::cos(elevation) * std::cos(azimuth)) + " " +
+             std::to_string(2.0 * std::cos(elevation) * std::sin(azimuth)) + " " +
+             std::to_string(2.0 * std::sin(elevation)) + " 0.5\n";
+    }
+  return ptx;
+}
+
 void writeScanFixtures() {
   const std::filesystem::path folder(scratchFolder());
   writeScratchFile("scan.ply", rangeGridPly());
@@ -35,6 +49,7 @@ void writeScanFixtures() {
   writeScratchFile("depth.pfm", pfm);
   writeScratchFile("k.txt", "10 0 2\n0 10 2\n0 0 1\n");
   writeScratchFile("pose.txt", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  writeScratchFile("scan.ptx", sphericalScanPtx());
 }
 
 }  // namespace levelfuse::fuzz

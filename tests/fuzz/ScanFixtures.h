@@ -9,9 +9,13 @@ namespace levelfuse::fuzz {
 /// A 3 x 3 range-grid scan as ASCII PLY, 1 mm between samples.
 std::string rangeGridPly();
 
+/// A 3 x 3 PTX scan of a sphere of radius 2 around the scanner, 128 steps a turn.
+std::string sphericalScanPtx();
+
 /// Writes into the scratch folder: scan.ply (rangeGridPly()), scan.conf (one
 /// bmesh line placing it), depth.png (4 x 4, 16-bit), tiny.png (1 x 1),
-/// depth.pfm (4 x 4), k.txt (intrinsics) and pose.txt (identity).
+/// depth.pfm (4 x 4), k.txt (intrinsics), pose.txt (identity) and scan.ptx
+/// (sphericalScanPtx()).
 void writeScanFixtures();
 
 }  // namespace levelfuse::fuzz

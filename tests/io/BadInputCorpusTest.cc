@@ -8,6 +8,7 @@
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Ply.h>
+#include <levelfuse/io/PtxScans.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/io/VdbFile.h>
@@ -28,7 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 
 enum class Reader { kPly, kRangeGrid, kStanfordConf, kManifest, kDepthPng, kDepthPfm, kDepthExr, kIntrinsics, kPose,
-                    kFolder, kVdb, kReconstruction };
+                    kFolder, kPtx, kVdb, kReconstruction };
 
 struct BadInput {
   const char* file;      ///< below tests/data/bad; a folder of depth frames for kFolder
@@ -182,6 +183,21 @@ const BadInput kCorpus[] = {
   {"tum/timestamp-not-a-number", Reader::kFolder, "line 2: 'ten' is not a number", "tum/timestamp-not-a-number/depth.txt"},
   {"tum/pose-too-few-numbers", Reader::kFolder, "line 1: expected 'timestamp tx ty tz qx qy qz qw'", "tum/pose-too-few-numbers/groundtruth.txt"},
   {"tum/no-frames", Reader::kFolder, "no frames: expected lines 'timestamp filename'", "tum/no-frames/depth.txt"},
+  // PTX files (loadPtxScans): a scan of 2 columns x 3 rows, lines 1 to 10 its header, 11 to 16 its points
+  {"ptx/truncated.ptx", Reader::kPtx, "the file ends after line 14, before point 5 of the 6 (2 columns x 3 rows) of scan 1 (truncated?)"},
+  {"ptx/rows-and-columns-disagree-with-the-points.ptx", Reader::kPtx, "line 15: a point line after the 4 points scan 1 (lines 1 to 14) declares (2 columns x 2 rows): its columns and rows disagree with its points"},
+  {"ptx/non-rigid-transform.ptx", Reader::kPtx, "line 9: the transform's rows 1 to 3 (lines 7 to 9) are not orthonormal (their dot products are off by up to 3, more than 0.0001): not a rigid motion"},
+  {"ptx/skewed-scanner-axes.ptx", Reader::kPtx, "line 6: the scanner's axes (lines 4 to 6) are not orthonormal (their dot products are off by up to 0.5, more than 0.0001)"},
+  {"ptx/nan.ptx", Reader::kPtx, "line 13: 'nan' is not a finite number"},
+  {"ptx/huge-declared-size.ptx", Reader::kPtx, "line 2: scan 1 declares 2147483647 columns x 2147483647 rows, 4611686014132420609 points, but the "},
+  {"ptx/mixed-field-counts.ptx", Reader::kPtx, "line 13: expected point 3 of the 6 (2 columns x 3 rows) of scan 1 with 4 fields as the scan's first point (line 11), found 7 fields"},
+  {"ptx/colour-above-255.ptx", Reader::kPtx, "line 14: '300' is not a colour (a whole number from 0 to 255)"},
+  {"ptx/no-returns.ptx", Reader::kPtx, "scan 1 (lines 1 to 16) has no returns: all its 6 points are 0 0 0"},
+  // Its returns' azimuths lie 1e-7 rad apart but span a radian: a grid of 30 million pixels for 10 points.
+  {"ptx/points-off-their-grid.ptx", Reader::kPtx, "scan 1 (lines 1 to 20): its returns span up to 3e+07 pixels of its grid's steps (1e-07 x 0.1 rad), more than 4 per point of its 5 columns x 2 rows: its points do not lie on one scanner's grid"},
+  // Its 16 points look along 4 directions only: 4 columns and 4 rows that repeat each other's angles.
+  {"ptx/points-sharing-pixels.ptx", Reader::kPtx, "scan 1 (lines 1 to 26): its 16 returns fill only 4 pixels of its grid (2 x 2 of 0.1 x 0.1 rad): its points do not lie on one scanner's grid"},
+  {"ptx/garbage-after-the-last-scan.ptx", Reader::kPtx, "line 18: 'end of scans' after scan 1 (lines 1 to 16): neither the column count of another scan"},
   // .vdb files (readVdb): truncated and corrupted copies of a small float level set
   {"vdb/empty.vdb", Reader::kVdb, "not a valid .vdb file: the header: the file ends in the magic number (8 bytes needed, 0 left; truncated?)"},
   {"vdb/not-a-vdb.vdb", Reader::kVdb, "the file does not start with OpenVDB's magic number"},
@@ -248,6 +264,7 @@ void read(Reader reader, const std::string& path) {
     case Reader::kIntrinsics: readIntrinsics(path); break;
     case Reader::kPose: readPose(path); break;
     case Reader::kFolder: loadScans(path); break;
+    case Reader::kPtx: loadPtxScans(path); break;
     case Reader::kVdb: readVdb(path); break;
     case Reader::kReconstruction:
       // As the CLI says it: the reconstruction's refusal, of the inputs.

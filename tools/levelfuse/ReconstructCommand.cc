@@ -336,8 +336,8 @@ Command addReconstructCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "reconstruct", "Reconstruct a surface from registered range scans (the MAP level-set method of Whitaker 1998)");
   cmd->add_option("inputs", s->inputs,
-                  "Scans: a Stanford .conf file, a JSON manifest, or a folder of depth frames (7-Scenes or TUM RGB-D "
-                  "layout)")
+                  "Scans: a Stanford .conf file, a PTX file, a JSON manifest, or a folder of depth frames (7-Scenes "
+                  "or TUM RGB-D layout)")
       ->required()
       ->check(CLI::ExistingPath);
   cmd->add_option("-o,--output", s->output, "Write the surface as an OpenVDB level set (.vdb)");
@@ -372,7 +372,7 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("--toward-scanner", s->towardScanner,
                   "Stanford scans: direction toward the scanner in the scan frame, x,y,z (default 0,0,1)")
       ->check(threeNumbers());
-  cmd->add_option("--sigma", s->sigma, "Noise of a reading, world units (default: from the scans)")
+  cmd->add_option("--sigma", s->sigma, "Noise of a reading, world units (default: from the scans; PTX: 0.002)")
       ->check(numberIn(0.0, 1e6, true));
   cmd->add_option("--depth-scale", s->depthScale,
                   "Depth frames: metres per 16-bit PNG unit (default: 0.001; TUM RGB-D folders 0.0002)")

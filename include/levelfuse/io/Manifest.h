@@ -9,6 +9,7 @@
 //         "translation": [-0.052, 0.0, -0.011], "quaternion": [0.0055, -0.29, -0.0039, 0.96] },
 //       { "format": "depth-png", "file": "frame-000000.depth.png", "depth_scale": 0.001,
 //         "intrinsics_file": "camera-intrinsics.txt", "pose_file": "frame-000000.pose.txt" },
+//       { "format": "ptx", "file": "hall.ptx", "sigma": 0.003 },
 //       { "format": "depth-pfm", "file": "d.pfm",
 //         "intrinsics": { "fx": 585, "fy": 585, "cx": 320, "cy": 240 },
 //         "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1],
@@ -20,8 +21,10 @@
 // depth-png, depth-pfm, depth-exr (each may say "max_depth" in metres: deeper
 // readings are dropped), tum (a TUM RGB-D "folder", see TumScans.h, with
 // optional "depth_scale", "max_depth", "frame_stride" and "sigma" as for
-// depth-pfm), and orthographic-pfm (a range map of
-// parallel rays: "pixel_size", "origin" [x, y] of pixel (0, 0) and a "pose"
+// depth-pfm), ptx (a PTX file of one or more terrestrial laser scans, see
+// PtxScans.h, with an optional "sigma" in metres; without one, the loader's
+// ScanLoadOptions::ptxSigma, 0.002 by default), and orthographic-pfm (a range
+// map of parallel rays: "pixel_size", "origin" [x, y] of pixel (0, 0) and a "pose"
 // from the map's frame, whose rays run along +z, to the world). Poses are
 // camera-to-world, 16 numbers in row-major order with the translation in the
 // last column. Any entry may say "misses_are_empty": true (a pixel without a

@@ -33,11 +33,16 @@ struct ScanLoadOptions {
   /// TUM RGB-D folders: a frame takes the pose of the nearest timestamp, which
   /// must lie within this many seconds of the frame's.
   double poseTimeTolerance = 0.02;
+  /// Noise of a PTX scan's readings (metres). 2 mm by default: the order of a
+  /// terrestrial laser scanner's range noise at tens of metres; give the
+  /// scanner's own where it is known.
+  double ptxSigma = 0.002;
   /// Gives every reading the same noise `sigma` (world units), whatever the
-  /// scan: Stanford scans' sigma and depth frames' noise alike.
+  /// scan: Stanford scans' sigma, depth frames' noise and PTX scans' alike.
   void setSigma(double sigma) {
     stanford.sigma = sigma;
     depthNoise = DepthNoise{sigma, 0.0};
+    ptxSigma = sigma;
   }
 
   /// If set, each scan is handed over as soon as it is read instead of
@@ -50,6 +55,7 @@ struct ScanLoadOptions {
 /// Loads the scans at `path`, by what it is:
 ///  - a Stanford `.conf` file and the range-grid PLY scans it places;
 ///  - a JSON manifest (`.json`, see Manifest.h);
+///  - a PTX file (`.ptx`) of one or more terrestrial laser scans (see PtxScans.h);
 ///  - a folder of depth frames in the TUM RGB-D layout: `depth.txt` and
 ///    `groundtruth.txt` (see TumScans.h);
 ///  - a folder of depth frames in the 7-Scenes layout: `*.depth.png` (or

@@ -1,0 +1,96 @@
+// levelfuse: PTX files, the ASCII export of Leica's terrestrial laser scanners
+// (Cyclone, Register 360) that other registration software writes too.
+//
+// A file holds one or more scans, each a header of ten lines and then its
+// points:
+//
+//   columns
+//   rows
+//   st1 st2 st3          the scanner's registered position
+//   sx1 sx2 sx3          its axis x,
+//   sy1 sy2 sy3          axis y
+//   sz1 sz2 sz3          and axis z (up): the scanner-to-world motion
+//   r11 r12 r13 0        a rigid 4x4 transform in row-vector layout
+//   r21 r22 r23 0        (world = point * M, the translation in the last row)
+//   r31 r32 r33 0
+//   t1  t2  t3  1
+//   x y z intensity [r g b]    columns * rows lines, column after column
+//
+// A point "0 0 0 ..." is a ray without a return. Points are either in the
+// scanner's frame with M its pose, or already in the world with M the
+// identity; either way a point is taken to the world by M and from there into
+// the scanner's frame by the scanner's pose, and binned by its azimuth and
+// elevation into a spherical range map (scan/SphericalScan.h).
+//
+// The reader is strict: the file, the line and the problem are named for a
+// header that is not numbers, a column or row count below 1 or more points
+// than the rest of the file can hold, scanner axes that are not orthonormal,
+// a transform that is not rigid, a number that is not finite, a point line of
+// other than 4 or 7 fields (or of another count than the scan's first), a
+// colour outside 0 to 255, a truncated file, a scan without returns, and
+// anything but blank lines after the last scan.
+#pragma once
+
+#include <levelfuse/core/Interrupter.h>
+#include <levelfuse/io/Scans.h>
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/math/Mat4.h>
+#include <openvdb/math/Vec3.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace levelfuse::io {
+
+/// A point's colour as a seven-field PTX line gives it: r, g, b from 0 to 255.
+using PtxColour = std::array<std::uint8_t, 3>;
+
+/// One scan of a PTX file, its points in the scanner's own frame.
+struct PtxScan {
+  int index = 0;      ///< 1 for the file's first scan
+  std::int64_t firstLine = 0;  ///< the line of its column count
+  std::int64_t lastLine = 0;   ///< the line of its last point
+  int columns = 0, rows = 0;
+  /// Rows x, y, z: the scanner's axes (made orthonormal to rounding), and last
+  /// its position; OpenVDB's row-vector layout.
+  openvdb::math::Mat4d scannerToWorld = openvdb::math::Mat4d::identity();
+  /// columns * rows points, column after column, in the scanner's frame; the
+  /// origin where the ray had no return.
+  std::vector<openvdb::Vec3d> points;
+  std::vector<float> intensities;  ///< per point, as written
+  /// Per point for seven-field lines, else empty. Read and checked, but not
+  /// yet used: the range maps carry no colour.
+  std::vector<PtxColour> colours;
+  std::size_t returns = 0;  ///< points that are not "0 0 0"
+};
+
+/// Takes each scan of a file as soon as it is read.
+using PtxScanTaker = std::function<void(PtxScan&&)>;
+
+/// Reads the PTX file at `path` strictly (see above), handing each scan to
+/// `take` as soon as it is read: one scan is held at a time. `interrupter` is
+/// asked before each scan and every 65536 points (Interrupted). Throws
+/// InputError naming the file and line.
+void readPtxScans(const std::string& path, const PtxScanTaker& take, const Interrupter& interrupter = {});
+
+/// The scan as a spherical range map with the angular steps of its grid
+/// (stepsOfGrid), each reading of noise `sigma`, named `name`. Throws
+/// InputError naming `path` and the scan's lines if its returns make no grid
+/// (no two neighbours along a column or a row both have one), one of more
+/// than four pixels per point it declares (refused before the map is
+/// allocated), a map on which fewer than half its returns have a pixel of
+/// their own (either way its points lie on no one grid), or no map.
+RangeMap rangeMapFromPtxScan(const PtxScan& scan, double sigma, const std::string& path, const std::string& name);
+
+/// Every scan of a PTX file as a spherical range map, named "<file stem> scan
+/// <k>", of noise `options.ptxSigma`. With `options.take` set each is handed
+/// over as soon as it is read, and none is returned. The progress is told
+/// (k, k) after the k-th scan: a file does not say how many it holds.
+std::vector<RangeMap> loadPtxScans(const std::string& path, const ScanLoadOptions& options = {});
+
+}  // namespace levelfuse::io

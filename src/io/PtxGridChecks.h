@@ -1,0 +1,32 @@
+// levelfuse: checks that a PTX scan's points lie on one scanner's grid
+// (private to the PTX reader). A scanner's own grid comes back about pixel for
+// pixel: a grid much larger than the scan's declared points is refused before
+// it is allocated, and a map on which many returns share a pixel after it is
+// made.
+#pragma once
+
+#include <levelfuse/io/PtxScans.h>
+#include <levelfuse/scan/SphericalScan.h>
+
+#include <string>
+
+namespace levelfuse::io {
+
+/// A map may have at most this many pixels per point the scan declares (and
+/// a few more: kSpareGridPixels).
+inline constexpr double kMaxPixelsPerPoint = 4.0;
+inline constexpr double kSpareGridPixels = 16.0;
+
+/// At least as many pixels as binning the scan's returns with `steps` makes:
+/// the arc of azimuths they cover and their span of elevations, in steps.
+double gridPixelsAtMost(const PtxScan& scan, const AngularSteps& steps);
+
+/// Throws InputError naming `path` and the scan if binning its returns with
+/// `steps` could make more than kMaxPixelsPerPoint pixels per point.
+void requireGridOfTheScansSize(const PtxScan& scan, const AngularSteps& steps, const std::string& path);
+
+/// Throws InputError naming `path` and the scan if `map`, the scan binned,
+/// has readings for fewer than half its returns (the others shared a pixel).
+void requireReturnsOnTheirOwnPixels(const PtxScan& scan, const RangeMap& map, const std::string& path);
+
+}  // namespace levelfuse::io

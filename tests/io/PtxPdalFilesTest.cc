@@ -1,0 +1,112 @@
+// Real PTX files: PDAL's test files (github.com/PDAL/PDAL, test/data/ptx, BSD
+// licence; the last commit to change them is 39d9163 of 2022-07-11), which
+// ../shared/data/ptx holds beside the repository when it is there: they are
+// not copied into it. Without them these tests say so and pass.
+
+#include "support/InputErrors.h"
+#include "support/TestSupport.h"
+
+#include <levelfuse/io/PtxScans.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace levelfuse::io {
+namespace {
+
+using openvdb::Vec3d;
+
+/// The path of one of PDAL's PTX files, or "" if ../shared/data/ptx does not hold it.
+std::string pdalFile(const std::string& name) {
+  const std::string path = test::sharedData("ptx/" + name);
+  return !path.empty() && std::filesystem::is_regular_file(path) ? path : "";
+}
+
+std::vector<PtxScan> readAll(const std::string& path) {
+  std::vector<PtxScan> scans;
+  readPtxScans(path, [&](PtxScan&& scan) { scans.push_back(std::move(scan)); });
+  return scans;
+}
+
+/// The file's scan, which must be its only one (an empty scan if not).
+PtxScan onlyScanOf(const std::string& path) {
+  std::vector<PtxScan> scans = readAll(path);
+  EXPECT_EQ(scans.size(), 1u) << path;
+  return scans.size() == 1 ? std::move(scans[0]) : PtxScan();
+}
+
+void expectGrid(const PtxScan& scan, int columns, int rows, std::size_t returns) {
+  EXPECT_EQ(scan.columns, columns);
+  EXPECT_EQ(scan.rows, rows);
+  EXPECT_EQ(scan.returns, returns);
+}
+
+/// Why a test is skipped without the file.
+std::string absent(const std::string& name) {
+  return "../shared/data/ptx/" + name + " is absent: PDAL's PTX file is not tested";
+}
+
+// A scanner's own export: 2 columns x 6 rows in the scanner's frame, the
+// transform its pose (a small tilt, written with six decimals), colour.
+TEST(PdalPtxFiles, AScannersExportWithItsPose) {
+  const std::string path = pdalFile("complex-transform.ptx");
+  if (path.empty()) GTEST_SKIP() << absent("complex-transform.ptx");
+  const PtxScan scan = onlyScanOf(path);
+  expectGrid(scan, 2, 6, 4);
+  ASSERT_EQ(scan.points.size(), 12u);
+  EXPECT_EQ(scan.colours.size(), 12u);
+  EXPECT_EQ(scan.colours[4], (PtxColour{33, 38, 24}));
+  EXPECT_NEAR((scan.scannerToWorld.getTranslation() - Vec3d(-3.028748, -3.819741, -1.384333)).length(), 0.0, 1e-9);
+  // The transform is the scanner's pose: the points come back as written.
+  EXPECT_NEAR((scan.points[4] - Vec3d(-0.005630, 0.645218, -0.440506)).length(), 0.0, 1e-5);
+  EXPECT_NEAR((scan.points[7] - Vec3d(-0.005600, 0.647598, -0.438828)).length(), 0.0, 1e-5);
+  EXPECT_EQ(scan.points[0], Vec3d(0.0));
+  // Its four returns stand on two columns' different rows: no two neighbours
+  // along a row both have one, so no azimuth step can be told.
+  test::expectInputError([&] { loadPtxScans(path); }, path, "scan 1 (lines 1 to 22): ");
+}
+
+// Points already in the world (UTM coordinates), the transform the identity:
+// an airborne survey's points written 15 to a column, on no scanner's grid.
+TEST(PdalPtxFiles, ARegisteredExportInTheWorld) {
+  const std::string path = pdalFile("1.2-with-color.ptx");
+  if (path.empty()) GTEST_SKIP() << absent("1.2-with-color.ptx");
+  const PtxScan scan = onlyScanOf(path);
+  expectGrid(scan, 15, 71, 1065);
+  EXPECT_EQ(scan.colours.size(), 1065u);
+  openvdb::BBoxd bounds;
+  for (const Vec3d& p : scan.points) bounds.expand(p);
+  EXPECT_NEAR(bounds.min().x(), 635619.85, 1e-6);
+  EXPECT_NEAR(bounds.max().x(), 638982.55, 1e-6);
+  EXPECT_NEAR(bounds.min().y(), 848899.70, 1e-6);
+  EXPECT_NEAR(bounds.max().y(), 853535.43, 1e-6);
+  EXPECT_NEAR(bounds.min().z(), 406.59, 1e-6);
+  EXPECT_NEAR(bounds.max().z(), 586.38, 1e-6);
+  test::expectInputError([&] { loadPtxScans(path); }, path,
+                         "scan 1 (lines 1 to 1075): its 1065 returns fill only 81 pixels of its grid (6 x 26 of ");
+}
+
+// One row of 15 points without colour.
+TEST(PdalPtxFiles, ARowWithoutColour) {
+  const std::string path = pdalFile("no-color.ptx");
+  if (path.empty()) GTEST_SKIP() << absent("no-color.ptx");
+  const PtxScan scan = onlyScanOf(path);
+  expectGrid(scan, 15, 1, 15);
+  EXPECT_TRUE(scan.colours.empty());
+}
+
+// Two scans, the first with a transform (and scanner axis) that scales z by 2:
+// not a rigid motion, refused at the scanner's axes, which come first.
+TEST(PdalPtxFiles, AScaledTransformIsRefused) {
+  const std::string path = pdalFile("multiple-and-transform.ptx");
+  if (path.empty()) GTEST_SKIP() << absent("multiple-and-transform.ptx");
+  test::expectInputError([&] { readAll(path); }, path,
+                         "line 6: the scanner's axes (lines 4 to 6) are not orthonormal (their dot products are off "
+                         "by up to 3, more than 0.0001): not a rigid motion");
+}
+
+}  // namespace
+}  // namespace levelfuse::io
