@@ -30,6 +30,7 @@
 #include <levelfuse/io/MeshFile.h>
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/io/Preview.h>
+#include <levelfuse/io/PtxScans.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/io/TextRecords.h>

@@ -44,20 +44,28 @@ double phaseOf(const std::vector<Direction>& directions, const AngleOf& angleOf,
   return std::atan2(s, c) / kTurn * step;
 }
 
+/// An angle's turn from `from`, in [0, 2 pi).
+double turnFrom(double angle, double from) {
+  const double turn = angle - from;
+  return turn - kTurn * std::floor(turn / kTurn);
+}
+
 /// Where a turn of azimuths may be cut without cutting the sweep: the
-/// middle of the widest run of empty bins of `step` (absolute azimuths from
-/// -pi), or, with every bin filled, nowhere (`cut` is then -pi and `closed`
-/// tells whether the turn is a whole number of steps, to be closed).
+/// middle of the widest run of empty bins of `step` centred on the points'
+/// phase, or, with every bin filled, between two of them (`closed` then tells
+/// whether the turn is a whole number of steps, to be closed).
 struct TurnCut {
-  double cut = -M_PI;
+  double cut = 0.0;
   bool closed = false;
 };
 
 TurnCut turnCutOf(const std::vector<Direction>& directions, double step, bool wholeTurn) {
+  const double phase = phaseOf(directions, [](const Direction& d) { return d.azimuth; }, step);
+  const double firstEdge = phase - 0.5 * step;  // bin 0 is [firstEdge, firstEdge + step)
   const long bins = static_cast<long>(std::ceil(kTurn / step - 1e-9));
   std::vector<std::uint8_t> filled(static_cast<std::size_t>(bins), 0);
   for (const Direction& d : directions)
-    filled[static_cast<std::size_t>(std::clamp(static_cast<long>((d.azimuth + M_PI) / step), 0L, bins - 1))] = 1;
+    filled[static_cast<std::size_t>(std::min(static_cast<long>(turnFrom(d.azimuth, firstEdge) / step), bins - 1))] = 1;
   long widest = 0, widestEnd = 0, run = 0;
   // Twice round, so that a run of empty bins across the first is counted whole.
   for (long k = 0; k < 2 * bins; ++k) {
@@ -68,19 +76,14 @@ TurnCut turnCutOf(const std::vector<Direction>& directions, double step, bool wh
     }
   }
   TurnCut turn;
+  turn.cut = firstEdge;
   if (widest == 0) {
     turn.closed = wholeTurn;
     return turn;
   }
   // The middle of the run, from the start of its first bin to the end of its last.
-  turn.cut = -M_PI + (static_cast<double>(widestEnd + 1) - 0.5 * static_cast<double>(widest)) * step;
+  turn.cut = firstEdge + (static_cast<double>(widestEnd + 1) - 0.5 * static_cast<double>(widest)) * step;
   return turn;
-}
-
-/// An angle's turn from `from`, in [0, 2 pi).
-double turnFrom(double angle, double from) {
-  const double turn = angle - from;
-  return turn - kTurn * std::floor(turn / kTurn);
 }
 
 /// The points' directions, those that can be binned (kPoleMargin).
