@@ -99,6 +99,17 @@ TEST(PtxScans, ASphereAroundATurnedScannerLandsOnTheSphere) {
   EXPECT_LT(farthestFromSphere(map, grid.scannerToWorld), kOnTheSurface);
 }
 
+TEST(PtxScans, AnAzimuthStepThatDoesNotDivideTheTurnLandsOnTheSphereToo) {
+  TempDir dir;
+  test::PtxGrid grid = turnedGrid();
+  grid.azimuthStep = 0.05;  // 125.7 a turn; the scan crosses azimuth 0
+  const std::vector<Vec3d> points = spherePoints(grid);
+  writeText(dir.path("sphere.ptx"), test::ptxScanText(grid, points, PtxFrame::kScanner));
+  const RangeMap map = loadScans(dir.path("sphere.ptx")).at(0);
+  EXPECT_EQ(map.validCount(), returnsOf(points));
+  EXPECT_LT(farthestFromSphere(map, grid.scannerToWorld), kOnTheSurface);
+}
+
 TEST(PtxScans, AFloorSeenBelowTheHorizonLandsOnTheFloor) {
   TempDir dir;
   const test::PtxGrid grid = turnedGrid();
