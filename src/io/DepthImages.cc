@@ -7,6 +7,7 @@
 #include <levelfuse/io/MemoryBudget.h>
 
 #include "ExrHeader.h"
+#include "Orthonormal.h"
 
 #include <png.h>
 
@@ -405,17 +406,12 @@ openvdb::math::Mat4d poseFromRowMajor(const std::vector<double>& m, const std::s
   // Column-vector convention in, OpenVDB's row vectors out: the transpose.
   openvdb::math::Mat4d pose(m[0], m[4], m[8], m[12], m[1], m[5], m[9], m[13], m[2], m[6], m[10], m[14], m[3], m[7],
                             m[11], m[15]);
-  openvdb::math::Mat3d r = pose.getMat3();
-  const openvdb::math::Mat3d rtr = r.transpose() * r;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (std::fabs(rtr(i, j) - (i == j ? 1.0 : 0.0)) > 1e-2)
-        throw InputError(file, where + "the pose's rotation is not orthonormal: not a rigid motion");
+  const openvdb::math::Mat3d r = pose.getMat3();
+  if (orthonormalityError(r) > 1e-2)
+    throw InputError(file, where + "the pose's rotation is not orthonormal: not a rigid motion");
   if (r.det() < 0.0) throw InputError(file, where + "the pose mirrors space (determinant -1)");
-  // Tracked camera poses are orthonormal to a few parts in a thousand: take the
-  // nearest rotation (polar decomposition by Newton's iteration).
-  for (int iteration = 0; iteration < 8; ++iteration) r = (r + r.inverse().transpose()) * 0.5;
-  pose.setMat3(r);
+  // Tracked camera poses are orthonormal to a few parts in a thousand: take the nearest rotation.
+  pose.setMat3(nearestRotation(r));
   return pose;
 }
 

@@ -10,10 +10,10 @@ namespace levelfuse::io {
 /// (0 for a rotation or a mirror).
 double orthonormalityError(const openvdb::math::Mat3d& m);
 
-/// The rotation nearest to `m`, which must be orthonormal to within a few
-/// parts in ten thousand with a positive determinant: a rotation written with
-/// six decimals comes back orthonormal to rounding (polar decomposition by
-/// Newton's iteration).
+/// The rotation nearest to `m`, which must be orthonormal to within a part in
+/// a hundred with a positive determinant: a rotation written with six
+/// decimals, or a tracked camera's, comes back orthonormal to rounding (polar
+/// decomposition by Newton's iteration).
 openvdb::math::Mat3d nearestRotation(openvdb::math::Mat3d m);
 
 }  // namespace levelfuse::io
