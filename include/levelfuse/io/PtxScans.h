@@ -33,6 +33,7 @@
 
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/io/Scans.h>
+#include <levelfuse/scan/Colour.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <openvdb/math/Mat4.h>
@@ -48,7 +49,7 @@
 namespace levelfuse::io {
 
 /// A point's colour as a seven-field PTX line gives it: r, g, b from 0 to 255.
-using PtxColour = std::array<std::uint8_t, 3>;
+using PtxColour = Rgb8;
 
 /// One scan of a PTX file, its points in the scanner's own frame.
 struct PtxScan {
