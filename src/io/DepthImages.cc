@@ -8,8 +8,8 @@
 
 #include "ExrHeader.h"
 #include "Orthonormal.h"
+#include "PngRead.h"
 
-#include <png.h>
 
 #if defined(LEVELFUSE_HAVE_OPENEXR)
 #include <ImfChannelList.h>
@@ -22,7 +22,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <csetjmp>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -45,7 +44,7 @@ const char* const kTooLargeAdvice = "crop or downsample the image, or use a mach
 const float kNoReading = std::numeric_limits<float>::quiet_NaN();
 
 
-using Problem = char[200];
+using Problem = detail::PngProblem;
 
 /// The checks of an image's declared size that every reader makes: writes what
 /// is wrong into `problem`, or leaves it empty.
@@ -69,90 +68,17 @@ void requireSize(const std::string& path, double width, double height) {
   if (problem[0] != 0) throw InputError(path, problem);
 }
 
-/// libpng reports errors through longjmp; the message is kept here.
-struct PngErrors {
-  std::jmp_buf jump;
-  char message[256] = "";
-};
-
-extern "C" void onPngError(png_structp png, png_const_charp message) {
-  auto* errors = static_cast<PngErrors*>(png_get_error_ptr(png));
-  std::snprintf(errors->message, sizeof(errors->message), "%s", message);
-  std::longjmp(errors->jump, 1);
-}
-extern "C" void onPngWarning(png_structp, png_const_charp) {}
-
 /// Reads a 16-bit grayscale PNG of `fileBytes` bytes into `samples` (host byte
-/// order). Returns an error message, empty on success. Plain C inside: no
-/// destructors are skipped by libpng's longjmp.
+/// order). Returns an error message, empty on success.
 std::string readPng16(const char* path, double fileBytes, int& width, int& height,
                       std::vector<std::uint16_t>& samples) {
-  FILE* file = std::fopen(path, "rb");
-  if (!file) return "cannot be opened for reading";
-  unsigned char signature[8];
-  if (std::fread(signature, 1, 8, file) != 8 || png_sig_cmp(signature, 0, 8) != 0) {
-    std::fclose(file);
-    return "not a PNG file";
-  }
-  PngErrors errors;
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &errors, onPngError, onPngWarning);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    std::fclose(file);
-    return "out of memory";
-  }
-  std::vector<png_bytep>* rows = new std::vector<png_bytep>();
-  if (setjmp(errors.jump)) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    std::fclose(file);
-    delete rows;
-    if (std::strcmp(errors.message, "Read Error") == 0) return "truncated PNG data (the file ends inside a chunk)";
-    return std::string("corrupt PNG data (") + errors.message + ")";
-  }
-  png_init_io(png, file);
-  png_set_sig_bytes(png, 8);
-  // Skip, unread, every chunk a depth image does not need (text, colour
-  // profiles, ...): libpng would allocate whatever length such a chunk declares.
-  png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, nullptr, -1);
-#if defined(FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION)
-  // Fuzzer builds only: accept wrong checksums, so that mutated inputs reach
-  // the decoder instead of stopping at the first CRC.
-  png_set_crc_action(png, PNG_CRC_QUIET_USE, PNG_CRC_QUIET_USE);
-#if defined(PNG_IGNORE_ADLER32)
-  png_set_option(png, PNG_IGNORE_ADLER32, PNG_OPTION_ON);
-#endif
-#endif
-  png_read_info(png, info);
-  const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
-  const int depth = png_get_bit_depth(png, info), colour = png_get_color_type(png, info);
-  Problem problem = "";  // no C++ object may live across libpng's longjmp
-  if (colour != PNG_COLOR_TYPE_GRAY)
-    std::snprintf(problem, sizeof(problem),
-                  "not a grayscale image (PNG colour type %d): a depth image has one channel", colour);
-  else if (depth != 16)
-    std::snprintf(problem, sizeof(problem), "has %d-bit samples; a depth image needs 16 bits", depth);
-  else
-    checkSize(w, h, problem);
-  if (problem[0] == 0 && double(h) * (1.0 + 2.0 * double(w)) > kMaxDeflateRatio * fileBytes)
-    std::snprintf(problem, sizeof(problem),
-                  "the header declares %u x %u pixels, more than the file's %.0f bytes can hold (truncated?)",
-                  unsigned(w), unsigned(h), fileBytes);
-  if (problem[0] == 0) {
-    const png_uint_16 probe = 1;
-    if (*reinterpret_cast<const unsigned char*>(&probe) == 1) png_set_swap(png);  // PNG is big-endian
-    width = static_cast<int>(w);
-    height = static_cast<int>(h);
-    samples.assign(static_cast<std::size_t>(w) * h, 0);
-    rows->resize(h);
-    for (png_uint_32 y = 0; y < h; ++y) (*rows)[y] = reinterpret_cast<png_bytep>(samples.data() + std::size_t(y) * w);
-    png_read_image(png, rows->data());
-    png_read_end(png, nullptr);
-  }
-  png_destroy_read_struct(&png, &info, nullptr);
-  std::fclose(file);
-  delete rows;
-  return std::string(problem);
+  std::vector<std::uint8_t> pixels;
+  const std::string problem =
+      detail::readPngPixels(path, fileBytes, detail::PngPixels::kGray16, checkSize, width, height, pixels);
+  if (!problem.empty()) return problem;
+  samples.resize(pixels.size() / 2);
+  std::memcpy(samples.data(), pixels.data(), pixels.size());
+  return "";
 }
 
 /// Depth images hold metres: a scanner or depth camera measures within metres,

@@ -5,6 +5,7 @@
 #include "LargestAllocation.h"
 #include "support/InputErrors.h"
 
+#include <levelfuse/io/ColourImages.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Ply.h>
@@ -29,7 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 
 enum class Reader { kPly, kRangeGrid, kStanfordConf, kManifest, kDepthPng, kDepthPfm, kDepthExr, kIntrinsics, kPose,
-                    kFolder, kPtx, kVdb, kReconstruction };
+                    kFolder, kPtx, kVdb, kReconstruction, kColourPng };
 
 struct BadInput {
   const char* file;      ///< below tests/data/bad; a folder of depth frames for kFolder
@@ -139,6 +140,17 @@ const BadInput kCorpus[] = {
   {"png/huge-dimensions.png", Reader::kDepthPng, "the header declares 100000 x 100000 pixels: too large for a depth image"},
   {"png/chunk-longer-than-the-file.png", Reader::kDepthPng, "truncated PNG data (the file ends inside a chunk)"},
   {"png/text-chunk-of-512-mib.png", Reader::kDepthPng, "truncated PNG data (the file ends inside a chunk)"},
+  {"png/not-a-png.png", Reader::kColourPng, "not a PNG file"},
+  {"png/truncated.png", Reader::kColourPng, "truncated PNG data (the file ends inside a chunk)"},
+  {"png/bad-crc.png", Reader::kColourPng, "corrupt PNG data (IHDR: CRC error)"},
+  {"png/zero-width.png", Reader::kColourPng, "corrupt PNG data (Invalid IHDR data)"},
+  {"png/huge-dimensions.png", Reader::kColourPng, "the header declares 100000 x 100000 pixels: too large for a colour image"},
+  {"png/text-chunk-of-512-mib.png", Reader::kColourPng, "truncated PNG data (the file ends inside a chunk)"},
+  {"png/declares-more-than-it-holds.png", Reader::kColourPng, "the header declares 16000 x 16000 pixels, more than the file's 74 bytes can hold"},
+  {"manifest/colour-not-a-png.json", Reader::kManifest, "not a PNG file", "png/not-a-png.png"},
+  {"manifest/colour-truncated.json", Reader::kManifest, "truncated PNG data", "png/truncated.png"},
+  {"manifest/colour-of-another-size.json", Reader::kManifest, "pixels for a range map of", "png/palette.png"},
+  {"manifest/colour-not-a-string.json", Reader::kManifest, "scans[0]: 'colour'"},
   {"png/declares-more-than-it-holds.png", Reader::kDepthPng, "the header declares 16000 x 16000 pixels, more than the file's 74 bytes can hold"},
   // PFM (readDepthPfm)
   {"pfm/empty.pfm", Reader::kDepthPfm, "empty file"},
@@ -259,6 +271,7 @@ void read(Reader reader, const std::string& path) {
     case Reader::kStanfordConf: loadStanfordScans(path); break;
     case Reader::kManifest: loadManifest(path); break;
     case Reader::kDepthPng: readDepthPng(path); break;
+    case Reader::kColourPng: readColourPng(path); break;
     case Reader::kDepthPfm: readDepthPfm(path); break;
     case Reader::kDepthExr: readDepthExr(path); break;
     case Reader::kIntrinsics: readIntrinsics(path); break;
@@ -295,7 +308,8 @@ TEST_P(BadInputCorpus, ThrowsAnInputErrorNamingTheFileAndTheProblem) {
 }
 
 std::string testName(const ::testing::TestParamInfo<BadInput>& info) {
-  std::string name = info.param.file;
+  // A file read by two readers (a PNG as depth and as colour) is named for both.
+  std::string name = std::string(info.param.reader == Reader::kColourPng ? "colour_" : "") + info.param.file;
   for (char& c : name)
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   return name;
@@ -312,7 +326,9 @@ TEST(BadInputCorpusProbe, SeesTheLargestAllocation) {
 TEST(BadInputCorpusListing, EveryFileInTheFolderIsListed) {
   std::set<std::string> listed(std::begin(kSupportFiles), std::end(kSupportFiles));
   for (const BadInput& input : kCorpus) {
-    EXPECT_TRUE(listed.insert(input.file).second) << input.file << " is listed twice";
+    // A PNG is listed once as a depth image, and may be once more as a colour image.
+    const bool asColour = input.reader == Reader::kColourPng;
+    EXPECT_TRUE(asColour || listed.insert(input.file).second) << input.file << " is listed twice";
     if (input.reader != Reader::kFolder) continue;
     listed.erase(input.file);  // a folder stands for its files
     for (const std::string& file : filesOf(corpusPath(input.file)))
