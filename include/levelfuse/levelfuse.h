@@ -77,3 +77,4 @@
 #include <levelfuse/scan/SightBins.h>
 #include <levelfuse/scan/SphericalScan.h>
 #include <levelfuse/scan/Synth.h>
+#include <levelfuse/scan/SurfaceColour.h>

@@ -4,6 +4,7 @@
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/InputFile.h>
+#include <levelfuse/io/ColourImages.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/PtxScans.h>
 #include <levelfuse/io/StanfordScans.h>
@@ -209,6 +210,16 @@ json parseManifest(const std::string& path) {
   }
 }
 
+/// An entry's "colour": a PNG registered pixel for pixel to the one range map
+/// the entry holds (maps[first]).
+void colourEntry(const Entry& e, std::vector<RangeMap>& maps, std::size_t first) {
+  if (maps.size() != first + 1)
+    e.fail("'colour' is a colour image registered to one range map; this entry holds " +
+           std::to_string(maps.size() - first));
+  const std::string file = e.path("colour");
+  colourRangeMap(maps[first], readColourPng(file), file);
+}
+
 }  // namespace
 
 std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOptions& defaults) {
@@ -293,6 +304,7 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
              " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, orthographic-pfm or "
              "spherical-pfm)");
     }
+    if (e.has("colour")) colourEntry(e, maps, first);
     if (e.has("misses_are_empty")) {
       if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");
       const double reach = e.number("dropout_reach", 2.0);
@@ -380,6 +392,11 @@ std::string writeScanSet(OutputSet& outputs, const std::string& directory, const
       for (int u = 0; u < m.width(); ++u) image.depth.push_back(m.reading(u, v));
     writeDepthPfm(outputs, (fs::path(directory) / file).string(), image);
     json entry{{"file", file}, {"pose", rowMajor(m.mapToWorld())}, {"sigma", m.sigma()}};
+    if (m.hasColours()) {
+      const std::string colourFile = "scan" + std::to_string(j) + ".colour.png";
+      writeColourPng(outputs, (fs::path(directory) / colourFile).string(), colourImageOf(m));
+      entry["colour"] = colourFile;
+    }
     if (const DepthNoise* noise = m.depthNoise())
       entry["sigma"] = {
           {"minimum", noise->minimum}, {"per_metre", noise->perMetre}, {"per_square_metre", noise->perSquareMetre}};

@@ -363,38 +363,77 @@ std::string PlyData::info(const std::string& key) const {
 PlyData readPly(const std::string& path) { return Parser(path, readWholeFile(path)).parse(); }
 
 void writeMeshPly(const std::string& path, const std::vector<float>& xyz, const std::vector<std::uint32_t>& triangles,
-                  bool binary) {
+                  bool binary, const std::vector<std::uint8_t>& rgb) {
   OutputSet outputs;
-  writeMeshPly(outputs, path, xyz, triangles, binary);
+  writeMeshPly(outputs, path, xyz, triangles, binary, rgb);
   outputs.commit();
 }
 
+namespace {
+
+/// A mesh's arrays as writeMeshPly takes them.
+struct MeshArrays {
+  const std::vector<float>& xyz;
+  const std::vector<std::uint32_t>& triangles;
+  const std::vector<std::uint8_t>& rgb;  ///< three per vertex, or none
+};
+
+void writeMeshHeader(std::ostream& out, const MeshArrays& mesh, bool binary) {
+  out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
+      << "comment written by levelfuse\n"
+      << "element vertex " << mesh.xyz.size() / 3 << "\nproperty float x\nproperty float y\nproperty float z\n"
+      << (mesh.rgb.empty() ? "" : "property uchar red\nproperty uchar green\nproperty uchar blue\n")
+      << "element face " << mesh.triangles.size() / 3 << "\nproperty list uchar int vertex_indices\nend_header\n";
+}
+
+void writeBinaryMesh(std::ostream& out, const MeshArrays& mesh) {
+  if (mesh.rgb.empty()) {
+    out.write(reinterpret_cast<const char*>(mesh.xyz.data()),
+              static_cast<std::streamsize>(mesh.xyz.size() * sizeof(float)));
+  } else {
+    for (std::size_t i = 0; i < mesh.xyz.size(); i += 3) {
+      out.write(reinterpret_cast<const char*>(&mesh.xyz[i]), 3 * sizeof(float));
+      out.write(reinterpret_cast<const char*>(&mesh.rgb[i]), 3);
+    }
+  }
+  for (std::size_t t = 0; t < mesh.triangles.size(); t += 3) {
+    const unsigned char three = 3;
+    const std::int32_t tri[3] = {static_cast<std::int32_t>(mesh.triangles[t]),
+                                 static_cast<std::int32_t>(mesh.triangles[t + 1]),
+                                 static_cast<std::int32_t>(mesh.triangles[t + 2])};
+    out.write(reinterpret_cast<const char*>(&three), 1);
+    out.write(reinterpret_cast<const char*>(tri), sizeof(tri));
+  }
+}
+
+void writeAsciiMesh(std::ostream& out, const MeshArrays& mesh) {
+  out.precision(9);
+  for (std::size_t i = 0; i < mesh.xyz.size(); i += 3) {
+    out << mesh.xyz[i] << ' ' << mesh.xyz[i + 1] << ' ' << mesh.xyz[i + 2];
+    if (!mesh.rgb.empty()) out << ' ' << +mesh.rgb[i] << ' ' << +mesh.rgb[i + 1] << ' ' << +mesh.rgb[i + 2];
+    out << '\n';
+  }
+  for (std::size_t t = 0; t < mesh.triangles.size(); t += 3)
+    out << "3 " << mesh.triangles[t] << ' ' << mesh.triangles[t + 1] << ' ' << mesh.triangles[t + 2] << '\n';
+}
+
+}  // namespace
+
 void writeMeshPly(OutputSet& outputs, const std::string& path, const std::vector<float>& xyz,
-                  const std::vector<std::uint32_t>& triangles, bool binary) {
+                  const std::vector<std::uint32_t>& triangles, bool binary, const std::vector<std::uint8_t>& rgb) {
   if (xyz.size() % 3 != 0 || triangles.size() % 3 != 0)
     throw std::invalid_argument("writeMeshPly: coordinates and triangle indices come in threes");
+  if (!rgb.empty() && rgb.size() != xyz.size())
+    throw std::invalid_argument("writeMeshPly: a coloured mesh needs one colour per vertex");
+  const MeshArrays mesh{xyz, triangles, rgb};
   outputs.add(path, [&](const std::string& temporary) {
     std::ofstream out(temporary, std::ios::binary);
     if (!out) throw std::runtime_error("cannot open a temporary file beside it");
-    out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
-        << "comment written by levelfuse\n"
-        << "element vertex " << xyz.size() / 3 << "\nproperty float x\nproperty float y\nproperty float z\n"
-        << "element face " << triangles.size() / 3 << "\nproperty list uchar int vertex_indices\nend_header\n";
-    if (binary) {
-      out.write(reinterpret_cast<const char*>(xyz.data()), static_cast<std::streamsize>(xyz.size() * sizeof(float)));
-      for (std::size_t t = 0; t < triangles.size(); t += 3) {
-        const unsigned char three = 3;
-        const std::int32_t tri[3] = {static_cast<std::int32_t>(triangles[t]), static_cast<std::int32_t>(triangles[t + 1]),
-                                     static_cast<std::int32_t>(triangles[t + 2])};
-        out.write(reinterpret_cast<const char*>(&three), 1);
-        out.write(reinterpret_cast<const char*>(tri), sizeof(tri));
-      }
-    } else {
-      out.precision(9);
-      for (std::size_t i = 0; i < xyz.size(); i += 3) out << xyz[i] << ' ' << xyz[i + 1] << ' ' << xyz[i + 2] << '\n';
-      for (std::size_t t = 0; t < triangles.size(); t += 3)
-        out << "3 " << triangles[t] << ' ' << triangles[t + 1] << ' ' << triangles[t + 2] << '\n';
-    }
+    writeMeshHeader(out, mesh, binary);
+    if (binary)
+      writeBinaryMesh(out, mesh);
+    else
+      writeAsciiMesh(out, mesh);
     closeChecked(out);
   });
 }

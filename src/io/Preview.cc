@@ -3,17 +3,18 @@
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/Preview.h>
+#include <levelfuse/scan/SurfaceColour.h>
+
+#include "PngWrite.h"
 #include <levelfuse/levelset/RequireLevelSet.h>
 
 #include <openvdb/math/Ray.h>
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/RayIntersector.h>
 
-#include <png.h>
 
 #include <algorithm>
 #include <cmath>
-#include <csetjmp>
 #include <cstdint>
 #include <cstdio>
 #include <limits>
@@ -27,57 +28,50 @@ namespace {
 
 using openvdb::Vec3d;
 
-/// libpng reports through callbacks: an error longjmps back with its message
-/// kept here; warnings are kept too, for the error message, never printed.
-struct PngMessages {
-  std::jmp_buf jump;
-  char error[256] = "";
-  char warning[256] = "";
+/// Where a ray enters the surface, marched in steps of half a voxel and the
+/// crossing interpolated linearly: a check of the ray intersector, which can
+/// step over a surface met at a grazing angle near a node's edge.
+class RayEntry {
+ public:
+  explicit RayEntry(const openvdb::FloatGrid& levelSet)
+      : mAccess(levelSet.getConstAccessor()), mSampler(mAccess, levelSet.transform()),
+        mVoxel(levelSet.voxelSize()[0]) {}
+  bool outside(const Vec3d& x) const { return mSampler.wsSample(x) > 0.0; }
+  /// The first point between `from` (outside) and `to` where the level set
+  /// crosses zero, and the level set's gradient there; false if none is found.
+  bool between(const Vec3d& from, const Vec3d& to, Vec3d& hit, Vec3d& normal) const {
+    const double length = (to - from).length(), step = 0.5 * mVoxel;
+    if (!(length > 0.0)) return false;
+    const Vec3d direction = (to - from) / length;
+    double before = mSampler.wsSample(from);
+    for (double t = step; t <= length + step; t += step) {
+      const Vec3d x = from + direction * std::min(t, length);
+      const double value = mSampler.wsSample(x);
+      if (value <= 0.0) {
+        hit = x - direction * (step * value / (value - before));  // linear between the two samples
+        for (int a = 0; a < 3; ++a) {
+          Vec3d d(0.0);
+          d[a] = mVoxel;
+          normal[a] = mSampler.wsSample(hit + d) - mSampler.wsSample(hit - d);
+        }
+        return normal.length() > 0.0;
+      }
+      before = value;
+    }
+    return false;
+  }
+
+ private:
+  openvdb::FloatGrid::ConstAccessor mAccess;
+  openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> mSampler;
+  double mVoxel;
 };
 
-extern "C" void onPngWriteError(png_structp png, png_const_charp message) {
-  auto* messages = static_cast<PngMessages*>(png_get_error_ptr(png));
-  std::snprintf(messages->error, sizeof(messages->error), "%s", message);
-  std::longjmp(messages->jump, 1);
-}
-extern "C" void onPngWriteWarning(png_structp png, png_const_charp message) {
-  auto* messages = static_cast<PngMessages*>(png_get_error_ptr(png));
-  std::snprintf(messages->warning, sizeof(messages->warning), "%s", message);
-}
-
-/// Writes the picture with libpng; returns an error message, empty on success.
-/// Plain C inside: no destructors are skipped by libpng's longjmp.
-std::string writeRgbPngFile(std::FILE* file, int width, int height, const std::uint8_t* rgb) {
-  PngMessages messages;
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &messages, onPngWriteError, onPngWriteWarning);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info) {
-    png_destroy_write_struct(&png, &info);
-    return "libpng cannot start (out of memory?)";
-  }
-  if (setjmp(messages.jump)) {
-    png_destroy_write_struct(&png, &info);
-    return std::string("libpng: ") + messages.error + (messages.warning[0] ? std::string(" (") + messages.warning + ")" : "");
-  }
-  png_init_io(png, file);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  for (int y = 0; y < height; ++y)
-    png_write_row(png, const_cast<png_bytep>(rgb + static_cast<std::size_t>(y) * width * 3));
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  return "";
-}
-
-void writeRgbPng(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
-  std::FILE* file = std::fopen(path.c_str(), "wb");
-  if (!file) throw std::runtime_error("cannot open a temporary file beside it");
-  const std::string error = writeRgbPngFile(file, width, height, rgb.data());
-  const bool flushed = std::fflush(file) == 0 && std::ferror(file) == 0;
-  const bool closed = std::fclose(file) == 0;
-  if (!error.empty()) throw std::runtime_error(error);
-  if (!flushed || !closed) throw std::runtime_error("write error (disk full?)");
+/// A colour as scanners record it (sRGB-encoded, 0 to 1) in linear light, to shade.
+Vec3d linearColour(const openvdb::Vec3f& encoded) {
+  Vec3d linear;
+  for (int c = 0; c < 3; ++c) linear[c] = std::pow(std::clamp(static_cast<double>(encoded[c]), 0.0, 1.0), 2.2);
+  return linear;
 }
 
 std::uint8_t toByte(double linear) {
@@ -200,12 +194,18 @@ PreviewImage rayCast(const openvdb::FloatGrid& levelSet, const PreviewOptions& o
     openvdb::tools::LevelSetRayIntersector<openvdb::FloatGrid> intersector(shared);  // one accessor per task
     std::optional<openvdb::FloatGrid::ConstAccessor> weight;
     if (options.weight) weight.emplace(options.weight->getConstAccessor());
+    const RayEntry entry(levelSet);
     // The first surface along the ray that is drawn.
     const auto drawnHit = [&](const Vec3d& direction, Vec3d& hit, Vec3d& normal) {
       double start = 0.0, time = 0.0;
       for (int pass = 0; pass < kMaxSurfacesPassed; ++pass) {
         if (!intersector.intersectsWS(openvdb::math::Ray<double>(eye, direction, start), hit, normal, time))
           return false;
+        // A ray from outside meets a front face first: if the intersector
+        // stopped at a back face, it stepped over the front one.
+        const Vec3d from = eye + direction * start;
+        if (normal.dot(direction) > 0.0 && entry.outside(from) && entry.between(from, hit, hit, normal))
+          time = (hit - eye).length();
         if (!weight) return normal.length() > 0.0;
         const double observed = openvdb::tools::BoxSampler::sample(*weight, options.weight->worldToIndex(hit));
         if (observed >= options.minWeight) return normal.length() > 0.0;
@@ -226,7 +226,8 @@ PreviewImage rayCast(const openvdb::FloatGrid& levelSet, const PreviewOptions& o
           const double diffuse = 0.75 * std::max(0.0, normal.dot(key)) + 0.35 * std::max(0.0, -normal.dot(direction));
           const Vec3d halfway = (key - direction).unit();
           const double specular = 0.15 * std::pow(std::max(0.0, normal.dot(halfway)), 40.0);
-          colour = albedo * (0.08 + diffuse) + Vec3d(specular);
+          const Vec3d surfaceAlbedo = options.colour ? linearColour(colourAt(*options.colour, hit)) : albedo;
+          colour = surfaceAlbedo * (0.08 + diffuse) + Vec3d(specular);
         } else {
           const double t = static_cast<double>(y) / options.height;
           colour = Vec3d(0.30, 0.33, 0.38) * (1.0 - t) + Vec3d(0.12, 0.13, 0.15) * t;
@@ -249,7 +250,7 @@ void writePreviewPng(OutputSet& outputs, const openvdb::FloatGrid& levelSet, con
                      const PreviewOptions& options) {
   requireLevelSet(levelSet, "writePreviewPng");
   const PreviewImage image = rayCast(levelSet, options);
-  outputs.add(path, [&](const std::string& temporary) { writeRgbPng(temporary, image.width, image.height, image.rgb); });
+  outputs.add(path, [&](const std::string& temporary) { detail::writeRgbPng(temporary, image.width, image.height, image.rgb); });
 }
 
 }  // namespace levelfuse::io

@@ -21,6 +21,8 @@ TriangleMesh trimMesh(const TriangleMesh& mesh, const openvdb::FloatGrid& weight
     if (index >= vertices)
       throw std::invalid_argument("trimMesh: a triangle names vertex " + std::to_string(index) + " of " +
                                   std::to_string(vertices) + " (not a valid indexed mesh)");
+  if (mesh.hasColours() && mesh.rgb.size() != mesh.xyz.size())
+    throw std::invalid_argument("trimMesh: a coloured mesh needs one colour per vertex");
 
   // Which triangles stay: the weight at their centres.
   std::vector<std::uint8_t> keep(mesh.triangleCount(), 0);
@@ -50,6 +52,8 @@ TriangleMesh trimMesh(const TriangleMesh& mesh, const openvdb::FloatGrid& weight
     if (renumbered[v] == kUnused) continue;
     renumbered[v] = next++;
     trimmed.xyz.insert(trimmed.xyz.end(), {mesh.xyz[3 * v], mesh.xyz[3 * v + 1], mesh.xyz[3 * v + 2]});
+    if (mesh.hasColours())
+      trimmed.rgb.insert(trimmed.rgb.end(), {mesh.rgb[3 * v], mesh.rgb[3 * v + 1], mesh.rgb[3 * v + 2]});
   }
   for (std::size_t t = 0; t < keep.size(); ++t)
     if (keep[t])

@@ -8,6 +8,7 @@
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 #include <levelfuse/scan/AccumulationCost.h>
+#include <levelfuse/scan/SurfaceColour.h>
 
 #include <openvdb/tree/LeafManager.h>
 
@@ -277,6 +278,16 @@ openvdb::FloatGrid::Ptr Reconstructor::surfaceWeight(const openvdb::FloatGrid& l
   return levelfuse::surfaceWeight(levelSet, ForceField(mMaps, forceOptions(finest)), interrupter);
 }
 
+openvdb::Vec3fGrid::Ptr Reconstructor::surfaceColour(const openvdb::FloatGrid& levelSet,
+                                                     const Interrupter& interrupter) const {
+  if (mSummary.colouredScans() == 0) return nullptr;
+  const ForceFieldOptions f = forceOptions(*mOptions.levels - 1);
+  const RangeMapSequence maps = mFusion ? mFusion->scans() : rangeMapsOf(*mMaps);
+  openvdb::Vec3fGrid::Ptr colour =
+      levelfuse::surfaceColour(levelSet, maps, f.dataWindow(), f.positionVariance, interrupter);
+  return colour->activeVoxelCount() > 0 ? colour : nullptr;
+}
+
 FusionSettings fusionSettingsOf(const ReconstructionOptions& resolved) {
   if (!resolved.voxelSize || !resolved.levels || !resolved.epsilon)
     throw std::invalid_argument("fusionSettingsOf: the options' voxel size, levels and epsilon must be resolved "
@@ -401,6 +412,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
     result.peakEngineBytes = std::max(result.peakEngineBytes, result.levels.back().engineBytes);
   }
   describeRun(*result.levelSet, iterations);
+  result.colour = surfaceColour(*result.levelSet, interrupter);
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   state.stage = ReconstructionProgress::Stage::kDone;
   report();

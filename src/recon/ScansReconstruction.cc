@@ -5,6 +5,7 @@
 #include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/SurfaceWeight.h>
+#include <levelfuse/scan/SurfaceColour.h>
 
 #include <openvdb/tools/Interpolation.h>
 
@@ -42,9 +43,11 @@ ScansReconstruction prepareReconstruction(PackedScans scans, const Reconstructio
 
 bool trimsUnseen(bool scene, std::optional<bool> asked) { return asked.value_or(scene); }
 
-TriangleMesh meshShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatGrid* trimBy, double adaptivity) {
+TriangleMesh meshShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatGrid* trimBy, double adaptivity,
+                       const openvdb::Vec3fGrid* colour) {
   TriangleMesh mesh = meshFromLevelSet(levelSet, adaptivity);
   if (trimBy) mesh = trimMesh(mesh, *trimBy, kObservedWeight);
+  if (colour) paintMesh(mesh, *colour);
   return mesh;
 }
 

@@ -129,6 +129,7 @@ PackedRangeMap::PackedRangeMap(RangeMap map) : mShell(std::move(map)) {
   mSigmas = packArray(mShell.mSigmas);
   mDirections = packArray<openvdb::Vec3f, float>(mShell.mDirections);
   mSamples = packArray<openvdb::Vec3d, double>(mShell.mSamples);
+  mColours = packArray<Rgb8, std::uint8_t>(mShell.mColours);
   mBlockMin = packArray(mShell.mBlockMin);
   mBlockMax = packArray(mShell.mBlockMax);
   mBlockComplete = packArray(mShell.mBlockComplete);
@@ -148,6 +149,7 @@ RangeMap PackedRangeMap::unpack() const {
   map.mSigmas = unpackArray<float>(mSigmas);
   map.mDirections = unpackArray<openvdb::Vec3f>(mDirections);
   map.mSamples = unpackArray<openvdb::Vec3d>(mSamples);
+  map.mColours = unpackArray<Rgb8>(mColours);
   map.mBlockMin = unpackArray<float>(mBlockMin);
   map.mBlockMax = unpackArray<float>(mBlockMax);
   map.mBlockComplete = unpackArray<std::uint8_t>(mBlockComplete);
@@ -158,7 +160,7 @@ RangeMap PackedRangeMap::unpack() const {
 
 std::size_t PackedRangeMap::memoryBytes() const {
   std::size_t bytes = sizeof(*this) + mShell.memoryBytes() - sizeof(RangeMap);
-  for (const Array* a : {&mReadings, &mSigmas, &mDirections, &mSamples, &mBlockMin, &mBlockMax, &mBlockComplete,
+  for (const Array* a : {&mReadings, &mSigmas, &mDirections, &mSamples, &mColours, &mBlockMin, &mBlockMax, &mBlockComplete,
                          &mUsableCells, &mMisses})
     bytes += a->bytes.capacity();
   return bytes;

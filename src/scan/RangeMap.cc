@@ -232,6 +232,32 @@ void RangeMap::setSigmas(std::vector<float> sigmas) {
   findUsableCells();
 }
 
+void RangeMap::setColours(std::vector<Rgb8> colours) {
+  if (!colours.empty() && colours.size() != mReadings.size())
+    throw std::invalid_argument("range map '" + mName + "': one colour per pixel is needed");
+  mColours = std::move(colours);
+}
+
+bool RangeMap::colourAt(const openvdb::Vec3d& p, openvdb::Vec3f& rgb) const {
+  if (mColours.empty()) return false;
+  if (mKind == Kind::kPinhole && !(p.z() > 0.0)) return false;
+  if (mKind == Kind::kSpherical && !(p.x() * p.x() + p.y() * p.y() > 0.0)) return false;
+  const openvdb::math::Vec2d uv = project(p);
+  double r, ru, rv, fu, fv;
+  int i, j;
+  if (!interpolate(uv.x(), uv.y(), r, ru, rv, i, j, fu, fv)) return false;
+  const std::size_t at = index(i, j), below = at + static_cast<std::size_t>(mWidth);
+  const double corner[4] = {(1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv};
+  const std::size_t pixel[4] = {at, at + 1, below, below + 1};
+  openvdb::Vec3d sum(0.0);
+  for (int k = 0; k < 4; ++k) {
+    const Rgb8& c = mColours[pixel[k]];
+    sum += openvdb::Vec3d(c[0], c[1], c[2]) * corner[k];
+  }
+  rgb = openvdb::Vec3f(sum / 255.0);
+  return true;
+}
+
 void RangeMap::adoptDepthNoise(const DepthNoise& noise) {
   if (!(noise.minimum > 0.0) || !std::isfinite(noise.minimum) || !(noise.perSquareMetre >= 0.0) ||
       !std::isfinite(noise.perSquareMetre) || !(noise.perMetre >= 0.0) || !std::isfinite(noise.perMetre))
@@ -406,7 +432,7 @@ std::size_t RangeMap::memoryBytes() const {
   return sizeof(*this) + mName.capacity() + mBlockMin.capacity() * sizeof(float) +
          mBlockMax.capacity() * sizeof(float) + mBlockComplete.capacity() + mReadings.capacity() * sizeof(float) +
          mUsableCell.memoryBytes() + mDirections.capacity() * sizeof(openvdb::Vec3f) +
-         mSigmas.capacity() * sizeof(float) + mSamples.capacity() * sizeof(openvdb::Vec3d) + mMisses.memoryBytes();
+         mSigmas.capacity() * sizeof(float) + mColours.capacity() * sizeof(Rgb8) + mSamples.capacity() * sizeof(openvdb::Vec3d) + mMisses.memoryBytes();
 }
 
 const char* projectionName(RangeMap::Kind kind) {

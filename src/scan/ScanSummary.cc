@@ -16,6 +16,7 @@ void ScanSummary::add(const RangeMap& map) {
   mRaySpacings.push_back(map.maxRaySpacing());
   mSigmas.push_back(map.sigma());
   mScenes += map.ofAScene();
+  mColoured += map.hasColours();
 }
 
 double ScanSummary::medianRaySpacing() const { return median(mRaySpacings); }

@@ -383,4 +383,17 @@ RangeMap renderMesh(const std::vector<Vec3d>& points, const std::vector<openvdb:
   return makeMap(view, std::move(readings), sigma, noise);
 }
 
+SurfacePaint twoColours(const openvdb::Vec3d& centre, const openvdb::Vec3d& axis, const Rgb8& above,
+                        const Rgb8& below) {
+  return [=](const openvdb::Vec3d& x) { return (x - centre).dot(axis) >= 0.0 ? above : below; };
+}
+
+void paintReadings(RangeMap& map, const SurfacePaint& paint) {
+  std::vector<Rgb8> colours(static_cast<std::size_t>(map.width()) * map.height(), Rgb8{0, 0, 0});
+  for (int v = 0; v < map.height(); ++v)
+    for (int u = 0; u < map.width(); ++u)
+      if (map.valid(u, v)) colours[static_cast<std::size_t>(v) * map.width() + u] = paint(map.readingPoint(u, v));
+  map.setColours(std::move(colours));
+}
+
 }  // namespace levelfuse::synth

@@ -6,6 +6,7 @@
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/scan/Scenes.h>
+#include <levelfuse/scan/Synth.h>
 
 #include <gtest/gtest.h>
 
@@ -114,6 +115,30 @@ TEST(Manifest, WritesAndReadsSphericalScans) {
   ASSERT_TRUE(truth);
   EXPECT_STREQ(truth->name(), "room");
   EXPECT_EQ(truth->room.size, shapes::Room{}.size);
+}
+
+TEST(Manifest, WritesAndReadsColoursBesideEachScan) {
+  // Painted views of each kind: each gets a colour image beside its range image.
+  synth::SceneOptions options;
+  options.resolution = 24;
+  std::vector<RangeMap> maps;
+  for (RangeMap::Kind kind : {RangeMap::Kind::kOrthographic, RangeMap::Kind::kPinhole, RangeMap::Kind::kSpherical}) {
+    options.scanner = kind;
+    synth::Scene scene = synth::analyticScene(synth::standardShape(shapes::AnalyticShape::Kind::kSphere), options);
+    maps.push_back(std::move(scene.maps.front()));
+  }
+  for (RangeMap& m : maps)
+    synth::paintReadings(m, [](const openvdb::Vec3d& x) {
+      return Rgb8{static_cast<std::uint8_t>(100 + 100 * x.x()), static_cast<std::uint8_t>(100 + 100 * x.y()), 7};
+    });
+  maps.push_back(maps.front());  // and one without
+  maps.back().setColours({});
+  TempDir dir;
+  const std::vector<RangeMap> read = loadManifest(writeScanSet(dir.path("painted"), maps));
+  ASSERT_EQ(read.size(), maps.size());
+  for (std::size_t i = 0; i < maps.size(); ++i) EXPECT_EQ(read[i].colours(), maps[i].colours()) << i;
+  EXPECT_TRUE(std::filesystem::exists(dir.path("painted/scan0.colour.png")));
+  EXPECT_FALSE(std::filesystem::exists(dir.path("painted/scan3.colour.png")));
 }
 
 TEST(Manifest, RefusesAFileTooLargeToBeOne) {

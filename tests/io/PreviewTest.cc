@@ -57,24 +57,36 @@ TEST(Preview, RefusesWhatItCannotShowAndLeavesNoFile) {
   EXPECT_TRUE(std::filesystem::is_empty(dir.root()));
 }
 
-/// A weight grid on `levelSet`'s band: `inFront` where z > `z`, else `behind`.
+/// A grid on `levelSet`'s band (a weight, a colour): `above` where z > `z`,
+/// else `below`; `background` off the band.
+template <typename GridT>
+typename GridT::Ptr splitAt(const openvdb::FloatGrid& levelSet, double z, const typename GridT::ValueType& above,
+                            const typename GridT::ValueType& below, const typename GridT::ValueType& background) {
+  auto grid = GridT::create(background);
+  grid->setTransform(levelSet.transform().copy());
+  grid->setTree(std::make_shared<typename GridT::TreeType>(levelSet.tree(), background, openvdb::TopologyCopy()));
+  for (auto it = grid->beginValueOn(); it; ++it) it.setValue(grid->indexToWorld(it.getCoord()).z() > z ? above : below);
+  return grid;
+}
+
 openvdb::FloatGrid::Ptr weightSplitAt(const openvdb::FloatGrid& levelSet, double z, float inFront, float behind) {
-  auto weight = openvdb::FloatGrid::create(0.0f);
-  weight->setTransform(levelSet.transform().copy());
-  weight->setTree(std::make_shared<openvdb::FloatTree>(levelSet.tree(), 0.0f, openvdb::TopologyCopy()));
-  for (auto it = weight->beginValueOn(); it; ++it)
-    it.setValue(weight->indexToWorld(it.getCoord()).z() > z ? inFront : behind);
-  return weight;
+  return splitAt<openvdb::FloatGrid>(levelSet, z, inFront, behind, 0.0f);
+}
+
+/// A small picture looking straight down (-z).
+PreviewOptions smallViewFromAbove() {
+  PreviewOptions options;
+  options.width = 160;
+  options.height = 120;
+  options.toward = openvdb::Vec3d(0.0, 0.0, 1.0);
+  return options;
 }
 
 TEST(Preview, LeavesOutTheSurfaceWhereTheWeightIsBelowItsMinimum) {
   test::TempDir dir;
   const openvdb::Vec3d centre(3.0, -2.0, 1.0);
   const auto sphere = test::makeSphere(20.0, centre, 0.1);
-  PreviewOptions options;
-  options.width = 160;
-  options.height = 120;
-  options.toward = openvdb::Vec3d(0.0, 0.0, 1.0);
+  PreviewOptions options = smallViewFromAbove();
   options.minWeight = 0.5;
   const auto picture = [&](float inFront, float behind, const std::string& name) {
     options.weight = weightSplitAt(*sphere, centre.z(), inFront, behind);
@@ -89,6 +101,29 @@ TEST(Preview, LeavesOutTheSurfaceWhereTheWeightIsBelowItsMinimum) {
   // Seen through the front half that is left out: the inside of the back half.
   EXPECT_NE(brightness(back, 80, 60), brightness(none, 80, 60));
   EXPECT_NE(brightness(back, 80, 60), brightness(all, 80, 60));
+}
+
+TEST(Preview, PaintsTheSurfaceInItsColourWithNoPixelFromBehind) {
+  test::TempDir dir;
+  const openvdb::Vec3d centre(3.0, -2.0, 1.0);
+  const auto sphere = test::makeSphere(20.0, centre, 0.1);
+  PreviewOptions options = smallViewFromAbove();
+  options.colour = splitAt<openvdb::Vec3fGrid>(*sphere, centre.z(), openvdb::Vec3f(0.8f, 0.1f, 0.1f),
+                                               openvdb::Vec3f(0.1f, 0.1f, 0.8f), openvdb::Vec3f(0.5f));
+  writePreviewPng(*sphere, dir.path("s.png"), options);
+  const test::PngImage image = test::readPng8(dir.path("s.png"));
+  // Seen from straight above the plane that splits the colours (z), the
+  // sphere is the upper half's red; no pixel shows the lower half's blue
+  // through it (every ray stops at the first surface it meets).
+  int red = 0, blue = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x) {
+      const std::uint8_t* p = image.pixel(x, y);
+      red += p[0] > p[2] + 60;
+      blue += p[2] > p[0] + 60;
+    }
+  EXPECT_GT(red, 2000);  // the sphere's disc, about 2300 pixels
+  EXPECT_EQ(blue, 0);
 }
 
 TEST(Preview, LooksFromAPlacedCamera) {

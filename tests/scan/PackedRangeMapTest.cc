@@ -71,6 +71,10 @@ RangeMap everythingPerPixel() {
   map.setRayDirections(directions);
   map.setSamples(samples, pixel);
   map.setMissesAreEmpty(true);
+  std::vector<Rgb8> colours(readings.size());
+  for (std::size_t i = 0; i < colours.size(); ++i)
+    colours[i] = Rgb8{static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(i * 7), static_cast<std::uint8_t>(i / 3)};
+  map.setColours(colours);
   return map;
 }
 
@@ -100,6 +104,7 @@ void expectSameMap(const RangeMap& a, const RangeMap& b) {
   ASSERT_EQ(a.validCount(), b.validCount());
   for (int v = 0; v < a.height(); ++v)
     for (int u = 0; u < a.width(); ++u) ASSERT_TRUE(sameBits(a.reading(u, v), b.reading(u, v))) << u << ", " << v;
+  EXPECT_EQ(a.colours(), b.colours());
   ASSERT_EQ(a.samples().size(), b.samples().size());
   for (std::size_t i = 0; i < a.samples().size(); ++i) EXPECT_EQ(a.samples()[i], b.samples()[i]);
   std::mt19937 random(3);

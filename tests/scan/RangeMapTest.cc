@@ -2,6 +2,8 @@
 
 #include <levelfuse/scan/RangeMap.h>
 
+#include <openvdb/math/Vec3.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -58,6 +60,29 @@ TEST(RangeMap, OrthographicGeometry) {
   EXPECT_NEAR(s.D, 0.0, 1e-6);
   // Outside the map: no data.
   EXPECT_FALSE(map.sample(m2w.transform(Vec3d(5.0, 0.0, 2.0)), s));
+}
+
+TEST(RangeMap, ColoursAreInterpolatedAsTheReadingsAre) {
+  RangeMap map = tiltedPlane(Mat4d::identity());
+  EXPECT_FALSE(map.hasColours());
+  openvdb::Vec3f rgb;
+  EXPECT_FALSE(map.colourAt(map.worldToMap().transform(map.readingPoint(3, 3)), rgb));
+  EXPECT_THROW(map.setColours(std::vector<Rgb8>(7)), std::invalid_argument);
+  // Red rising with the column, blue with the row.
+  std::vector<Rgb8> colours;
+  for (int v = 0; v < map.height(); ++v)
+    for (int u = 0; u < map.width(); ++u)
+      colours.push_back(Rgb8{static_cast<std::uint8_t>(10 * u), 0, static_cast<std::uint8_t>(20 * v)});
+  map.setColours(colours);
+  ASSERT_TRUE(map.hasColours());
+  // A quarter of the way from pixel (4, 2) to (5, 3), on the line of sight.
+  const Vec3d p = map.worldToMap().transform(map.pointAt(4.25, 2.25, 2.0));
+  ASSERT_TRUE(map.colourAt(p, rgb));
+  EXPECT_NEAR(rgb[0], 42.5 / 255.0, 1e-6);
+  EXPECT_NEAR(rgb[1], 0.0, 1e-6);
+  EXPECT_NEAR(rgb[2], 45.0 / 255.0, 1e-6);
+  // None beside the map.
+  EXPECT_FALSE(map.colourAt(Vec3d(50.0, 0.0, 2.0), rgb));
 }
 
 TEST(RangeMap, ResampledFromSamplesKeepsTheScannersRayDensity) {

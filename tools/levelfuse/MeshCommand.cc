@@ -11,6 +11,7 @@
 #include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/recon/ScansReconstruction.h>
 #include <levelfuse/recon/SurfaceWeight.h>
+#include <levelfuse/scan/SurfaceColour.h>
 
 #include <nlohmann/json.hpp>
 
@@ -28,12 +29,15 @@ struct MeshSettings {
   bool json = false;
 };
 
-/// The weight grid `levelfuse reconstruct` wrote beside `levelSet`, if any.
-openvdb::FloatGrid::Ptr weightGridOf(const openvdb::GridPtrVec& grids, const openvdb::FloatGrid& levelSet) {
+/// The grid named `name` that `levelfuse reconstruct` wrote beside `levelSet`
+/// (its weight, its colour), if any.
+template <typename GridT>
+typename GridT::Ptr gridBeside(const openvdb::GridPtrVec& grids, const openvdb::FloatGrid& levelSet,
+                               const std::string& name) {
   for (const openvdb::GridBase::Ptr& base : grids) {
-    const auto grid = openvdb::GridBase::grid<openvdb::FloatGrid>(base);
-    if (!grid || grid->getName() != kWeightGridName) continue;
-    const auto surface = grid->getMetadata<openvdb::StringMetadata>("levelfuse_surface");
+    const auto grid = openvdb::GridBase::grid<GridT>(base);
+    if (!grid || grid->getName() != name) continue;
+    const auto surface = grid->template getMetadata<openvdb::StringMetadata>("levelfuse_surface");
     if (surface && surface->value() == levelSet.getName()) return grid;
   }
   return nullptr;
@@ -58,7 +62,8 @@ int runMesh(const MeshSettings& s) {
                              " (see levelfuse info " + s.input + ")");
   if (const std::string problem = levelSetProblem(*levelSet); !problem.empty())
     throw std::runtime_error(s.input + ": " + problem);
-  const openvdb::FloatGrid::Ptr weight = weightGridOf(*grids, *levelSet);
+  const openvdb::FloatGrid::Ptr weight = gridBeside<openvdb::FloatGrid>(*grids, *levelSet, kWeightGridName);
+  const openvdb::Vec3fGrid::Ptr colour = gridBeside<openvdb::Vec3fGrid>(*grids, *levelSet, kColourGridName);
   const auto scene = levelSet->getMetadata<openvdb::BoolMetadata>("levelfuse_scene");
   const bool trim = trimsUnseen(weight && scene && scene->value(), s.trimUnseen);
   if (trim && !weight)
@@ -66,7 +71,7 @@ int runMesh(const MeshSettings& s) {
                              "' to trim by (levelfuse reconstruct writes one beside the level set); "
                              "drop --trim-unseen");
   enterPhase("meshing");
-  const TriangleMesh mesh = meshShown(*levelSet, trim ? weight.get() : nullptr, s.adaptivity);
+  const TriangleMesh mesh = meshShown(*levelSet, trim ? weight.get() : nullptr, s.adaptivity, colour.get());
   enterPhase("writing");
   io::OutputSet outputs;
   io::writeMesh(outputs, s.output, mesh);
@@ -74,14 +79,16 @@ int runMesh(const MeshSettings& s) {
   if (s.json) {
     std::cout << nlohmann::json{{"input", s.input}, {"grid", levelSet->getName()}, {"output", s.output},
                                 {"vertices", mesh.vertexCount()}, {"triangles", mesh.triangleCount()},
-                                {"area", mesh.area()}, {"volume", mesh.volume()}, {"trimmed_unseen", trim}}
+                                {"area", mesh.area()}, {"volume", mesh.volume()}, {"trimmed_unseen", trim},
+                                {"coloured", mesh.hasColours()}}
                      .dump(2)
               << "\n";
   } else {
     std::cout << "levelfuse mesh: '" << levelSet->getName() << "' from " << s.input << ": "
               << withCommas(mesh.vertexCount()) << " vertices, " << withCommas(mesh.triangleCount())
               << " triangles, area " << area(mesh.area()) << ", volume " << volume(mesh.volume())
-              << (trim ? " (unseen parts left out: an open mesh)" : "") << "\n"
+              << (trim ? " (unseen parts left out: an open mesh)" : "")
+              << (mesh.hasColours() ? ", coloured" : "") << "\n"
               << "  wrote " << s.output << "\n";
   }
   return kExitSuccess;

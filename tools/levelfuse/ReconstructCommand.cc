@@ -157,6 +157,7 @@ ReconstructionResult reconstructSurface(const Reconstructor& reconstructor, cons
   openvdb::FloatGrid& surface = *result.levelSet;
   if (!result.weight && (shown.trim || !s.output.empty()))
     result.weight = reconstructor.surfaceWeight(surface, cancellationInterrupter());
+  if (s.linear) result.colour = reconstructor.surfaceColour(surface, cancellationInterrupter());
   describeInputs(surface, s.inputs, s.linear, shown.scene);
   return result;
 }
@@ -181,6 +182,14 @@ Measures measure(const ScansReconstruction& r, const ReconstructionResult& resul
   return m;
 }
 
+/// The grids of the .vdb output: the level set, its weight and, where the
+/// scans carry colour, its colour.
+openvdb::GridCPtrVec gridsWritten(const ReconstructionResult& result) {
+  openvdb::GridCPtrVec grids{result.levelSet, result.weight};
+  if (result.colour) grids.push_back(result.colour);
+  return grids;
+}
+
 /// Writes the outputs, committed together once all are written; returns the mesh's triangles.
 std::size_t writeOutputs(const Inputs& in, const ReconstructionResult& result, const Presentation& shown,
                          const ReconstructSettings& s) {
@@ -188,7 +197,7 @@ std::size_t writeOutputs(const Inputs& in, const ReconstructionResult& result, c
   std::optional<TriangleMesh> mesh;
   if (!s.mesh.empty()) {
     enterPhase("meshing");
-    mesh = meshShown(surface, shown.trim ? result.weight.get() : nullptr);
+    mesh = meshShown(surface, shown.trim ? result.weight.get() : nullptr, 0.0, result.colour.get());
   }
   io::PreviewOptions preview;
   if (!s.view.empty()) preview.toward = parseVec3(s.view);
@@ -197,9 +206,10 @@ std::size_t writeOutputs(const Inputs& in, const ReconstructionResult& result, c
   const bool fromItsCamera = shown.scene && s.view.empty();
   preview = previewShown(preview, fromItsCamera ? &*in.firstScan : nullptr,
                          shown.trim ? result.weight : nullptr);
+  preview.colour = result.colour;
   enterPhase("writing");
   io::OutputSet outputs;
-  if (!s.output.empty()) io::writeVdb(outputs, s.output, {result.levelSet, result.weight});
+  if (!s.output.empty()) io::writeVdb(outputs, s.output, gridsWritten(result));
   if (mesh) io::writeMesh(outputs, s.mesh, *mesh);
   if (!s.preview.empty()) io::writePreviewPng(outputs, surface, s.preview, preview);
   commitOutputs(outputs);

@@ -9,6 +9,7 @@
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/scan/Scenes.h>
+#include <levelfuse/scan/Synth.h>
 
 #include <nlohmann/json.hpp>
 
@@ -30,6 +31,7 @@ struct SynthSettings {
   std::uint64_t seed = 1;
   bool pinhole = false;
   std::string scanner = "parallel";
+  std::string paint = "none";
   std::string output;
   bool json = false;
 };
@@ -73,6 +75,18 @@ std::string pixelsOf(const std::vector<RangeMap>& maps) {
   return std::to_string(maps.front().width()) + " x " + std::to_string(maps.front().height()) + " pixels";
 }
 
+/// The colours of --paint halves: the upper half of the scene red, the lower blue.
+constexpr Rgb8 kUpperHalf{200, 40, 30}, kLowerHalf{30, 60, 200};
+
+/// Paints every map's readings red above the horizontal plane through the
+/// middle of all the readings, blue below.
+void paintHalves(std::vector<RangeMap>& maps) {
+  openvdb::BBoxd bounds;
+  for (const RangeMap& m : maps) bounds.expand(m.readingBounds());
+  const synth::SurfacePaint paint = synth::twoColours(bounds.getCenter(), Vec3d(0, 0, 1), kUpperHalf, kLowerHalf);
+  for (RangeMap& m : maps) synth::paintReadings(m, paint);
+}
+
 int runSynth(const SynthSettings& s) {
   if (s.shape == "room" && (s.pinhole || s.scanner != "parallel") && s.scanner != "spherical")
     throw std::invalid_argument("synth: the room is scanned by spherical scanners (--scanner spherical)");
@@ -97,6 +111,7 @@ int runSynth(const SynthSettings& s) {
     const Kind kind = s.shape == "sphere" ? Kind::kSphere : s.shape == "torus" ? Kind::kTorus : Kind::kMug;
     scene = synth::analyticScene(synth::standardShape(kind), options);
   }
+  if (s.paint == "halves") paintHalves(scene.maps);
   const std::vector<RangeMap>& maps = scene.maps;
   std::size_t readings = 0;
   for (const RangeMap& m : maps) readings += m.validCount();
@@ -113,6 +128,7 @@ int runSynth(const SynthSettings& s) {
                      {"readings", readings},
                      {"noise_sigma", scene.noiseSigma},
                      {"outlier_fraction", s.outliers},
+                     {"paint", s.paint},
                      {"manifest", manifest}};
     std::cout << j.dump(2) << "\n";
   } else {
@@ -156,6 +172,11 @@ Command addSynthCommand(CLI::App& app) {
                   "parallel (laser stripes), pinhole (depth cameras) or spherical (terrestrial laser scanners, "
                   "noise growing with range)")
       ->check(CLI::IsMember({"parallel", "pinhole", "spherical"}))
+      ->capture_default_str();
+  cmd->add_option("--paint", s->paint,
+                  "Colour the readings: halves (red above the middle of the scene, blue below; written as a colour "
+                  "image beside each range image) or none")
+      ->check(CLI::IsMember({"none", "halves"}))
       ->capture_default_str();
   cmd->add_flag("--pinhole", s->pinhole, "Depth cameras instead of parallel rays (--scanner pinhole)");
   cmd->add_option("-o,--output", s->output, "Folder for scans.json and the range images")->required();

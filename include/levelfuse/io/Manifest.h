@@ -29,7 +29,10 @@
 // camera-to-world, 16 numbers in row-major order with the translation in the
 // last column. Any entry may say "misses_are_empty": true (a pixel without a
 // reading saw nothing on its line of sight; RangeMap::setMissesAreEmpty) with a
-// "dropout_reach" in pixels (default 2).
+// "dropout_reach" in pixels (default 2). An entry of one range map may give it
+// colours: "colour": "scan.colour.png", an image of the map's size registered
+// to it pixel for pixel (8-bit RGB; grey, palette, 16-bit and alpha PNGs are
+// converted), whose colours the reconstruction carries to its surface.
 //
 // A manifest of synthetic scans may record the shape they show as "truth":
 // {"shape": "sphere", "centre": [x, y, z], "radius": r}, {"shape": "torus",

@@ -59,10 +59,13 @@ PlyData readPly(const std::string& path);
 
 /// Writes a triangle mesh (float vertices, int triangles) as binary
 /// little-endian PLY (or ASCII), atomically: temporary file, then rename.
+/// `rgb`, if not empty, is three bytes per vertex, written as the vertices'
+/// uchar red, green and blue.
 void writeMeshPly(const std::string& path, const std::vector<float>& xyz, const std::vector<std::uint32_t>& triangles,
-                  bool binary = true);
+                  bool binary = true, const std::vector<std::uint8_t>& rgb = {});
 /// The same, as one of a run's outputs: committed with the others (AtomicWrite.h).
 void writeMeshPly(OutputSet& outputs, const std::string& path, const std::vector<float>& xyz,
-                  const std::vector<std::uint32_t>& triangles, bool binary = true);
+                  const std::vector<std::uint32_t>& triangles, bool binary = true,
+                  const std::vector<std::uint8_t>& rgb = {});
 
 }  // namespace levelfuse::io

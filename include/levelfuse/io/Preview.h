@@ -37,6 +37,9 @@ struct PreviewOptions {
   /// of a scene no scan observed (recon/SurfaceWeight.h). None: all is drawn.
   openvdb::FloatGrid::ConstPtr weight;
   double minWeight = 0.0;
+  /// The surface's colour where given (a "Cd" grid: scan/SurfaceColour.h,
+  /// sampled at the surface by colourAt), else a warm light grey.
+  openvdb::Vec3fGrid::ConstPtr colour;
 };
 
 /// `options` seen through a depth frame's camera: its pose, its vertical field

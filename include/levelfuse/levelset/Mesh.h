@@ -9,11 +9,14 @@
 namespace levelfuse {
 
 /// A triangle mesh in world units: xyz holds three floats per vertex,
-/// triangles three vertex indices each, counter-clockwise seen from outside.
+/// triangles three vertex indices each, counter-clockwise seen from outside;
+/// rgb, if not empty, three bytes (red, green, blue from 0 to 255) per vertex.
 struct TriangleMesh {
   std::vector<float> xyz;
   std::vector<std::uint32_t> triangles;
+  std::vector<std::uint8_t> rgb;
 
+  bool hasColours() const { return !rgb.empty(); }
   std::size_t vertexCount() const { return xyz.size() / 3; }
   std::size_t triangleCount() const { return triangles.size() / 3; }
   /// Enclosed volume (positive for a closed, outward-facing mesh) and area.

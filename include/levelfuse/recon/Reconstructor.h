@@ -163,6 +163,10 @@ struct ReconstructionResult {
   /// (recon/SurfaceWeight.h): GRID_UNKNOWN, named "weight", the level set's
   /// transform and active voxels; 0 where no scan observed the surface.
   openvdb::FloatGrid::Ptr weight;
+  /// The colour the scans saw on the level set's narrow band
+  /// (scan/SurfaceColour.h): a Vec3fGrid named "Cd"; null when no scan
+  /// carries colour.
+  openvdb::Vec3fGrid::Ptr colour;
   std::vector<LevelReport> levels;
   double seconds = 0.0;
   std::size_t peakEngineBytes = 0;  ///< the largest sparse field along the way
@@ -214,6 +218,12 @@ class Reconstructor {
   /// linear solution, or a surface edited since. Interrupted if `interrupter`
   /// stops it.
   openvdb::FloatGrid::Ptr surfaceWeight(const openvdb::FloatGrid& levelSet, const Interrupter& interrupter = {}) const;
+
+  /// The colour the scans saw on `levelSet`'s narrow band
+  /// (scan/SurfaceColour.h), as run() returns it with its surface; null when
+  /// no scan carries colour (or a fusion's maps were not kept). Interrupted if
+  /// `interrupter` stops it.
+  openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const Interrupter& interrupter = {}) const;
 
   /// The options with every derived setting resolved (all four set).
   const ReconstructionOptions& options() const { return mOptions; }

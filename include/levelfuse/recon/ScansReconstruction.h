@@ -53,9 +53,10 @@ bool trimsUnseen(bool scene, std::optional<bool> asked = std::nullopt);
 
 /// The zero set of `levelSet` as a mesh (meshFromLevelSet), without what no
 /// scan observed where `trimBy`, its weight grid (recon/SurfaceWeight.h), is
-/// given: the triangles below kObservedWeight are left out (trimMesh).
+/// given: the triangles below kObservedWeight are left out (trimMesh); its
+/// vertices coloured by `colour` where it is given (paintMesh).
 TriangleMesh meshShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatGrid* trimBy,
-                       double adaptivity = 0.0);
+                       double adaptivity = 0.0, const openvdb::Vec3fGrid* colour = nullptr);
 
 /// The zero crossings of `levelSet` (levelset/ZeroCrossings.h) that its mesh
 /// shows: without those where `trimBy`, its weight grid, interpolated

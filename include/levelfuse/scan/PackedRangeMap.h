@@ -17,7 +17,7 @@ class PackedRangeMap {
   /// Zstandard on the values' bytes shuffled, so the exponents and the high
   /// bits of neighbouring values lie together): the readings, as 16-bit
   /// integers when they are whole multiples of the map's reading step (a
-  /// depth image's), the sigmas, ray directions and samples, and what the
+  /// depth image's), the sigmas, ray directions, samples and colours, and what the
   /// map derived per pixel and per block (usable cells, misses, reading
   /// bounds).
   explicit PackedRangeMap(RangeMap map);
@@ -39,7 +39,7 @@ class PackedRangeMap {
 
  private:
   RangeMap mShell;  ///< the map without its per-pixel arrays
-  Array mReadings, mSigmas, mDirections, mSamples, mBlockMin, mBlockMax, mBlockComplete, mUsableCells, mMisses;
+  Array mReadings, mSigmas, mDirections, mSamples, mColours, mBlockMin, mBlockMax, mBlockComplete, mUsableCells, mMisses;
   bool mReadingsAsSteps = false;
 };
 

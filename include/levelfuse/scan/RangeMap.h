@@ -19,6 +19,7 @@
 // found through the map's projection.
 #pragma once
 
+#include <levelfuse/scan/Colour.h>
 #include <levelfuse/scan/PixelFlags.h>
 
 #include <openvdb/Types.h>
@@ -137,6 +138,18 @@ class RangeMap {
   void setDepthNoise(const DepthNoise& noise);
   /// The noise that the sigmas follow (setDepthNoise), or none.
   const DepthNoise* depthNoise() const { return mHasDepthNoise ? &mDepthNoise : nullptr; }
+  /// Per-pixel colours (row after row, as the readings), recorded with the
+  /// readings: a terrestrial scanner's camera, a depth frame's registered
+  /// colour image; none takes them away. Throws std::invalid_argument unless
+  /// there is one per pixel.
+  void setColours(std::vector<Rgb8> colours);
+  bool hasColours() const { return !mColours.empty(); }
+  const std::vector<Rgb8>& colours() const { return mColours; }
+  /// The colour seen along the line of sight through `p` (in the map's frame),
+  /// from 0 to 1, interpolated bilinearly between the four pixels around it as
+  /// the reading is; false where the map has no colours or `p` falls where no
+  /// reading is interpolated (sampleLocal).
+  bool colourAt(const openvdb::Vec3d& p, openvdb::Vec3f& rgb) const;
   /// The points the scanner measured (world units), `raySpacing` apart, where
   /// an orthographic map was resampled from them on finer pixels (a range grid
   /// rasterised along the line of sight). The fit of a surface to the data is
@@ -316,6 +329,7 @@ class RangeMap {
   PixelFlags mUsableCell;
   std::vector<openvdb::Vec3f> mDirections;
   std::vector<float> mSigmas;
+  std::vector<Rgb8> mColours;  ///< per pixel, or none
   bool mHasDepthNoise = false;  ///< the sigmas follow mDepthNoise
   DepthNoise mDepthNoise;
   std::vector<openvdb::Vec3d> mSamples;  ///< world; empty where the readings are the samples

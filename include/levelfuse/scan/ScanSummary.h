@@ -38,10 +38,12 @@ class ScanSummary {
   /// scanner): the surface is a scene seen from inside (a room, a desk, a
   /// street) rather than an object seen from around it.
   bool aScene() const { return !mSigmas.empty() && mScenes == mSigmas.size(); }
+  /// How many scans carry colour (RangeMap::hasColours).
+  std::size_t colouredScans() const { return mColoured; }
 
  private:
   std::vector<double> mRaySpacings, mSigmas;
-  std::size_t mReadings = 0, mPoints = 0, mScenes = 0;
+  std::size_t mReadings = 0, mPoints = 0, mScenes = 0, mColoured = 0;
   openvdb::BBoxd mBounds;
 };
 

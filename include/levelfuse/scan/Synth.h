@@ -6,6 +6,7 @@
 // by uniform outliers), and keep the exact distance function to measure errors.
 #pragma once
 
+#include <levelfuse/scan/Colour.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <openvdb/Types.h>
@@ -80,5 +81,18 @@ RangeMap renderDistanceFunction(const std::function<double(const openvdb::Vec3d&
 /// Renders a triangle mesh by rasterising it into a depth buffer.
 RangeMap renderMesh(const std::vector<openvdb::Vec3d>& points, const std::vector<openvdb::Vec3I>& triangles,
                     const View& view, const Noise& noise, double sigma);
+
+/// The colour of a surface at a world point, for painting synthetic scans.
+using SurfacePaint = std::function<Rgb8(const openvdb::Vec3d&)>;
+
+/// Two colours on either side of the plane through `centre` across `axis`:
+/// `above` where (x - centre) . axis >= 0, else `below`.
+SurfacePaint twoColours(const openvdb::Vec3d& centre, const openvdb::Vec3d& axis, const Rgb8& above,
+                        const Rgb8& below);
+
+/// Gives every reading of `map` the paint's colour at the point it measured
+/// (RangeMap::readingPoint), as a camera registered to the scanner would see
+/// it; pixels without a reading are black.
+void paintReadings(RangeMap& map, const SurfacePaint& paint);
 
 }  // namespace levelfuse::synth

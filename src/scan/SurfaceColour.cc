@@ -1,0 +1,179 @@
+// levelfuse: the colour the scans saw on a surface.
+
+#include <levelfuse/core/Parallel.h>
+#include <levelfuse/levelset/RequireLevelSet.h>
+#include <levelfuse/scan/SurfaceColour.h>
+
+#include "LeavesReached.h"
+#include "ReadingWeight.h"
+
+#include <openvdb/tree/LeafManager.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+
+namespace levelfuse {
+
+namespace {
+
+using openvdb::Coord;
+using openvdb::Vec3d;
+using openvdb::Vec3f;
+using ColourTree = openvdb::Vec3fTree;
+
+/// The world steps of a grid's three index axes.
+struct IndexAxes {
+  Vec3d step[3];
+  explicit IndexAxes(const openvdb::math::Transform& transform) {
+    const Vec3d origin = transform.indexToWorld(Vec3d(0.0));
+    for (int a = 0; a < 3; ++a) {
+      Vec3d unit(0.0);
+      unit[a] = 1.0;
+      step[a] = transform.indexToWorld(unit) - origin;
+    }
+  }
+};
+
+/// True when the grid's voxel centres lie at whole multiples of its voxel
+/// size along the world axes, as the leaf culling of the data term assumes.
+bool centredOnMultiples(const openvdb::math::Transform& transform) {
+  const double h = transform.voxelSize()[0];
+  return transform.isLinear() && transform.hasUniformScale() &&
+         (transform.indexToWorld(Coord(1, 2, 3)) - Vec3d(h, 2 * h, 3 * h)).length() <= 1e-9 * h &&
+         transform.indexToWorld(Coord(0)).length() <= 1e-9 * h;
+}
+
+/// Adds one map's colours, weighted, to the sums of every voxel of a leaf
+/// whose nearest surface point it sees from outside.
+struct AddMapColoursOp {
+  const openvdb::FloatGrid* levelSet;
+  const RangeMap* map;
+  const DataWindow* window;
+  double positionVariance;
+  IndexAxes axes;
+  bool cull;            ///< leaves the map's readings cannot reach are skipped
+  double cullReach;     ///< the window's reach plus the band's half-width
+  openvdb::FloatTree* weights;
+  const ParallelInterrupt* interrupt;
+
+  void operator()(ColourTree::LeafNodeType& sums, std::size_t) const {
+    if (interrupt->stop()) return;
+    const double h = levelSet->voxelSize()[0];
+    if (cull && !detail::leafMayBeReached(*map, sums.origin(), h, cullReach)) return;
+    openvdb::FloatTree::LeafNodeType* weightLeaf = weights->probeLeaf(sums.origin());
+    openvdb::FloatGrid::ConstAccessor phi = levelSet->getConstAccessor();
+    const openvdb::math::Mat4d& toMap = map->worldToMap();
+    const openvdb::math::Mat4d& toWorld = map->mapToWorld();
+    const double reach = window->reach();
+    RangeMap::LocalSample s;
+    for (auto it = sums.beginValueOn(); it; ++it) {
+      const Coord ijk = it.getCoord();
+      Vec3d normal(0.0);
+      for (int a = 0; a < 3; ++a) {
+        Coord step(0);
+        step[a] = 1;
+        normal += axes.step[a] * (phi.getValue(ijk + step) - phi.getValue(ijk - step));
+      }
+      if (!normal.normalize()) continue;
+      const Vec3d nearest = levelSet->indexToWorld(ijk) - normal * static_cast<double>(phi.getValue(ijk));
+      const Vec3d p = toMap.transform(nearest);
+      if (!map->sampleLocal(p, reach, s)) continue;
+      if (!(toWorld.transform3x3(s.lineOfSight).dot(normal) < 0.0)) continue;  // Eq. 37
+      const double w = (*window)(s.D);
+      if (w == 0.0) continue;
+      Vec3f rgb;
+      if (!map->colourAt(p, rgb)) continue;
+      const double weight = detail::readingWeight(w, s, positionVariance);  // Eq. 38
+      it.setValue(*it + rgb * static_cast<float>(weight));
+      weightLeaf->setValueOnly(it.pos(), weightLeaf->getValue(it.pos()) + static_cast<float>(weight));
+    }
+  }
+};
+
+/// Each voxel's weighted sum divided by its weight; voxels no colour reached
+/// are left inactive, at the background.
+struct MeanColourOp {
+  const openvdb::FloatTree* weights;
+  void operator()(ColourTree::LeafNodeType& sums, std::size_t) const {
+    const openvdb::FloatTree::LeafNodeType* weightLeaf = weights->probeConstLeaf(sums.origin());
+    for (auto it = sums.beginValueOn(); it; ++it) {
+      const float w = weightLeaf->getValue(it.pos());
+      if (w > 0.0f)
+        it.setValue(*it / w);
+      else
+        sums.setValueOff(it.pos(), Vec3f(kUnseenGrey));
+    }
+  }
+};
+
+}  // namespace
+
+openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const RangeMapSequence& scans,
+                                      const DataWindow& window, double positionVariance,
+                                      const Interrupter& interrupter) {
+  requireLevelSet(levelSet, "surfaceColour");
+  const Vec3f grey(kUnseenGrey);
+  auto colour = openvdb::Vec3fGrid::create(grey);
+  colour->setTransform(levelSet.transform().copy());
+  colour->setTree(std::make_shared<ColourTree>(levelSet.tree(), grey, Vec3f(0.0f), openvdb::TopologyCopy()));
+  colour->setName(kColourGridName);
+  colour->setGridClass(openvdb::GRID_UNKNOWN);
+  openvdb::FloatTree weights(levelSet.tree(), 0.0f, openvdb::TopologyCopy());
+
+  const ParallelInterrupt interrupt(interrupter);
+  openvdb::tree::LeafManager<ColourTree> leaves(colour->tree());
+  const double bandHalfWidth = std::abs(static_cast<double>(levelSet.background()));
+  AddMapColoursOp add{&levelSet, nullptr, &window, positionVariance, IndexAxes(levelSet.transform()),
+                      centredOnMultiples(levelSet.transform()), window.reach() + bandHalfWidth, &weights,
+                      &interrupt};
+  scans([&](const RangeMap& map) {
+    checkInterrupter(interrupter);
+    if (!map.hasColours()) return;
+    add.map = &map;
+    leaves.foreach(add);
+    interrupt.throwIfStopped();
+  });
+  leaves.foreach(MeanColourOp{&weights});
+
+  colour->insertMeta("levelfuse_surface", openvdb::StringMetadata(levelSet.getName()));
+  colour->insertMeta("levelfuse_units", openvdb::StringMetadata("red, green, blue from 0 to 1"));
+  colour->insertMeta("levelfuse_description",
+                     openvdb::StringMetadata("the colour the scans saw at the surface point nearest each voxel, "
+                                             "weighted as their readings are in the data term (Eqs. 8-9, 13, 37, "
+                                             "38); inactive, mid grey, where no reading with a colour saw it"));
+  return colour;
+}
+
+Vec3f colourAt(const openvdb::Vec3fGrid& colour, const Vec3d& x) {
+  const Vec3d index = colour.worldToIndex(x);
+  const Coord lo = Coord::floor(index);
+  const Vec3d f = index - lo.asVec3d();
+  openvdb::Vec3fGrid::ConstAccessor access = colour.getConstAccessor();
+  Vec3d sum(0.0);
+  double weight = 0.0;
+  for (int k = 0; k < 8; ++k) {
+    const int dx = k & 1, dy = (k >> 1) & 1, dz = k >> 2;
+    const Coord ijk = lo.offsetBy(dx, dy, dz);
+    Vec3f value;
+    if (!access.probeValue(ijk, value)) continue;
+    const double t = (dx ? f.x() : 1.0 - f.x()) * (dy ? f.y() : 1.0 - f.y()) * (dz ? f.z() : 1.0 - f.z());
+    sum += Vec3d(value) * t;
+    weight += t;
+  }
+  return weight > 0.0 ? Vec3f(sum / weight) : Vec3f(kUnseenGrey);
+}
+
+void paintMesh(TriangleMesh& mesh, const openvdb::Vec3fGrid& colour) {
+  mesh.rgb.resize(mesh.xyz.size());
+  parallelFor(mesh.vertexCount(), 4096, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) {
+      const Vec3f c = colourAt(colour, Vec3d(mesh.xyz[3 * v], mesh.xyz[3 * v + 1], mesh.xyz[3 * v + 2]));
+      for (int k = 0; k < 3; ++k)
+        mesh.rgb[3 * v + k] = static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+    }
+  });
+}
+
+}  // namespace levelfuse
