@@ -10,6 +10,7 @@
 #include <levelfuse/io/TumScans.h>
 
 #include "ManifestEntry.h"
+#include "ManifestPointEntries.h"
 
 #include <nlohmann/json.hpp>
 
@@ -182,6 +183,10 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       for (RangeMap& m : loadTumEntry(e, defaults)) maps.push_back(std::move(m));
     } else if (format == "ptx") {
       for (RangeMap& m : loadPtxEntry(e, defaults)) maps.push_back(std::move(m));
+    } else if (format == "points") {
+      maps.push_back(loadPointsEntry(e, defaults));
+    } else if (format == "kitti-bin") {
+      maps.push_back(loadKittiBinEntry(e, defaults));
     } else if (format == "orthographic-pfm") {
       const std::string file = e.path("file");
       DepthImage image = readDepthPfm(file, false);
@@ -213,8 +218,8 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       }
     } else {
       e.fail("unknown format " + quote(format) +
-             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, orthographic-pfm or "
-             "spherical-pfm)");
+             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, points, kitti-bin, "
+             "orthographic-pfm or spherical-pfm)");
     }
     if (e.has("misses_are_empty")) {
       if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");

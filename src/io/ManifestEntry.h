@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -78,8 +79,28 @@ class Entry {
     if (!has(key)) fail(std::string("missing '") + key + "'");
     return numbers(mJson[key], key, count);
   }
+  /// Fails naming the first field of the entry that is not one of `keys`
+  /// (misspelt, or not one of its format's).
+  void requireOnly(std::initializer_list<const char*> keys) const {
+    for (const auto& item : mJson.items()) {
+      bool known = false;
+      std::string expected;
+      for (const char* key : keys) {
+        known = known || item.key() == key;
+        expected += std::string(expected.empty() ? "" : ", ") + key;
+      }
+      if (!known) fail("unknown field " + quote(item.key()) + " for its format (expected " + expected + ")");
+    }
+  }
   const json& operator[](const char* key) const { return mJson[key]; }
   const std::string& where() const { return mWhere; }
+  const std::string& manifest() const { return mManifest; }
+  /// How many of `keys` the entry has.
+  int countOf(std::initializer_list<const char*> keys) const {
+    int count = 0;
+    for (const char* key : keys) count += has(key) ? 1 : 0;
+    return count;
+  }
 
  private:
   std::string resolve(const char* key) const {
