@@ -30,10 +30,16 @@ std::string degrees(double radians) {
   return text;
 }
 
-/// Refuses steps whose grid over the points would have more than
-/// kMaxPixelsPerCloudPoint pixels per point, before it is allocated.
+/// Refuses steps finer than kMinCloudStep (the binning counts a turn's
+/// columns before it looks at the points) or whose grid over the points would
+/// have more than kMaxPixelsPerCloudPoint pixels per point, before either is
+/// allocated.
 void requireGridOfTheCloudsSize(const std::vector<Vec3d>& points, const AngularSteps& steps,
                                 const std::string& path) {
+  if (!(std::min(steps.azimuth, steps.elevation) >= kMinCloudStep))
+    throw InputError(path, "angular steps of " + degrees(steps.azimuth) + " x " + degrees(steps.elevation) +
+                               " degrees are finer than any scanner's (at least " + degrees(kMinCloudStep) +
+                               " degrees): are the points a scan's, and the steps the sensor's?");
   const double pixels = gridPixelsAtMost(points, steps);
   if (!(pixels <= kMaxPixelsPerCloudPoint * static_cast<double>(points.size()) + kSpareGridPixels))
     throw InputError(path, "angular steps of " + degrees(steps.azimuth) + " x " + degrees(steps.elevation) +

@@ -188,9 +188,20 @@ TEST(BadPointCloud, StepsFarFinerThanThePointsAreRefusedBeforeTheMapIsMade) {
   for (int i = 0; i < 100; ++i) points.emplace_back(std::cos(0.01 * i), std::sin(0.01 * i), 0.001 * (i % 10));
   test::expectInputError(
       [&] {
-        rangeMapFromPointCloud(points, openvdb::math::Mat4d::identity(), AngularSteps{1e-7, 1e-7}, 0.01, "p.xyz", "p");
+        rangeMapFromPointCloud(points, openvdb::math::Mat4d::identity(), AngularSteps{1e-5, 1e-5}, 0.01, "p.xyz", "p");
       },
       "p.xyz", "would bin the 100 points into up to ");
+}
+
+// A turn of columns of 1e-8 rad would be six hundred million.
+TEST(BadPointCloud, StepsFinerThanAnyScannersAreRefused) {
+  std::vector<Vec3d> points;
+  for (int i = 0; i < 20; ++i) points.emplace_back(1.0, 1e-8 * (i % 5), 1e-8 * (i / 5));
+  test::expectInputError(
+      [&] {
+        rangeMapFromPointCloud(points, openvdb::math::Mat4d::identity(), std::nullopt, 0.01, "p.xyz", "p");
+      },
+      "p.xyz", "are finer than any scanner's (at least 5.73e-05 degrees)");
 }
 
 TEST(BadPointCloud, PointsWhoseStepsCannotBeEstimatedAreNamed) {

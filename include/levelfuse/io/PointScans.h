@@ -90,12 +90,17 @@ std::vector<openvdb::Vec3d> pointsInSensorFrame(const std::vector<openvdb::Vec3d
 /// far finer than the points' spacing are refused.
 inline constexpr double kMaxPixelsPerCloudPoint = 16.0;
 
+/// Angular steps finer than this (radians, about 0.2 seconds of arc; the
+/// finest terrestrial scanners step 10 times more) are refused.
+inline constexpr double kMinCloudStep = 1e-6;
+
 /// The points (in the sensor's frame, z up) binned into a spherical range map
 /// (sphericalMapFromPoints) with `steps`, or with the steps estimated from
 /// the points (estimateAngularSteps), its readings of noise `sigma`, named
 /// `name`. Throws InputError naming `path` if the steps cannot be
-/// estimated, would make more than kMaxPixelsPerCloudPoint pixels per point
-/// (refused before the map is allocated), or make no map.
+/// estimated, are finer than kMinCloudStep, would make more than
+/// kMaxPixelsPerCloudPoint pixels per point (refused before the map is
+/// allocated), or make no map.
 RangeMap rangeMapFromPointCloud(const std::vector<openvdb::Vec3d>& sensorPoints,
                                 const openvdb::math::Mat4d& sensorToWorld, const std::optional<AngularSteps>& steps,
                                 double sigma, const std::string& path, const std::string& name);
