@@ -27,10 +27,10 @@ std::optional<AngularSteps> stepsOf(const Entry& e) {
   if (given == 1)
     e.fail("give both 'azimuth_step' and 'elevation_step' (degrees), or neither (then they are estimated from the "
            "points)");
-  const AngularSteps steps{e.positive("azimuth_step", 0.0), e.positive("elevation_step", 0.0)};
-  if (!(steps.azimuth < 180.0 && steps.elevation < 180.0))
+  const double azimuthDegrees = e.positive("azimuth_step", 0.0), elevationDegrees = e.positive("elevation_step", 0.0);
+  if (!(azimuthDegrees < 180.0 && elevationDegrees < 180.0))
     e.fail("'azimuth_step' and 'elevation_step' must be less than 180 degrees");
-  return AngularSteps{steps.azimuth * kRadians, steps.elevation * kRadians};
+  return AngularSteps{azimuthDegrees * kRadians, elevationDegrees * kRadians};
 }
 
 /// The sensor's pose from its "origin" (its axes the world's) or its "pose"
