@@ -15,7 +15,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 seconds=${1:-60}
 build=${LEVELFUSE_FUZZ_BUILD_DIR:-$root/build-fuzz}
 jobs=${LEVELFUSE_JOBS:-2}
-fuzzers=${LEVELFUSE_FUZZERS:-FuzzPly FuzzStanfordConf FuzzManifest FuzzDepthPng FuzzDepthPfm FuzzDepthExr FuzzCameraText FuzzTumText FuzzPtx FuzzVdb}
+fuzzers=${LEVELFUSE_FUZZERS:-FuzzPly FuzzStanfordConf FuzzManifest FuzzDepthPng FuzzDepthPfm FuzzDepthExr FuzzCameraText FuzzTumText FuzzPtx FuzzPoints FuzzVdb}
 
 packages=(cmake clang libclang-rt-14-dev make ccache pkg-config
           libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev nlohmann-json3-dev libpng-dev)

@@ -10,6 +10,9 @@
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/io/TumScans.h>
 
+#include "ManifestEntry.h"
+#include "ManifestPointEntries.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -26,79 +29,6 @@ using nlohmann::json;
 
 /// Manifests list scans; a larger file is not one.
 constexpr std::uintmax_t kMaxManifestBytes = 64 << 20;
-
-class Entry {
- public:
-  Entry(const std::string& manifest, const json& j, std::size_t index)
-      : mManifest(manifest), mJson(j), mWhere("scans[" + std::to_string(index) + "]: ") {
-    if (!j.is_object()) fail("expected an object");
-  }
-
-  [[noreturn]] void fail(const std::string& problem) const { throw InputError(mManifest, mWhere + problem); }
-  bool has(const char* key) const { return mJson.contains(key); }
-
-  std::string string(const char* key) const {
-    if (!has(key)) fail(std::string("missing '") + key + "'");
-    if (!mJson[key].is_string()) fail(std::string("'") + key + "' must be a string");
-    return mJson[key].get<std::string>();
-  }
-  /// The file a key names, resolved beside the manifest; it must exist.
-  std::string path(const char* key) const {
-    const std::string resolved = resolve(key);
-    std::error_code ec;
-    if (!fs::is_regular_file(resolved, ec)) fail(std::string("'") + key + "': no such file " + resolved);
-    return resolved;
-  }
-  /// The folder a key names, resolved beside the manifest; it must exist.
-  std::string folder(const char* key) const {
-    const std::string resolved = resolve(key);
-    std::error_code ec;
-    if (!fs::is_directory(resolved, ec)) fail(std::string("'") + key + "': no such folder " + resolved);
-    return resolved;
-  }
-  /// A JSON value that must be a finite number; `name` says which.
-  double numberIn(const json& j, const std::string& name) const {
-    if (!j.is_number()) fail(name + " must be a number");
-    const double v = j.get<double>();
-    if (!std::isfinite(v)) fail(name + " is not finite");
-    return v;
-  }
-  double number(const char* key, double fallback) const {
-    return has(key) ? numberIn(mJson[key], std::string("'") + key + "'") : fallback;
-  }
-  double positive(const char* key, double fallback) const {
-    const double v = number(key, fallback);
-    if (!(v > 0.0)) fail(std::string("'") + key + "' must be positive");
-    return v;
-  }
-  std::vector<double> numbers(const json& j, const std::string& key, std::size_t count) const {
-    if (!j.is_array() || j.size() != count)
-      fail(quote(key) + " needs " + std::to_string(count) + " numbers");
-    std::vector<double> v;
-    for (const json& x : j) {
-      if (!x.is_number() || !std::isfinite(x.get<double>())) fail(quote(key) + " holds something that is not a number");
-      v.push_back(x.get<double>());
-    }
-    return v;
-  }
-  std::vector<double> numbers(const char* key, std::size_t count) const {
-    if (!has(key)) fail(std::string("missing '") + key + "'");
-    return numbers(mJson[key], key, count);
-  }
-  const json& operator[](const char* key) const { return mJson[key]; }
-  const std::string& where() const { return mWhere; }
-
- private:
-  std::string resolve(const char* key) const {
-    const fs::path p(string(key));
-    const fs::path beside = p.is_absolute() ? p : fs::path(mManifest).parent_path() / p;
-    return beside.lexically_normal().string();
-  }
-
-  const std::string& mManifest;
-  const json& mJson;
-  std::string mWhere;
-};
 
 StanfordScanOptions stanfordOptions(const Entry& e) {
   StanfordScanOptions o;
@@ -188,12 +118,6 @@ std::vector<RangeMap> loadPtxEntry(const Entry& e, const ScanLoadOptions& defaul
   return loadPtxScans(e.path("file"), o);
 }
 
-openvdb::math::Mat4d poseOf(const Entry& e, const std::string& manifest) {
-  if (e.has("pose_file")) return readPose(e.path("pose_file"));
-  if (!e.has("pose")) e.fail("missing 'pose' or 'pose_file'");
-  return poseFromRowMajor(e.numbers("pose", 16), manifest, e.where());
-}
-
 json parseManifest(const std::string& path) {
   requireInputFile(path);
   std::error_code ec;
@@ -270,6 +194,10 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       for (RangeMap& m : loadTumEntry(e, defaults)) maps.push_back(std::move(m));
     } else if (format == "ptx") {
       for (RangeMap& m : loadPtxEntry(e, defaults)) maps.push_back(std::move(m));
+    } else if (format == "points") {
+      maps.push_back(loadPointsEntry(e, defaults));
+    } else if (format == "kitti-bin") {
+      maps.push_back(loadKittiBinEntry(e, defaults));
     } else if (format == "orthographic-pfm") {
       const std::string file = e.path("file");
       DepthImage image = readDepthPfm(file, false);
@@ -301,8 +229,8 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       }
     } else {
       e.fail("unknown format " + quote(format) +
-             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, orthographic-pfm or "
-             "spherical-pfm)");
+             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, points, kitti-bin, "
+             "orthographic-pfm or spherical-pfm)");
     }
     if (e.has("colour")) colourEntry(e, maps, first);
     if (e.has("misses_are_empty")) {

@@ -60,15 +60,15 @@ std::string rounded(double x) {
 
 }  // namespace
 
-double gridPixelsAtMost(const PtxScan& scan, const AngularSteps& steps) {
-  const double columns = std::min(azimuthArcAtMost(scan.points), kTurn) / steps.azimuth + 2.0;
-  const double rows = elevationSpan(scan.points) / steps.elevation + 2.0;
+double gridPixelsAtMost(const std::vector<Vec3d>& points, const AngularSteps& steps) {
+  const double columns = std::min(azimuthArcAtMost(points), kTurn) / steps.azimuth + 2.0;
+  const double rows = elevationSpan(points) / steps.elevation + 2.0;
   return columns * rows;
 }
 
 void requireGridOfTheScansSize(const PtxScan& scan, const AngularSteps& steps, const std::string& path) {
   const double points = static_cast<double>(scan.columns) * static_cast<double>(scan.rows);
-  const double pixels = gridPixelsAtMost(scan, steps);
+  const double pixels = gridPixelsAtMost(scan.points, steps);
   if (!(pixels <= kMaxPixelsPerPoint * points + kSpareGridPixels))
     throw InputError(path, describePtxScan(scan.index, scan.firstLine, scan.lastLine) + ": its returns span up to " +
                                rounded(pixels) + " pixels of its grid's steps (" + rounded(steps.azimuth) + " x " +

@@ -9,6 +9,7 @@
 #include <levelfuse/scan/SphericalScan.h>
 
 #include <string>
+#include <vector>
 
 namespace levelfuse::io {
 
@@ -17,9 +18,10 @@ namespace levelfuse::io {
 inline constexpr double kMaxPixelsPerPoint = 4.0;
 inline constexpr double kSpareGridPixels = 16.0;
 
-/// At least as many pixels as binning the scan's returns with `steps` makes:
-/// the arc of azimuths they cover and their span of elevations, in steps.
-double gridPixelsAtMost(const PtxScan& scan, const AngularSteps& steps);
+/// At least as many pixels as binning the points (the origin where there was
+/// no return) with `steps` makes: the arc of azimuths they cover and their
+/// span of elevations, in steps.
+double gridPixelsAtMost(const std::vector<openvdb::Vec3d>& points, const AngularSteps& steps);
 
 /// Throws InputError naming `path` and the scan if binning its returns with
 /// `steps` could make more than kMaxPixelsPerPoint pixels per point.

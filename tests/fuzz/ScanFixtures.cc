@@ -5,6 +5,8 @@
 #include "FuzzInput.h"
 #include "support/Files.h"
 
+#include <openvdb/Types.h>
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -37,6 +39,34 @@ std::string sphericalScanPtx() {
   return ptx;
 }
 
+/// The directions of sphericalScanPtx()'s 3 x 3 points, and more rows and
+/// columns so that their steps can be estimated, 2 m from the scanner.
+std::vector<openvdb::Vec3d> sphericalScanPoints() {
+  std::vector<openvdb::Vec3d> points;
+  const double step = 2.0 * M_PI / 128.0;
+  for (int c = 0; c < 6; ++c)
+    for (int r = 0; r < 4; ++r)
+      points.push_back(openvdb::Vec3d(std::cos(step * r) * std::cos(step * c), std::cos(step * r) * std::sin(step * c),
+                                      std::sin(step * r)) * 2.0);
+  return points;
+}
+
+std::string sphericalScanXyz() {
+  std::string xyz;
+  for (const openvdb::Vec3d& p : sphericalScanPoints())
+    xyz += std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+  return xyz;
+}
+
+std::string sphericalScanKittiBin() {
+  std::string bin;
+  for (const openvdb::Vec3d& p : sphericalScanPoints()) {
+    const float values[4] = {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()), 0.5f};
+    bin.append(reinterpret_cast<const char*>(values), sizeof values);  // little-endian machines
+  }
+  return bin;
+}
+
 void writeScanFixtures() {
   const std::filesystem::path folder(scratchFolder());
   writeScratchFile("scan.ply", rangeGridPly());
@@ -50,6 +80,10 @@ void writeScanFixtures() {
   writeScratchFile("k.txt", "10 0 2\n0 10 2\n0 0 1\n");
   writeScratchFile("pose.txt", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
   writeScratchFile("scan.ptx", sphericalScanPtx());
+  writeScratchFile("points.xyz", sphericalScanXyz());
+  writeScratchFile("velodyne.bin", sphericalScanKittiBin());
+  writeScratchFile("calib.txt", "P0: 1 0 0 0 0 1 0 0 0 0 1 0\nTr: 0 -1 0 0 0 0 -1 0 1 0 0 0\n");
+  writeScratchFile("poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0.5 0 1 0 0 0 0 1 0\n");
 }
 
 }  // namespace levelfuse::fuzz

@@ -9,6 +9,7 @@
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Ply.h>
+#include <levelfuse/io/PointScans.h>
 #include <levelfuse/io/PtxScans.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
@@ -30,7 +31,7 @@ namespace {
 namespace fs = std::filesystem;
 
 enum class Reader { kPly, kRangeGrid, kStanfordConf, kManifest, kDepthPng, kDepthPfm, kDepthExr, kIntrinsics, kPose,
-                    kFolder, kPtx, kVdb, kReconstruction, kColourPng };
+                    kFolder, kPtx, kPoints, kKittiBin, kKittiCalib, kVdb, kReconstruction, kColourPng };
 
 struct BadInput {
   const char* file;      ///< below tests/data/bad; a folder of depth frames for kFolder
@@ -210,6 +211,21 @@ const BadInput kCorpus[] = {
   // Its 16 points look along 4 directions only: 4 columns and 4 rows that repeat each other's angles.
   {"ptx/points-sharing-pixels.ptx", Reader::kPtx, "scan 1 (lines 1 to 26): its 16 returns fill only 4 pixels of its grid (2 x 2 of 0.1 x 0.1 rad): its points do not lie on one scanner's grid"},
   {"ptx/garbage-after-the-last-scan.ptx", Reader::kPtx, "line 18: 'end of scans' after scan 1 (lines 1 to 16): neither the column count of another scan"},
+  // Point files (readPointCloud, by extension) and KITTI sweeps and calibrations
+  {"points/nan.xyz", Reader::kPoints, "line 2: 'nan' is not a finite number"},
+  {"points/mixed-field-counts.xyz", Reader::kPoints, "line 2: expected 4 fields as the first point (line 1), found 3"},
+  {"points/colour-300.xyz", Reader::kPoints, "line 2: '300' is not a colour (a whole number from 0 to 255)"},
+  {"points/empty.xyz", Reader::kPoints, "no points: the file is empty, blank or only comments"},
+  {"points/ply-without-x.ply", Reader::kPoints, "the vertices have no x, y and z"},
+  {"points/huge-vertex-count.ply", Reader::kPoints, "element 'vertex' declares 4000000000 entries, but only 12 bytes follow the header"},
+  {"kitti/truncated.bin", Reader::kKittiBin, "a size of 20 bytes is not a whole number of points of 16 bytes"},
+  {"kitti/nan.bin", Reader::kKittiBin, "point 1 (at byte 16) has a coordinate that is not finite"},
+  {"kitti/empty.bin", Reader::kKittiBin, "no points: the file is empty"},
+  {"kitti/tr-scaled.txt", Reader::kKittiCalib, "line 2: 'Tr:' (velodyne to camera 0): the pose's rotation is not orthonormal: not a rigid motion"},
+  {"manifest/points-origin-and-pose.json", Reader::kManifest, "scans[0]: give one of the sensor's 'origin', 'pose' and 'pose_file', not 2"},
+  {"manifest/points-non-rigid-pose.json", Reader::kManifest, "scans[0]: the pose's rotation is not orthonormal: not a rigid motion"},
+  {"manifest/kitti-frame-beyond-the-poses.json", Reader::kManifest, "frame 2 is beyond the file's 2 poses (frames 0 to 1)", "support/poses.txt"},
+  {"manifest/kitti-non-rigid-tr.json", Reader::kManifest, "line 2: 'Tr:' (velodyne to camera 0): the pose's rotation is not orthonormal", "kitti/tr-scaled.txt"},
   // .vdb files (readVdb): truncated and corrupted copies of a small float level set
   {"vdb/empty.vdb", Reader::kVdb, "not a valid .vdb file: the header: the file ends in the magic number (8 bytes needed, 0 left; truncated?)"},
   {"vdb/not-a-vdb.vdb", Reader::kVdb, "the file does not start with OpenVDB's magic number"},
@@ -243,7 +259,8 @@ const BadInput kCorpus[] = {
 
 /// Valid files that the corpus's manifests refer to.
 const char* const kSupportFiles[] = {"support/depth.png", "support/intrinsics.txt", "support/plane.pfm",
-                                     "support/spacing-of-1e-40.ply"};
+                                     "support/spacing-of-1e-40.ply", "support/points.xyz", "support/velodyne.bin",
+                                     "support/calib.txt", "support/poses.txt"};
 
 /// No corpus file may make a reader allocate more than this at once.
 constexpr std::size_t kMaxAllocation = 16 << 20;
@@ -278,6 +295,9 @@ void read(Reader reader, const std::string& path) {
     case Reader::kPose: readPose(path); break;
     case Reader::kFolder: loadScans(path); break;
     case Reader::kPtx: loadPtxScans(path); break;
+    case Reader::kPoints: readPointCloud(path); break;
+    case Reader::kKittiBin: readKittiBin(path); break;
+    case Reader::kKittiCalib: readKittiVelodyneToCamera(path); break;
     case Reader::kVdb: readVdb(path); break;
     case Reader::kReconstruction:
       // As the CLI says it: the reconstruction's refusal, of the inputs.

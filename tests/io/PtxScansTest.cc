@@ -32,13 +32,6 @@ constexpr double kSphereRadius = 5.0;
 const Vec3d kFloorNormal(0.0, 0.0, -1.0);
 constexpr double kFloorOffset = 1.5;
 
-/// The tests' scanner: 24 columns x 16 rows 0.05 rad apart, at (1, 2, 3) turned 30 degrees about z.
-test::PtxGrid turnedGrid() {
-  test::PtxGrid grid;
-  grid.scannerToWorld = test::turnedScanner();
-  return grid;
-}
-
 std::vector<Vec3d> spherePoints(const test::PtxGrid& grid) {
   return test::scanPoints(grid, test::sphere(kSphereCentre, kSphereRadius));
 }
@@ -84,7 +77,7 @@ constexpr double kOnTheSurface = 1e-7 * 10.0;
 
 TEST(PtxScans, ASphereAroundATurnedScannerLandsOnTheSphere) {
   TempDir dir;
-  const test::PtxGrid grid = turnedGrid();
+  const test::PtxGrid grid = test::turnedGrid();
   const std::vector<Vec3d> points = spherePoints(grid);
   writeText(dir.path("sphere.ptx"), test::ptxScanText(grid, points, PtxFrame::kScanner));
   const std::vector<RangeMap> maps = loadScans(dir.path("sphere.ptx"));
@@ -101,7 +94,7 @@ TEST(PtxScans, ASphereAroundATurnedScannerLandsOnTheSphere) {
 
 TEST(PtxScans, AnAzimuthStepThatDoesNotDivideTheTurnLandsOnTheSphereToo) {
   TempDir dir;
-  test::PtxGrid grid = turnedGrid();
+  test::PtxGrid grid = test::turnedGrid();
   grid.azimuthStep = 0.05;  // 125.7 a turn; the scan crosses azimuth 0
   const std::vector<Vec3d> points = spherePoints(grid);
   writeText(dir.path("sphere.ptx"), test::ptxScanText(grid, points, PtxFrame::kScanner));
@@ -112,7 +105,7 @@ TEST(PtxScans, AnAzimuthStepThatDoesNotDivideTheTurnLandsOnTheSphereToo) {
 
 TEST(PtxScans, AFloorSeenBelowTheHorizonLandsOnTheFloor) {
   TempDir dir;
-  const test::PtxGrid grid = turnedGrid();
+  const test::PtxGrid grid = test::turnedGrid();
   const std::vector<Vec3d> points = floorPoints(grid);
   ASSERT_EQ(returnsOf(points), static_cast<std::size_t>(grid.columns * 8));  // the rows below the horizon
   writeText(dir.path("floor.ptx"), test::ptxScanText(grid, points, PtxFrame::kScanner));
@@ -124,7 +117,7 @@ TEST(PtxScans, AFloorSeenBelowTheHorizonLandsOnTheFloor) {
 
 TEST(PtxScans, PointsWrittenInTheWorldOrInTheScannersFrameGiveTheSameMap) {
   TempDir dir;
-  const test::PtxGrid grid = turnedGrid();
+  const test::PtxGrid grid = test::turnedGrid();
   const std::vector<Vec3d> points = spherePoints(grid);
   writeText(dir.path("local.ptx"), test::ptxScanText(grid, points, PtxFrame::kScanner));
   writeText(dir.path("world.ptx"), test::ptxScanText(grid, points, PtxFrame::kWorld));
@@ -150,7 +143,7 @@ TEST(PtxScans, PointsWrittenInTheWorldOrInTheScannersFrameGiveTheSameMap) {
 
 TEST(PtxScans, ThePointsAreReadIntoTheScannersFrame) {
   TempDir dir;
-  const test::PtxGrid grid = turnedGrid();
+  const test::PtxGrid grid = test::turnedGrid();
   const std::vector<Vec3d> points = floorPoints(grid);
   writeText(dir.path("world.ptx"), test::ptxScanText(grid, points, PtxFrame::kWorld));
   std::vector<PtxScan> scans;
@@ -173,7 +166,7 @@ TEST(PtxScans, ThePointsAreReadIntoTheScannersFrame) {
 
 TEST(PtxScans, SevenFieldLinesAreReadWithTheirColours) {
   TempDir dir;
-  const test::PtxGrid grid = turnedGrid();
+  const test::PtxGrid grid = test::turnedGrid();
   const std::vector<Vec3d> points = spherePoints(grid);
   writeText(dir.path("grey.ptx"), test::ptxScanText(grid, points, PtxFrame::kScanner));
   writeText(dir.path("colour.ptx"), test::ptxScanText(grid, points, PtxFrame::kScanner, /*colours=*/true));
@@ -198,7 +191,7 @@ TEST(PtxScans, SevenFieldLinesAreReadWithTheirColours) {
 
 TEST(PtxScans, TwoScansInOneFileAreHandedOverOneAtATime) {
   TempDir dir;
-  const test::PtxGrid turned = turnedGrid();
+  const test::PtxGrid turned = test::turnedGrid();
   test::PtxGrid upright;
   upright.scannerToWorld.setTranslation(Vec3d(-2.0, 0.5, 1.0));
   writeText(dir.path("two.ptx"), test::ptxScanText(turned, spherePoints(turned), PtxFrame::kScanner) +
@@ -220,7 +213,7 @@ TEST(PtxScans, TwoScansInOneFileAreHandedOverOneAtATime) {
 
 TEST(PtxScans, WindowsLineBreaksBlankLinesAtTheEndAndAnUppercaseExtension) {
   TempDir dir;
-  const test::PtxGrid grid = turnedGrid();
+  const test::PtxGrid grid = test::turnedGrid();
   std::string text;
   for (const char c : test::ptxScanText(grid, spherePoints(grid), PtxFrame::kScanner))
     text += c == '\n' ? std::string("\r\n") : std::string(1, c);
@@ -232,7 +225,7 @@ TEST(PtxScans, WindowsLineBreaksBlankLinesAtTheEndAndAnUppercaseExtension) {
 
 TEST(PtxScans, TheNoiseIsTheOptionsOrTheManifestEntrys) {
   TempDir dir;
-  const test::PtxGrid grid = turnedGrid();
+  const test::PtxGrid grid = test::turnedGrid();
   writeText(dir.path("sphere.ptx"), test::ptxScanText(grid, spherePoints(grid), PtxFrame::kScanner));
   ScanLoadOptions options;
   options.setSigma(0.01);

@@ -34,6 +34,12 @@ openvdb::math::Mat4d turnedScanner() {
   return openvdb::math::Mat4d(c, s, 0.0, 0.0, -s, c, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 2.0, 3.0, 1.0);
 }
 
+PtxGrid turnedGrid() {
+  PtxGrid grid;
+  grid.scannerToWorld = turnedScanner();
+  return grid;
+}
+
 openvdb::math::Mat4d scannerLookingAt(const Vec3d& position, const Vec3d& target) {
   Vec3d forward = target - position;
   forward.z() = 0.0;

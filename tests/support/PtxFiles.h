@@ -26,6 +26,10 @@ struct PtxGrid {
 /// The scanner at (1, 2, 3), turned 30 degrees about z.
 openvdb::math::Mat4d turnedScanner();
 
+/// The default grid (24 columns x 16 rows 0.05 rad apart) of the scanner at
+/// (1, 2, 3) turned 30 degrees about z.
+PtxGrid turnedGrid();
+
 /// A level scanner at `position` whose x axis (azimuth 0) looks at `target`'s
 /// vertical line.
 openvdb::math::Mat4d scannerLookingAt(const openvdb::Vec3d& position, const openvdb::Vec3d& target);

@@ -382,7 +382,7 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("--toward-scanner", s->towardScanner,
                   "Stanford scans: direction toward the scanner in the scan frame, x,y,z (default 0,0,1)")
       ->check(threeNumbers());
-  cmd->add_option("--sigma", s->sigma, "Noise of a reading, world units (default: from the scans; PTX: 0.002)")
+  cmd->add_option("--sigma", s->sigma, "Noise of a reading, world units (default: from the scans; PTX, point clouds: 0.002)")
       ->check(numberIn(0.0, 1e6, true));
   cmd->add_option("--depth-scale", s->depthScale,
                   "Depth frames: metres per 16-bit PNG unit (default: 0.001; TUM RGB-D folders 0.0002)")

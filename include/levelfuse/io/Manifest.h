@@ -23,7 +23,13 @@
 // optional "depth_scale", "max_depth", "frame_stride" and "sigma" as for
 // depth-pfm), ptx (a PTX file of one or more terrestrial laser scans, see
 // PtxScans.h, with an optional "sigma" in metres; without one, the loader's
-// ScanLoadOptions::ptxSigma, 0.002 by default), and orthographic-pfm (a range
+// ScanLoadOptions::ptxSigma, 0.002 by default), points (an XYZ or PLY point
+// cloud with its sensor's "origin" [x, y, z] or "pose"; "coordinates": "world"
+// or "sensor"; optional "azimuth_step" and "elevation_step" in degrees, else
+// estimated, and "sigma", else ScanLoadOptions::pointSigma), kitti-bin (a KITTI
+// velodyne sweep with its "pose", or KITTI odometry's "poses" file, "calib"
+// file and "frame"; steps and sigma as for points; see PointScans.h; these two
+// refuse fields they do not know), and orthographic-pfm (a range
 // map of parallel rays: "pixel_size", "origin" [x, y] of pixel (0, 0) and a "pose"
 // from the map's frame, whose rays run along +z, to the world). Poses are
 // camera-to-world, 16 numbers in row-major order with the translation in the

@@ -37,12 +37,18 @@ struct ScanLoadOptions {
   /// terrestrial laser scanner's range noise at tens of metres; give the
   /// scanner's own where it is known.
   double ptxSigma = 0.002;
+  /// Noise of the readings of a point cloud binned into a range map (a
+  /// manifest's `points` and `kitti-bin` entries; metres), 2 mm by default
+  /// as for PTX scans.
+  double pointSigma = 0.002;
   /// Gives every reading the same noise `sigma` (world units), whatever the
-  /// scan: Stanford scans' sigma, depth frames' noise and PTX scans' alike.
+  /// scan: Stanford scans' sigma, depth frames' noise, PTX scans' and point
+  /// clouds' alike.
   void setSigma(double sigma) {
     stanford.sigma = sigma;
     depthNoise = DepthNoise{sigma, 0.0};
     ptxSigma = sigma;
+    pointSigma = sigma;
   }
 
   /// If set, each scan is handed over as soon as it is read instead of

@@ -12,6 +12,7 @@
 #include <openvdb/math/Mat4.h>
 #include <openvdb/math/Vec3.h>
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,28 @@ RangeMap sphericalMapFromPoints(const std::vector<openvdb::Vec3d>& scannerPoints
 RangeMap sphericalMapFromPoints(const std::vector<openvdb::Vec3d>& scannerPoints, const AngularSteps& steps,
                                 const openvdb::math::Mat4d& scannerToWorld, const DepthNoise& noise,
                                 std::string name = "");
+
+/// The steps of an unordered set of points in the scanner's frame (z up), as
+/// a spinning LiDAR or a terrestrial scanner measured them:
+///  - when the elevations come in discrete rows (a scanner's lasers, or the
+///    rows of its grid), the elevation step is the typical gap between
+///    neighbouring rows, and the azimuth step the typical gap between
+///    neighbours within a row (so a Velodyne's 0.4 x 0.17 degrees come back
+///    as they are; of rows spaced unevenly, the finer spacing);
+///  - otherwise both are the mean angular spacing of the points (the side of
+///    the patch of sphere a point has to itself), one point per pixel.
+/// "Typical" is the median of the gaps within a quarter of a step of the
+/// lower quartile of all gaps: rays without a return (gaps of two or more
+/// steps) and a jitter of the angles (a few hundredths of a step) leave it
+/// unchanged. Large sets are sampled evenly (at most a million elevations,
+/// the azimuths of at most 32 rows): the result depends on the points and
+/// their order alone. Throws std::invalid_argument for fewer than
+/// kMinPointsForSteps points with a direction (finite, off the scanner and
+/// its poles) or points that all look one way.
+AngularSteps estimateAngularSteps(const std::vector<openvdb::Vec3d>& scannerPoints);
+
+/// The fewest points estimateAngularSteps takes.
+inline constexpr std::size_t kMinPointsForSteps = 16;
 
 /// The steps of a structured scan: `columns` columns of `rows` points each,
 /// column after column (a PTX scan's order), in the scanner's frame, with
