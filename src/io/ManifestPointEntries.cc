@@ -95,7 +95,7 @@ RangeMap loadPointsEntry(const Entry& e, const ScanLoadOptions& defaults) {
   PointCloud cloud = readPointCloud(file, defaults.interrupter);
   const std::vector<Vec3d> sensorPoints =
       inWorld ? pointsInSensorFrame(cloud.points, sensorToWorld) : std::move(cloud.points);
-  return rangeMapFromPointCloud(sensorPoints, sensorToWorld, steps, sigma, file, fileName(file));
+  return rangeMapFromPointCloud(sensorPoints, sensorToWorld, steps, sigma, file, fileName(file), cloud.colours);
 }
 
 RangeMap loadKittiBinEntry(const Entry& e, const ScanLoadOptions& defaults) {

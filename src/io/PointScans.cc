@@ -69,11 +69,11 @@ std::vector<Vec3d> pointsInSensorFrame(const std::vector<Vec3d>& worldPoints,
 
 RangeMap rangeMapFromPointCloud(const std::vector<Vec3d>& sensorPoints, const openvdb::math::Mat4d& sensorToWorld,
                                 const std::optional<AngularSteps>& steps, double sigma, const std::string& path,
-                                const std::string& name) {
+                                const std::string& name, const std::vector<Rgb8>& colours) {
   try {
     const AngularSteps used = steps ? *steps : estimateAngularSteps(sensorPoints);
     requireGridOfTheCloudsSize(sensorPoints, used, path);
-    return sphericalMapFromPoints(sensorPoints, used, sensorToWorld, sigma, name);
+    return sphericalMapFromPoints(sensorPoints, used, sensorToWorld, sigma, name, colours);
   } catch (const std::invalid_argument& e) {  // no steps, or no map
     throw InputError(path, e.what());
   }

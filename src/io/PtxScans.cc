@@ -31,7 +31,7 @@ RangeMap rangeMapFromPtxScan(const PtxScan& scan, double sigma, const std::strin
   try {
     const AngularSteps steps = stepsOfGrid(scan.points, scan.columns, scan.rows);
     requireGridOfTheScansSize(scan, steps, path);
-    RangeMap map = sphericalMapFromPoints(scan.points, steps, scan.scannerToWorld, sigma, name);
+    RangeMap map = sphericalMapFromPoints(scan.points, steps, scan.scannerToWorld, sigma, name, scan.colours);
     requireReturnsOnTheirOwnPixels(scan, map, path);
     return map;
   } catch (const std::invalid_argument& e) {  // the returns make no grid, or no map

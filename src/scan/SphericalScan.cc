@@ -29,6 +29,7 @@ double elevationOf(const Vec3d& p) { return std::atan2(p.z(), std::hypot(p.x(), 
 struct Direction {
   double azimuth, elevation;
   float range;
+  std::size_t point;  ///< which of the points
 };
 
 /// Where a grid of `step` puts the angles' pixel centres so that the angles
@@ -90,11 +91,12 @@ TurnCut turnCutOf(const std::vector<Direction>& directions, double step, bool wh
 std::vector<Direction> directionsOf(const std::vector<Vec3d>& points) {
   std::vector<Direction> directions;
   directions.reserve(points.size());
-  for (const Vec3d& p : points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3d& p = points[i];
     if (!hasReturn(p)) continue;
     const double elevation = elevationOf(p);
     if (std::fabs(elevation) > 0.5 * M_PI - kPoleMargin) continue;
-    directions.push_back({azimuthOf(p), elevation, static_cast<float>(p.length())});
+    directions.push_back({azimuthOf(p), elevation, static_cast<float>(p.length()), i});
   }
   return directions;
 }
@@ -104,13 +106,18 @@ struct BinnedScan {
   int width = 0, height = 0;
   SphericalProjection grid;
   std::vector<float> ranges;
+  std::vector<Rgb8> colours;  ///< of the nearest point of each pixel, if the points have colours
 };
 
-BinnedScan binnedScan(const std::vector<Vec3d>& points, AngularSteps steps, const std::string& name) {
+BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>& colours, AngularSteps steps,
+                      const std::string& name) {
   const std::string who = "spherical scan '" + name + "'";
   if (!(steps.azimuth > 0.0) || !(steps.elevation > 0.0) || !std::isfinite(steps.azimuth) ||
       !std::isfinite(steps.elevation) || steps.azimuth > M_PI || steps.elevation > M_PI)
     throw std::invalid_argument(who + ": the angular steps must be positive and less than half a turn");
+  if (!colours.empty() && colours.size() != points.size())
+    throw std::invalid_argument(who + ": " + std::to_string(colours.size()) + " colours for " +
+                                std::to_string(points.size()) + " points");
   const std::vector<Direction> directions = directionsOf(points);
   if (directions.empty()) throw std::invalid_argument(who + ": no point away from the scanner and its poles");
   // A scanner turns a whole number of columns: a step within a twentieth of
@@ -163,19 +170,22 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, AngularSteps steps, cons
   scan.grid.azimuthStep = steps.azimuth;
   scan.grid.elevationStart = elevationPhase + static_cast<double>(lowestRow) * steps.elevation;
   scan.grid.elevationStep = steps.elevation;
-  scan.ranges.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height),
-                     std::numeric_limits<float>::quiet_NaN());
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  scan.ranges.assign(pixels, std::numeric_limits<float>::quiet_NaN());
+  if (!colours.empty()) scan.colours.assign(pixels, Rgb8{0, 0, 0});
   for (const Direction& d : directions) {
     const long u = columnOf(d);
     const long v = rowOf(d) - lowestRow;
-    float& reading = scan.ranges[static_cast<std::size_t>(v) * static_cast<std::size_t>(width) +
-                                 static_cast<std::size_t>(u)];
-    if (!(reading <= d.range)) reading = d.range;  // the nearest point of a pixel
+    const std::size_t at = static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u);
+    if (scan.ranges[at] <= d.range) continue;  // the nearest point of a pixel
+    scan.ranges[at] = d.range;
+    if (!colours.empty()) scan.colours[at] = colours[d.point];
   }
   if (turn.closed)  // the first column again after the last: no seam
     for (long v = 0; v < height; ++v) {
       const std::size_t row = static_cast<std::size_t>(v) * static_cast<std::size_t>(width);
       scan.ranges[row + static_cast<std::size_t>(width - 1)] = scan.ranges[row];
+      if (!colours.empty()) scan.colours[row + static_cast<std::size_t>(width - 1)] = scan.colours[row];
     }
   return scan;
 }
@@ -183,18 +193,23 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, AngularSteps steps, cons
 }  // namespace
 
 RangeMap sphericalMapFromPoints(const std::vector<Vec3d>& scannerPoints, const AngularSteps& steps,
-                                const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name) {
-  BinnedScan scan = binnedScan(scannerPoints, steps, name);
-  return RangeMap::spherical(scan.width, scan.height, std::move(scan.ranges), scan.grid, scannerToWorld, sigma,
-                             std::move(name));
+                                const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name,
+                                const std::vector<Rgb8>& colours) {
+  BinnedScan scan = binnedScan(scannerPoints, colours, steps, name);
+  RangeMap map = RangeMap::spherical(scan.width, scan.height, std::move(scan.ranges), scan.grid, scannerToWorld,
+                                     sigma, std::move(name));
+  map.setColours(std::move(scan.colours));
+  return map;
 }
 
 RangeMap sphericalMapFromPoints(const std::vector<Vec3d>& scannerPoints, const AngularSteps& steps,
                                 const openvdb::math::Mat4d& scannerToWorld, const DepthNoise& noise,
-                                std::string name) {
-  BinnedScan scan = binnedScan(scannerPoints, steps, name);
-  return RangeMap::spherical(scan.width, scan.height, std::move(scan.ranges), scan.grid, scannerToWorld, noise,
-                             std::move(name));
+                                std::string name, const std::vector<Rgb8>& colours) {
+  BinnedScan scan = binnedScan(scannerPoints, colours, steps, name);
+  RangeMap map = RangeMap::spherical(scan.width, scan.height, std::move(scan.ranges), scan.grid, scannerToWorld,
+                                     noise, std::move(name));
+  map.setColours(std::move(scan.colours));
+  return map;
 }
 
 AngularSteps stepsOfGrid(const std::vector<Vec3d>& scannerPoints, int columns, int rows) {

@@ -177,15 +177,21 @@ TEST(PtxScans, SevenFieldLinesAreReadWithTheirColours) {
     const PtxColour expected{static_cast<std::uint8_t>(i * 7 % 256), static_cast<std::uint8_t>(i * 11 % 256), 200};
     EXPECT_EQ(colours[i], expected) << "point " << i;
   }
-  // Colour is read but not yet used: the map is the grey scan's.
+  // The map is the grey scan's, and each pixel has its point's colour (the
+  // grid comes back pixel for pixel: pixel (u, v) is column u's point v).
   const RangeMap grey = loadScans(dir.path("grey.ptx")).at(0);
   const RangeMap colour = loadScans(dir.path("colour.ptx")).at(0);
+  EXPECT_FALSE(grey.hasColours());
+  ASSERT_TRUE(colour.hasColours());
   ASSERT_EQ(colour.width(), grey.width());
   ASSERT_EQ(colour.height(), grey.height());
+  ASSERT_EQ(colour.width(), grid.columns);
   for (int v = 0; v < grey.height(); ++v)
     for (int u = 0; u < grey.width(); ++u)
       if (grey.valid(u, v)) {
         EXPECT_EQ(colour.reading(u, v), grey.reading(u, v)) << u << ", " << v;
+        const std::size_t point = static_cast<std::size_t>(u) * grid.rows + v;
+        EXPECT_EQ(colour.colours()[static_cast<std::size_t>(v) * colour.width() + u], colours[point]) << u << ", " << v;
       }
 }
 

@@ -97,12 +97,13 @@ inline constexpr double kMinCloudStep = 1e-6;
 /// The points (in the sensor's frame, z up) binned into a spherical range map
 /// (sphericalMapFromPoints) with `steps`, or with the steps estimated from
 /// the points (estimateAngularSteps), its readings of noise `sigma`, named
-/// `name`. Throws InputError naming `path` if the steps cannot be
+/// `name`, with the points' `colours` if given (one per point). Throws InputError naming `path` if the steps cannot be
 /// estimated, are finer than kMinCloudStep, would make more than
 /// kMaxPixelsPerCloudPoint pixels per point (refused before the map is
 /// allocated), or make no map.
 RangeMap rangeMapFromPointCloud(const std::vector<openvdb::Vec3d>& sensorPoints,
                                 const openvdb::math::Mat4d& sensorToWorld, const std::optional<AngularSteps>& steps,
-                                double sigma, const std::string& path, const std::string& name);
+                                double sigma, const std::string& path, const std::string& name,
+                                const std::vector<Rgb8>& colours = {});
 
 }  // namespace levelfuse::io

@@ -64,8 +64,7 @@ struct PtxScan {
   /// origin where the ray had no return.
   std::vector<openvdb::Vec3d> points;
   std::vector<float> intensities;  ///< per point, as written
-  /// Per point for seven-field lines, else empty. Read and checked, but not
-  /// yet used: the range maps carry no colour.
+  /// Per point for seven-field lines, else empty: the range map's colours.
   std::vector<PtxColour> colours;
   std::size_t returns = 0;  ///< points that are not "0 0 0"
 };
@@ -80,7 +79,8 @@ using PtxScanTaker = std::function<void(PtxScan&&)>;
 void readPtxScans(const std::string& path, const PtxScanTaker& take, const Interrupter& interrupter = {});
 
 /// The scan as a spherical range map with the angular steps of its grid
-/// (stepsOfGrid), each reading of noise `sigma`, named `name`. Throws
+/// (stepsOfGrid), each reading of noise `sigma`, named `name`, with the
+/// points' colours if they have them. Throws
 /// InputError naming `path` and the scan's lines if its returns make no grid
 /// (no two neighbours along a column or a row both have one), one of more
 /// than four pixels per point it declares (refused before the map is

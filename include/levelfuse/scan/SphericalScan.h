@@ -34,15 +34,18 @@ inline constexpr double kPoleMargin = 0.1 * M_PI / 180.0;
 /// comes back pixel for pixel), and spans the points' azimuths and
 /// elevations; a full turn of azimuth is closed (the first column is repeated
 /// after the last, so no seam is left). Points that are not finite, at the
-/// scanner, or within kPoleMargin of a pole are left out. Throws
+/// scanner, or within kPoleMargin of a pole are left out. With `colours`
+/// (one per point), each pixel takes its nearest point's colour
+/// (RangeMap::setColours), pixels without a point black. Throws
 /// std::invalid_argument for steps that are not positive and finite, a grid
 /// of more than 2^31 pixels, or fewer than two rows or columns of points.
 RangeMap sphericalMapFromPoints(const std::vector<openvdb::Vec3d>& scannerPoints, const AngularSteps& steps,
-                                const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name = "");
+                                const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name = "",
+                                const std::vector<Rgb8>& colours = {});
 /// The same with sigmas that follow the range (RangeMap::setDepthNoise).
 RangeMap sphericalMapFromPoints(const std::vector<openvdb::Vec3d>& scannerPoints, const AngularSteps& steps,
                                 const openvdb::math::Mat4d& scannerToWorld, const DepthNoise& noise,
-                                std::string name = "");
+                                std::string name = "", const std::vector<Rgb8>& colours = {});
 
 /// The steps of an unordered set of points in the scanner's frame (z up), as
 /// a spinning LiDAR or a terrestrial scanner measured them:
