@@ -1,5 +1,6 @@
 // levelfuse: TUM RGB-D folders.
 
+#include <levelfuse/io/ColourImages.h>
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/TextRecords.h>
 #include <levelfuse/io/TumScans.h>
@@ -71,13 +72,43 @@ std::vector<TumPose> readTumTrajectory(const std::string& path) {
   return poses;
 }
 
-const TumPose& nearestPose(const std::vector<TumPose>& poses, double time) {
-  const auto after = std::lower_bound(poses.begin(), poses.end(), time,
-                                      [](const TumPose& p, double t) { return p.time < t; });
-  if (after == poses.begin()) return *after;
-  if (after == poses.end()) return poses.back();
+namespace {
+
+/// The entry of `sorted` (by time, not empty) nearest to `time`.
+template <typename Timed>
+const Timed& nearestInTime(const std::vector<Timed>& sorted, double time) {
+  const auto after =
+      std::lower_bound(sorted.begin(), sorted.end(), time, [](const Timed& p, double t) { return p.time < t; });
+  if (after == sorted.begin()) return *after;
+  if (after == sorted.end()) return sorted.back();
   return time - std::prev(after)->time <= after->time - time ? *std::prev(after) : *after;
 }
+
+/// The colour images of rgb.txt, sorted by time; none if the folder has no rgb.txt.
+std::vector<TumFrame> colourImagesOf(const fs::path& root) {
+  std::error_code ec;
+  const fs::path list = root / "rgb.txt";
+  if (!fs::is_regular_file(list, ec)) return {};
+  std::vector<TumFrame> images = readTumDepthList(list.string());
+  std::stable_sort(images.begin(), images.end(), [](const TumFrame& a, const TumFrame& b) { return a.time < b.time; });
+  return images;
+}
+
+/// Gives a frame taken at `time` the colours of the colour image nearest in
+/// time, if one lies within `tolerance` seconds (the benchmark's depth images
+/// are registered to its colour camera: pixel for pixel).
+void colourFrame(RangeMap& frame, double time, const std::vector<TumFrame>& images, const fs::path& root,
+                 double tolerance) {
+  if (images.empty()) return;
+  const TumFrame& nearest = nearestInTime(images, time);
+  if (!(std::fabs(nearest.time - time) <= tolerance)) return;
+  const std::string image = (root / nearest.file).lexically_normal().string();
+  colourRangeMap(frame, readColourPng(image), image);
+}
+
+}  // namespace
+
+const TumPose& nearestPose(const std::vector<TumPose>& poses, double time) { return nearestInTime(poses, time); }
 
 bool isTumFolder(const std::string& folder) {
   std::error_code ec;
@@ -103,6 +134,7 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
   const std::vector<TumFrame> frames = readTumDepthList(list);
   const std::vector<TumPose> poses = readTumTrajectory(trajectory);
   const PinholeProjection intrinsics = tumIntrinsics(folder);
+  const std::vector<TumFrame> colourImages = colourImagesOf(root);
   ScanDelivery scans(options);
   const std::size_t stride = static_cast<std::size_t>(options.frameStride);
   const std::size_t total = (frames.size() + stride - 1) / stride;  // the frames of the stride
@@ -121,7 +153,9 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
           throw InputError(image, "no pose in groundtruth.txt within " + seconds(options.poseTimeTolerance, false) +
                                       " s of the frame's time " + seconds(frame.time, true) + " (the nearest, line " +
                                       std::to_string(pose.line) + ", is " + seconds(gap, false) + " s away)");
-        return loadDepthFrame(image, intrinsics, pose.cameraToWorld, options, 1.0 / kTumDepthUnitsPerMetre);
+        RangeMap map = loadDepthFrame(image, intrinsics, pose.cameraToWorld, options, 1.0 / kTumDepthUnitsPerMetre);
+        colourFrame(map, frame.time, colourImages, root, options.poseTimeTolerance);
+        return map;
       },
       scans, options);
   return scans.kept();

@@ -5,6 +5,7 @@
 #include "support/Files.h"
 #include "support/InputErrors.h"
 
+#include <levelfuse/io/ColourImages.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/TumScans.h>
 
@@ -51,6 +52,43 @@ TEST(TumFolder, EachFrameTakesTheNearestPoseAndLandsOnTheScene) {
     EXPECT_EQ(maps[i].validCount(), static_cast<std::size_t>(f.width * f.height)) << "frame " << i;
     EXPECT_LT(test::farthestFromPlane(maps[i], f.planeZ), 1e-3) << "frame " << i;  // 1/5000 m steps, tilted
   }
+}
+
+/// Writes `folder`/rgb.txt listing one colour PNG of `width` x `height` pixels per (time, colour).
+void writeColourImages(const std::string& folder, const std::vector<std::pair<double, Rgb8>>& images, int width,
+                       int height) {
+  std::filesystem::create_directories(folder + "/rgb");
+  std::string list = "# colour images\n";
+  OutputSet outputs;
+  for (const auto& [time, colour] : images) {
+    const std::string name = "rgb/" + std::to_string(time) + ".png";
+    list += std::to_string(time) + " " + name + "\n";
+    writeColourPng(outputs, folder + "/" + name,
+                   ColourImage{width, height, std::vector<Rgb8>(static_cast<std::size_t>(width) * height, colour)});
+  }
+  outputs.commit();
+  writeText(folder + "/rgb.txt", list);
+}
+
+TEST(TumFolder, EachFrameTakesTheColourImageNearestInTime) {
+  TempDir dir;
+  const test::TumFixture f = slidingCamera();  // frames at 100.003, 100.052, 100.118, 100.197
+  test::writeTumFolder(dir.path("tum"), f);
+  const Rgb8 red{255, 0, 0}, green{0, 255, 0}, blue{0, 0, 255};
+  // The third frame's nearest colour image is 0.032 s away: beyond 0.02 s, none.
+  writeColourImages(dir.path("tum"), {{100.060, green}, {100.004, red}, {100.150, blue}}, f.width, f.height);
+  const std::vector<RangeMap> maps = loadScans(dir.path("tum"));
+  ASSERT_EQ(maps.size(), 4u);
+  ASSERT_TRUE(maps[0].hasColours());
+  ASSERT_TRUE(maps[1].hasColours());
+  EXPECT_EQ(maps[0].colours(), std::vector<Rgb8>(maps[0].colours().size(), red));
+  EXPECT_EQ(maps[1].colours(), std::vector<Rgb8>(maps[1].colours().size(), green));
+  EXPECT_FALSE(maps[2].hasColours());
+  EXPECT_FALSE(maps[3].hasColours());
+  // A colour image of another size than the depth image is refused, naming it.
+  writeColourImages(dir.path("tum"), {{100.004, red}}, f.width + 1, f.height);
+  expectInputError([&] { loadScans(dir.path("tum")); }, dir.path("tum/rgb/100.004000.png"),
+                   "must be registered to it, pixel for pixel");
 }
 
 TEST(TumFolder, DepthUnitsAreFiveThousandPerMetreUnlessTold) {

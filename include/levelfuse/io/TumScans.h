@@ -9,6 +9,11 @@
 // nearest timestamp, which must lie within a tolerance (0.02 s by default, as
 // the benchmark's associate.py) of the frame's.
 //
+// If the folder holds `rgb.txt` (lines `timestamp filename` naming colour
+// PNGs), each frame takes the colours of the colour image nearest in time
+// within the same tolerance: the benchmark's depth images are registered to
+// its colour camera, pixel for pixel (a frame without one has no colour).
+//
 // Intrinsics: `camera-intrinsics.txt` (a 3x3 matrix as in the 7-Scenes
 // layout) if the folder holds one; otherwise those of the Kinect the folder's
 // name says (`freiburg2` or `freiburg3`, as the benchmark's sequences are
