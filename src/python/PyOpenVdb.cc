@@ -18,15 +18,28 @@ bool importPyOpenVdb() {
   }
 }
 
+/// The grid as pyopenvdb's object sharing it; ImportError saying `elsewhere`
+/// (where else the grid is at hand) if pyopenvdb cannot be imported.
+template <typename GridPtr>
+py::object sharedWithPyOpenVdb(GridPtr grid, const char* elsewhere) {
+  if (!importPyOpenVdb())
+    throw py::import_error(std::string("pyopenvdb is not installed (Debian: apt-get install python3-openvdb); ") +
+                           elsewhere);
+  boost::python::object shared(grid);
+  return py::reinterpret_borrow<py::object>(shared.ptr());
+}
+
 }  // namespace
 
 py::object toPyOpenVdb(openvdb::FloatGrid::Ptr grid) {
-  if (!importPyOpenVdb())
-    throw py::import_error(
-        "pyopenvdb is not installed (Debian: apt-get install python3-openvdb); the grid is at hand as a "
-        "levelfuse.Grid, as .vdb bytes (vdb_bytes) and as numpy (active_voxels)");
-  boost::python::object shared(grid);
-  return py::reinterpret_borrow<py::object>(shared.ptr());
+  return sharedWithPyOpenVdb(std::move(grid), "the grid is at hand as a levelfuse.Grid, as .vdb bytes (vdb_bytes) "
+                                              "and as numpy (active_voxels)");
+}
+
+py::object colourForPython(openvdb::Vec3fGrid::Ptr grid) {
+  if (!grid) return py::none();
+  return sharedWithPyOpenVdb(std::move(grid), "the colour is at hand in the .vdb (write_vdb, vdb_bytes) and on "
+                                              "the mesh (Mesh.colours)");
 }
 
 openvdb::FloatGrid::Ptr fromPyOpenVdb(const py::handle& value) {

@@ -19,6 +19,9 @@ openvdb::FloatGrid::Ptr fromPyOpenVdb(const py::handle& value);
 /// The grid as a pyopenvdb.FloatGrid where pyopenvdb can be imported, else as
 /// a levelfuse.Grid.
 py::object gridForPython(openvdb::FloatGrid::Ptr grid);
+/// A colour grid as a pyopenvdb.Vec3SGrid sharing it, None for none;
+/// ImportError with a hint if pyopenvdb cannot be imported.
+py::object colourForPython(openvdb::Vec3fGrid::Ptr grid);
 /// A levelfuse.Grid or a pyopenvdb.FloatGrid argument; TypeError otherwise.
 openvdb::FloatGrid::Ptr gridFrom(const py::handle& value, const std::string& name);
 

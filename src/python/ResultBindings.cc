@@ -88,6 +88,19 @@ py::array trianglesOf(const py::object& self) {
                                     m.triangles.data(), self);
 }
 
+py::object coloursOf(const py::object& self) {
+  const TriangleMesh& m = self.cast<const Mesh&>().mesh;
+  if (!m.hasColours()) return py::none();
+  return py::array_t<std::uint8_t>({static_cast<py::ssize_t>(m.vertexCount()), py::ssize_t{3}}, m.rgb.data(), self);
+}
+
+/// The grids a result writes: the level set, its weight and its colour if it has one.
+openvdb::GridCPtrVec gridsOf(const Result& r) {
+  openvdb::GridCPtrVec grids{r.outcome.result.levelSet, r.outcome.result.weight};
+  if (r.outcome.result.colour) grids.push_back(r.outcome.result.colour);
+  return grids;
+}
+
 /// Whether the result's mesh or preview leaves out what no scan observed.
 bool trims(const Result& r, const std::optional<bool>& asked) {
   const bool trim = trimsUnseen(r.outcome.scene, asked);
@@ -99,7 +112,8 @@ bool trims(const Result& r, const std::optional<bool>& asked) {
 Mesh meshOf(const Result& r, double adaptivity, const std::optional<bool>& trimUnseen) {
   const bool trim = trims(r, trimUnseen);
   py::gil_scoped_release released;
-  return Mesh{meshShown(*r.outcome.result.levelSet, trim ? r.outcome.result.weight.get() : nullptr, adaptivity)};
+  return Mesh{meshShown(*r.outcome.result.levelSet, trim ? r.outcome.result.weight.get() : nullptr, adaptivity,
+                        r.outcome.result.colour.get())};
 }
 
 io::PreviewOptions previewOptionsOf(const Result& r, int width, const std::optional<int>& height,
@@ -116,6 +130,7 @@ io::PreviewOptions previewOptionsOf(const Result& r, int width, const std::optio
   options = previewShown(options, fromItsCamera ? &*r.outcome.firstScan : nullptr,
                          trims(r, trimUnseen) ? r.outcome.result.weight : nullptr);
   if (fromItsCamera && height) options.height = *height;
+  options.colour = r.outcome.result.colour;
   return options;
 }
 
@@ -131,6 +146,8 @@ void bindResult(py::module_& m) {
   py::class_<Mesh>(m, "Mesh", "A triangle mesh in world units, counter-clockwise seen from outside.")
       .def_property_readonly("vertices", &verticesOf, "(N, 3) float32, a view of the mesh's vertices.")
       .def_property_readonly("triangles", &trianglesOf, "(M, 3) uint32 vertex indices, a view.")
+      .def_property_readonly("colours", &coloursOf,
+                             "(N, 3) uint8 red, green, blue per vertex, a view; None if the scans had no colour.")
       .def_property_readonly("area", [](const Mesh& held) { return held.mesh.area(); })
       .def_property_readonly("volume", [](const Mesh& held) { return held.mesh.volume(); })
       .def(
@@ -156,6 +173,10 @@ void bindResult(py::module_& m) {
           "weight", [](const Result& r) { return gridForPython(r.outcome.result.weight); },
           "The weight grid: a pyopenvdb.FloatGrid where pyopenvdb is installed, else a levelfuse.Grid.")
       .def_property_readonly(
+          "colour", [](const Result& r) { return colourForPython(r.outcome.result.colour); },
+          "The colour the scans saw on the surface, a pyopenvdb.Vec3SGrid named Cd (red, green, blue from 0 to "
+          "1); None if no scan had colour.")
+      .def_property_readonly(
           "grid", [](const Result& r) { return r.outcome.result.levelSet; }, "The level set as a levelfuse.Grid.")
       .def_property_readonly(
           "weight_grid", [](const Result& r) { return r.outcome.result.weight; },
@@ -172,12 +193,14 @@ void bindResult(py::module_& m) {
           "write_vdb",
           [](const Result& r, const std::string& path) {
             py::gil_scoped_release released;
-            io::writeVdb(path, {r.outcome.result.levelSet, r.outcome.result.weight});
+            io::writeVdb(path, gridsOf(r));
           },
-          py::arg("path"), "Writes the level set and its weight grid to a .vdb file, as the converter's -o does.")
+          py::arg("path"),
+          "Writes the level set, its weight grid and its colour (if the scans had colour) to a .vdb file, as the "
+          "converter's -o does.")
       .def(
           "vdb_bytes",
-          [](const Result& r) { return vdbBytes({r.outcome.result.levelSet, r.outcome.result.weight}); },
+          [](const Result& r) { return vdbBytes(gridsOf(r)); },
           "The bytes write_vdb writes.")
       .def(
           "write_mesh",

@@ -24,6 +24,7 @@ Outcome runReconstruction(const Reconstructor& reconstructor, const RangeMapSequ
   if (settings.linear) o.result.levelSet = reconstructor.linearSolution(interrupter);
   else o.result = reconstructor.run(progress, interrupter);
   if (!o.result.weight) o.result.weight = reconstructor.surfaceWeight(*o.result.levelSet, interrupter);
+  if (settings.linear) o.result.colour = reconstructor.surfaceColour(*o.result.levelSet, interrupter);
   describeInputs(*o.result.levelSet, settings.inputs, settings.linear, o.scene);
   const RangeMapSequence fitScans = beforeFit ? beforeFit() : scans;
   if (settings.fit) {
