@@ -69,6 +69,13 @@ TEST_F(ColourCli, ReconstructWritesTheColourBesideTheSurfaceAndOnTheMesh) {
   EXPECT_EQ(verticesOffColour(again, 5.0 * voxel), 0u);
 }
 
+TEST_F(ColourCli, InfoSaysWhichScansAreColoured) {
+  const CliRun info = levelfuse("info --json " + paintedSphere());
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  for (const auto& scan : jsonOf(info)["scans"]) EXPECT_TRUE(scan["coloured"].get<bool>());
+  EXPECT_NE(levelfuse("info " + path("scans/scans.json")).output.find(", coloured"), std::string::npos);
+}
+
 TEST_F(ColourCli, TheLinearSolutionIsColouredToo) {
   const CliRun run = levelfuse("reconstruct " + paintedSphere() + " --linear --mesh " + path("l.ply") + " --json");
   ASSERT_EQ(run.exitCode, 0) << run.output;

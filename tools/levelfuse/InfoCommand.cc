@@ -81,6 +81,7 @@ nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
                     {"readings", m.validCount()},
                     {"ray_spacing", m.maxRaySpacing()},
                     {"sigma", m.sigma()},
+                    {"coloured", m.hasColours()},
                     {scannerKey, {scanner.x(), scanner.y(), scanner.z()}}});
   }
   nlohmann::json j{{"path", path},
@@ -129,7 +130,8 @@ void print(const nlohmann::json& j) {
               << m["width"].get<int>() << " x " << m["height"].get<int>() << ", "
               << withCommas(m["points"].get<std::size_t>()) << " points, "
               << withCommas(m["readings"].get<std::size_t>()) << " readings, ray spacing "
-              << length(m["ray_spacing"].get<double>()) << ", sigma " << length(m["sigma"].get<double>()) << "\n";
+              << length(m["ray_spacing"].get<double>()) << ", sigma " << length(m["sigma"].get<double>())
+              << (m["coloured"].get<bool>() ? ", coloured" : "") << "\n";
 }
 
 int runInfo(const InfoSettings& s) {
