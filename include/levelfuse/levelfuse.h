@@ -21,6 +21,7 @@
 #include <levelfuse/geometry/Shapes.h>
 
 #include <levelfuse/io/AtomicWrite.h>
+#include <levelfuse/io/ColourImages.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/InputFile.h>
@@ -29,6 +30,7 @@
 #include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/io/MeshFile.h>
 #include <levelfuse/io/Ply.h>
+#include <levelfuse/io/PointScans.h>
 #include <levelfuse/io/Preview.h>
 #include <levelfuse/io/PtxScans.h>
 #include <levelfuse/io/Scans.h>
@@ -65,6 +67,7 @@
 #include <levelfuse/recon/SurfaceWeight.h>
 
 #include <levelfuse/scan/AccumulationCost.h>
+#include <levelfuse/scan/Colour.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/DataWindow.h>
 #include <levelfuse/scan/DepthRaster.h>
@@ -76,5 +79,5 @@
 #include <levelfuse/scan/Scenes.h>
 #include <levelfuse/scan/SightBins.h>
 #include <levelfuse/scan/SphericalScan.h>
-#include <levelfuse/scan/Synth.h>
 #include <levelfuse/scan/SurfaceColour.h>
+#include <levelfuse/scan/Synth.h>

@@ -191,13 +191,14 @@ TEST(Ply, MeshesRoundTrip) {
   for (bool binary : {true, false}) {
     const std::string path = dir.path(binary ? "cb.ply" : "ca.ply");
     writeMeshPly(path, xyz, tri, binary, rgb);
-    const PlyElement& vertex = *readPly(path).element("vertex");
+    const PlyData ply = readPly(path);
+    const PlyElement& vertex = *ply.element("vertex");
     ASSERT_GE(vertex.property("red"), 0);
     EXPECT_EQ(vertex.properties[vertex.property("red")].type, PlyType::kUInt8);
     EXPECT_DOUBLE_EQ(vertex.values[vertex.property("z")][2], 0.5);
     EXPECT_DOUBLE_EQ(vertex.values[vertex.property("green")][1], 128.0);
     EXPECT_DOUBLE_EQ(vertex.values[vertex.property("blue")][2], 3.0);
-    EXPECT_DOUBLE_EQ(readPly(path).element("face")->values[0][2], 2.0);
+    EXPECT_DOUBLE_EQ(ply.element("face")->values[0][2], 2.0);
   }
   EXPECT_THROW(writeMeshPly(dir.path("short.ply"), xyz, tri, true, {1, 2, 3}), std::invalid_argument);
   EXPECT_THROW(writeMeshPly(dir.path("missing/dir/x.ply"), xyz, tri), std::runtime_error);
