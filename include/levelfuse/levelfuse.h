@@ -54,6 +54,7 @@
 #include <levelfuse/levelset/SpeedTerms.h>
 #include <levelfuse/levelset/Stencil.h>
 #include <levelfuse/levelset/TimeStep.h>
+#include <levelfuse/levelset/VoxelNormals.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 
 #include <levelfuse/recon/DataFit.h>

@@ -1,6 +1,7 @@
 // levelfuse: the data weight on a level set's narrow band.
 
 #include <levelfuse/levelset/RequireLevelSet.h>
+#include <levelfuse/levelset/VoxelNormals.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 
 #include <openvdb/tree/LeafManager.h>
@@ -21,7 +22,7 @@ template <typename Data>
 struct FacingWeightOp {
   const openvdb::FloatGrid* levelSet;
   const Data* data;
-  Vec3d axes[3];  ///< world steps of the index axes, for the gradient's direction
+  VoxelNormals normals;
   const ParallelInterrupt* interrupt;
 
   void operator()(openvdb::FloatTree::LeafNodeType& leaf, std::size_t) const {
@@ -29,14 +30,9 @@ struct FacingWeightOp {
     openvdb::FloatGrid::ConstAccessor phi = levelSet->getConstAccessor();
     for (auto it = leaf.beginValueOn(); it; ++it) {
       const Coord ijk = it.getCoord();
-      Vec3d normal(0.0);
-      for (int a = 0; a < 3; ++a) {
-        Coord step(0);
-        step[a] = 1;
-        normal += axes[a] * (phi.getValue(ijk + step) - phi.getValue(ijk - step));
-      }
+      Vec3d normal;
       float value = 0.0f;
-      if (normal.normalize())
+      if (normals.at(phi, ijk, normal))
         value = static_cast<float>(data->facingTerms(levelSet->indexToWorld(ijk), normal).readings);
       it.setValue(value);
     }
@@ -54,13 +50,7 @@ openvdb::FloatGrid::Ptr facingWeight(const openvdb::FloatGrid& levelSet, const D
   weight->setGridClass(openvdb::GRID_UNKNOWN);
 
   const ParallelInterrupt interrupt(interrupter);
-  FacingWeightOp<Data> op{&levelSet, &data, {}, &interrupt};
-  const Vec3d origin = levelSet.indexToWorld(Vec3d(0.0));
-  for (int a = 0; a < 3; ++a) {
-    Vec3d step(0.0);
-    step[a] = 1.0;
-    op.axes[a] = levelSet.indexToWorld(step) - origin;
-  }
+  FacingWeightOp<Data> op{&levelSet, &data, VoxelNormals(levelSet), &interrupt};
   openvdb::tree::LeafManager<openvdb::FloatTree> leaves(weight->tree());
   leaves.foreach(op);
   interrupt.throwIfStopped();

@@ -2,6 +2,7 @@
 
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/levelset/RequireLevelSet.h>
+#include <levelfuse/levelset/VoxelNormals.h>
 #include <levelfuse/scan/SurfaceColour.h>
 
 #include "LeavesReached.h"
@@ -23,19 +24,6 @@ using openvdb::Vec3d;
 using openvdb::Vec3f;
 using ColourTree = openvdb::Vec3fTree;
 
-/// The world steps of a grid's three index axes.
-struct IndexAxes {
-  Vec3d step[3];
-  explicit IndexAxes(const openvdb::math::Transform& transform) {
-    const Vec3d origin = transform.indexToWorld(Vec3d(0.0));
-    for (int a = 0; a < 3; ++a) {
-      Vec3d unit(0.0);
-      unit[a] = 1.0;
-      step[a] = transform.indexToWorld(unit) - origin;
-    }
-  }
-};
-
 /// True when the grid's voxel centres lie at whole multiples of its voxel
 /// size along the world axes, as the leaf culling of the data term assumes.
 bool centredOnMultiples(const openvdb::math::Transform& transform) {
@@ -52,7 +40,7 @@ struct AddMapColoursOp {
   const RangeMap* map;
   const DataWindow* window;
   double positionVariance;
-  IndexAxes axes;
+  VoxelNormals normals;
   bool cull;            ///< leaves the map's readings cannot reach are skipped
   double cullReach;     ///< the window's reach plus the band's half-width
   openvdb::FloatTree* weights;
@@ -70,13 +58,8 @@ struct AddMapColoursOp {
     RangeMap::LocalSample s;
     for (auto it = sums.beginValueOn(); it; ++it) {
       const Coord ijk = it.getCoord();
-      Vec3d normal(0.0);
-      for (int a = 0; a < 3; ++a) {
-        Coord step(0);
-        step[a] = 1;
-        normal += axes.step[a] * (phi.getValue(ijk + step) - phi.getValue(ijk - step));
-      }
-      if (!normal.normalize()) continue;
+      Vec3d normal;
+      if (!normals.at(phi, ijk, normal)) continue;
       const Vec3d nearest = levelSet->indexToWorld(ijk) - normal * static_cast<double>(phi.getValue(ijk));
       const Vec3d p = toMap.transform(nearest);
       if (!map->sampleLocal(p, reach, s)) continue;
@@ -125,7 +108,7 @@ openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const 
   const ParallelInterrupt interrupt(interrupter);
   openvdb::tree::LeafManager<ColourTree> leaves(colour->tree());
   const double bandHalfWidth = std::abs(static_cast<double>(levelSet.background()));
-  AddMapColoursOp add{&levelSet, nullptr, &window, positionVariance, IndexAxes(levelSet.transform()),
+  AddMapColoursOp add{&levelSet, nullptr, &window, positionVariance, VoxelNormals(levelSet),
                       centredOnMultiples(levelSet.transform()), window.reach() + bandHalfWidth, &weights,
                       &interrupt};
   scans([&](const RangeMap& map) {
