@@ -203,8 +203,8 @@ PreviewImage rayCast(const openvdb::FloatGrid& levelSet, const PreviewOptions& o
           return false;
         // A ray from outside meets a front face first: if the intersector
         // stopped at a back face, it stepped over the front one.
-        const Vec3d from = eye + direction * start;
-        if (normal.dot(direction) > 0.0 && entry.outside(from) && entry.between(from, hit, hit, normal))
+        const Vec3d from = eye + direction * start, backFace = hit;
+        if (normal.dot(direction) > 0.0 && entry.outside(from) && entry.between(from, backFace, hit, normal))
           time = (hit - eye).length();
         if (!weight) return normal.length() > 0.0;
         const double observed = openvdb::tools::BoxSampler::sample(*weight, options.weight->worldToIndex(hit));
