@@ -72,7 +72,8 @@ TEST_F(ColourCli, ReconstructWritesTheColourBesideTheSurfaceAndOnTheMesh) {
 TEST_F(ColourCli, InfoSaysWhichScansAreColoured) {
   const CliRun info = levelfuse("info --json " + paintedSphere());
   ASSERT_EQ(info.exitCode, 0) << info.output;
-  for (const auto& scan : jsonOf(info)["scans"]) EXPECT_TRUE(scan["coloured"].get<bool>());
+  const nlohmann::json described = jsonOf(info);
+  for (const auto& scan : described["scans"]) EXPECT_TRUE(scan["coloured"].get<bool>());
   EXPECT_NE(levelfuse("info " + path("scans/scans.json")).output.find(", coloured"), std::string::npos);
 }
 
