@@ -1,7 +1,6 @@
-// Real PTX files: PDAL's test files (github.com/PDAL/PDAL, test/data/ptx, BSD
-// licence; the last commit to change them is 39d9163 of 2022-07-11), which
-// ../shared/data/ptx holds beside the repository when it is there: they are
-// not copied into it. Without them these tests say so and pass.
+// Real PTX files: PDAL's test files (github.com/PDAL/PDAL, test/data/ptx, as
+// of its commit 39d9163 of 2022-07-11), copied into tests/data/ptx/pdal with
+// PDAL's BSD licence beside them.
 
 #include "support/InputErrors.h"
 #include "support/TestSupport.h"
@@ -19,10 +18,9 @@ namespace {
 
 using openvdb::Vec3d;
 
-/// The path of one of PDAL's PTX files, or "" if ../shared/data/ptx does not hold it.
+/// The path of one of PDAL's PTX files.
 std::string pdalFile(const std::string& name) {
-  const std::string path = test::sharedData("ptx/" + name);
-  return !path.empty() && std::filesystem::is_regular_file(path) ? path : "";
+  return (std::filesystem::path(LEVELFUSE_TEST_DATA_DIR) / "ptx" / "pdal" / name).string();
 }
 
 std::vector<PtxScan> readAll(const std::string& path) {
@@ -44,16 +42,10 @@ void expectGrid(const PtxScan& scan, int columns, int rows, std::size_t returns)
   EXPECT_EQ(scan.returns, returns);
 }
 
-/// Why a test is skipped without the file.
-std::string absent(const std::string& name) {
-  return "../shared/data/ptx/" + name + " is absent: PDAL's PTX file is not tested";
-}
-
 // A scanner's own export: 2 columns x 6 rows in the scanner's frame, the
 // transform its pose (a small tilt, written with six decimals), colour.
 TEST(PdalPtxFiles, AScannersExportWithItsPose) {
   const std::string path = pdalFile("complex-transform.ptx");
-  if (path.empty()) GTEST_SKIP() << absent("complex-transform.ptx");
   const PtxScan scan = onlyScanOf(path);
   expectGrid(scan, 2, 6, 4);
   ASSERT_EQ(scan.points.size(), 12u);
@@ -73,7 +65,6 @@ TEST(PdalPtxFiles, AScannersExportWithItsPose) {
 // an airborne survey's points written 15 to a column, on no scanner's grid.
 TEST(PdalPtxFiles, ARegisteredExportInTheWorld) {
   const std::string path = pdalFile("1.2-with-color.ptx");
-  if (path.empty()) GTEST_SKIP() << absent("1.2-with-color.ptx");
   const PtxScan scan = onlyScanOf(path);
   expectGrid(scan, 15, 71, 1065);
   EXPECT_EQ(scan.colours.size(), 1065u);
@@ -92,7 +83,6 @@ TEST(PdalPtxFiles, ARegisteredExportInTheWorld) {
 // One row of 15 points without colour.
 TEST(PdalPtxFiles, ARowWithoutColour) {
   const std::string path = pdalFile("no-color.ptx");
-  if (path.empty()) GTEST_SKIP() << absent("no-color.ptx");
   const PtxScan scan = onlyScanOf(path);
   expectGrid(scan, 15, 1, 15);
   EXPECT_TRUE(scan.colours.empty());
@@ -102,7 +92,6 @@ TEST(PdalPtxFiles, ARowWithoutColour) {
 // not a rigid motion, refused at the scanner's axes, which come first.
 TEST(PdalPtxFiles, AScaledTransformIsRefused) {
   const std::string path = pdalFile("multiple-and-transform.ptx");
-  if (path.empty()) GTEST_SKIP() << absent("multiple-and-transform.ptx");
   test::expectInputError([&] { readAll(path); }, path,
                          "line 6: the scanner's axes (lines 4 to 6) are not orthonormal (their dot products are off "
                          "by up to 3, more than 0.0001): not a rigid motion");
