@@ -3,8 +3,8 @@
 #include <levelfuse/io/ColourImages.h>
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/InputFile.h>
-#include <levelfuse/io/MemoryBudget.h>
 
+#include "ImageSize.h"
 #include "PngRead.h"
 #include "PngWrite.h"
 
@@ -14,24 +14,6 @@
 
 namespace levelfuse::io {
 
-namespace {
-
-/// A colour image is as large as the range map it colours: at most a
-/// quarter of a billion pixels, and within the memory levelfuse may use.
-void checkColourImageSize(double width, double height, detail::PngProblem& problem) {
-  const double bytes = width * height * 6.0;  // the pixels read, and the colours kept
-  if (!(width >= 1.0) || !(height >= 1.0))
-    std::snprintf(problem, sizeof(problem), "the image has %.12g x %.12g pixels", width, height);
-  else if (!(width * height <= double(1 << 28)))
-    std::snprintf(problem, sizeof(problem), "the header declares %.12g x %.12g pixels: too large for a colour image",
-                  width, height);
-  else if (bytes > static_cast<double>(memoryBudget()))
-    std::snprintf(problem, sizeof(problem), "an image of %.12g x %.12g pixels needs about %s of memory, more than "
-                  "levelfuse may use", width, height, describeBytes(bytes).c_str());
-}
-
-}  // namespace
-
 ColourImage readColourPng(const std::string& path) {
   requireInputFile(path);
   std::error_code ec;
@@ -40,7 +22,7 @@ ColourImage readColourPng(const std::string& path) {
   ColourImage image;
   std::vector<std::uint8_t> pixels;
   const std::string problem = detail::readPngPixels(path.c_str(), static_cast<double>(fileBytes),
-                                                    detail::PngPixels::kRgb8, checkColourImageSize, image.width,
+                                                    detail::PngPixels::kRgb8, detail::kColourImage, image.width,
                                                     image.height, pixels);
   if (!problem.empty()) throw InputError(path, problem);
   image.rgb.resize(pixels.size() / 3);

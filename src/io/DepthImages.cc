@@ -8,6 +8,8 @@
 
 #include "ExrHeader.h"
 #include "Orthonormal.h"
+#include "FileExtension.h"
+#include "ImageSize.h"
 #include "PngRead.h"
 
 
@@ -34,37 +36,13 @@ namespace levelfuse::io {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kMaxPixels = 1 << 28;  // a quarter of a billion: a gigabyte of floats
-/// Bytes a reader holds per pixel at most: the samples as stored and the depths.
-constexpr double kBytesPerPixel = 8.0;
-/// Deflate compresses by at most 1032:1, so a PNG's pixels cannot take more
-/// than that many times the file's size.
-constexpr double kMaxDeflateRatio = 1032.0;
-const char* const kTooLargeAdvice = "crop or downsample the image, or use a machine with more memory";
 const float kNoReading = std::numeric_limits<float>::quiet_NaN();
 
-
-using Problem = detail::PngProblem;
-
-/// The checks of an image's declared size that every reader makes: writes what
-/// is wrong into `problem`, or leaves it empty.
-void checkSize(double width, double height, Problem& problem) {
-  const double bytes = width * height * kBytesPerPixel, budget = static_cast<double>(memoryBudget());
-  if (!(width >= 2.0) || !(height >= 2.0))
-    std::snprintf(problem, sizeof(problem), "the image has %.12g x %.12g pixels; a depth image needs at least 2 x 2",
-                  width, height);
-  else if (!(width * height <= kMaxPixels))
-    std::snprintf(problem, sizeof(problem), "the header declares %.12g x %.12g pixels: too large for a depth image",
-                  width, height);
-  else if (bytes > budget)
-    std::snprintf(problem, sizeof(problem), "an image of %.12g x %.12g pixels needs about %s of memory, more than "
-                  "the %s levelfuse may use: %s", width, height, describeBytes(bytes).c_str(),
-                  describeBytes(budget).c_str(), kTooLargeAdvice);
-}
+using Problem = detail::ImageProblem;
 
 void requireSize(const std::string& path, double width, double height) {
   Problem problem = "";
-  checkSize(width, height, problem);
+  detail::checkImageSize(width, height, detail::kDepthImage, problem);
   if (problem[0] != 0) throw InputError(path, problem);
 }
 
@@ -74,7 +52,7 @@ std::string readPng16(const char* path, double fileBytes, int& width, int& heigh
                       std::vector<std::uint16_t>& samples) {
   std::vector<std::uint8_t> pixels;
   const std::string problem =
-      detail::readPngPixels(path, fileBytes, detail::PngPixels::kGray16, checkSize, width, height, pixels);
+      detail::readPngPixels(path, fileBytes, detail::PngPixels::kGray16, detail::kDepthImage, width, height, pixels);
   if (!problem.empty()) return problem;
   samples.resize(pixels.size() / 2);
   std::memcpy(samples.data(), pixels.data(), pixels.size());
@@ -301,8 +279,7 @@ DepthImage readDepthExr(const std::string& path) {
 }
 
 DepthImage readDepthImage(const std::string& path, double pngScale) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = detail::lowercaseExtension(path);
   if (ext == ".png") return readDepthPng(path, pngScale);
   if (ext == ".pfm") return readDepthPfm(path);
   if (ext == ".exr") return readDepthExr(path);

@@ -4,22 +4,14 @@
 #include <levelfuse/io/MeshFile.h>
 #include <levelfuse/io/Ply.h>
 
-#include <algorithm>
-#include <cctype>
+#include "FileExtension.h"
+
 #include <cstdio>
-#include <filesystem>
 #include <stdexcept>
 
 namespace levelfuse::io {
 
 namespace {
-
-std::string lowerExtension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
 
 void writeObj(OutputSet& outputs, const std::string& path, const TriangleMesh& mesh) {
   outputs.add(path, [&](const std::string& temporary) {
@@ -44,14 +36,14 @@ void writeObj(OutputSet& outputs, const std::string& path, const TriangleMesh& m
 }  // namespace
 
 void requireMeshFileName(const std::string& path) {
-  const std::string extension = lowerExtension(path);
+  const std::string extension = detail::lowercaseExtension(path);
   if (extension != ".ply" && extension != ".obj")
     throw std::invalid_argument("cannot write a mesh as '" + path + "': the name must end in .ply or .obj");
 }
 
 void writeMesh(OutputSet& outputs, const std::string& path, const TriangleMesh& mesh) {
   requireMeshFileName(path);
-  if (lowerExtension(path) == ".ply") return writeMeshPly(outputs, path, mesh.xyz, mesh.triangles, true, mesh.rgb);
+  if (detail::lowercaseExtension(path) == ".ply") return writeMeshPly(outputs, path, mesh.xyz, mesh.triangles, true, mesh.rgb);
   writeObj(outputs, path, mesh);
 }
 

@@ -30,7 +30,7 @@ extern "C" void onPngError(png_structp png, png_const_charp message) {
 extern "C" void onPngWarning(png_structp, png_const_charp) {}
 
 /// Asks libpng for the pixels as `as` says, or writes why they cannot be.
-void choosePixels(png_structp png, int depth, int colour, PngPixels as, PngProblem& problem) {
+void choosePixels(png_structp png, int depth, int colour, PngPixels as, ImageProblem& problem) {
   if (as == PngPixels::kGray16) {
     if (colour != PNG_COLOR_TYPE_GRAY)
       std::snprintf(problem, sizeof(problem),
@@ -53,7 +53,7 @@ void choosePixels(png_structp png, int depth, int colour, PngPixels as, PngProbl
 }  // namespace
 
 // Plain C inside: no destructors are skipped by libpng's longjmp.
-std::string readPngPixels(const char* path, double fileBytes, PngPixels as, PngSizeCheck check, int& width,
+std::string readPngPixels(const char* path, double fileBytes, PngPixels as, const ImageKind& kind, int& width,
                           int& height, std::vector<std::uint8_t>& pixels) {
   FILE* file = std::fopen(path, "rb");
   if (!file) return "cannot be opened for reading";
@@ -94,9 +94,9 @@ std::string readPngPixels(const char* path, double fileBytes, PngPixels as, PngS
   png_read_info(png, info);
   const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
   const int depth = png_get_bit_depth(png, info), colour = png_get_color_type(png, info);
-  PngProblem problem = "";  // no C++ object may live across libpng's longjmp
+  ImageProblem problem = "";  // no C++ object may live across libpng's longjmp
   choosePixels(png, depth, colour, as, problem);
-  if (problem[0] == 0) check(w, h, problem);
+  if (problem[0] == 0) checkImageSize(w, h, kind, problem);
   if (problem[0] == 0 && double(h) * (1.0 + 2.0 * double(w)) > kMaxDeflateRatio * fileBytes)
     std::snprintf(problem, sizeof(problem),
                   "the header declares %u x %u pixels, more than the file's %.0f bytes can hold (truncated?)",

@@ -2,6 +2,8 @@
 // the image readers).
 #pragma once
 
+#include "ImageSize.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -14,18 +16,13 @@ enum class PngPixels {
   kRgb8,    ///< red, green and blue bytes; grey, palette, 16-bit and alpha images are converted (a colour image)
 };
 
-/// A problem with an image, as a message; empty if there is none.
-using PngProblem = char[200];
-/// Checks the size a PNG's header declares before its pixels are allocated,
-/// writing what is wrong into `problem` (left empty if nothing is).
-using PngSizeCheck = void (*)(double width, double height, PngProblem& problem);
-
 /// Reads the PNG at `path`, `fileBytes` long, row-major into `pixels` (two
 /// bytes a pixel for kGray16, three for kRgb8). Refuses a file that is not a
 /// PNG, is truncated or corrupt, declares more pixels than its bytes can hold
-/// (deflate shrinks at most 1032:1), or fails `check`. Returns an error
+/// (deflate shrinks at most 1032:1), or whose size is wrong for `kind`
+/// (checkImageSize), before the pixels are allocated. Returns an error
 /// message, empty on success. Chunks other than the pixels' are skipped unread.
-std::string readPngPixels(const char* path, double fileBytes, PngPixels as, PngSizeCheck check, int& width,
+std::string readPngPixels(const char* path, double fileBytes, PngPixels as, const ImageKind& kind, int& width,
                           int& height, std::vector<std::uint8_t>& pixels);
 
 }  // namespace levelfuse::io::detail

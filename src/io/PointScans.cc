@@ -3,12 +3,11 @@
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/PointScans.h>
 
+#include "FileExtension.h"
 #include "PtxGridChecks.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
-#include <filesystem>
 #include <stdexcept>
 
 namespace levelfuse::io {
@@ -16,13 +15,6 @@ namespace levelfuse::io {
 namespace {
 
 using openvdb::Vec3d;
-
-std::string lowercaseExtension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
 
 std::string degrees(double radians) {
   char text[32];
@@ -52,7 +44,7 @@ void requireGridOfTheCloudsSize(const std::vector<Vec3d>& points, const AngularS
 }  // namespace
 
 PointCloud readPointCloud(const std::string& path, const Interrupter& interrupter) {
-  const std::string extension = lowercaseExtension(path);
+  const std::string extension = detail::lowercaseExtension(path);
   if (extension == ".xyz" || extension == ".txt") return readXyzPoints(path, interrupter);
   if (extension == ".ply") return readPlyPoints(path);
   throw InputError(path, "unknown point file type " + quote(extension) + " (expected .xyz, .txt or .ply)");

@@ -7,6 +7,7 @@
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/TumScans.h>
 
+#include "FileExtension.h"
 #include "ScanDelivery.h"
 
 #include <algorithm>
@@ -96,9 +97,7 @@ std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& 
   if (fs::is_directory(path, ec))
     return isTumFolder(path) ? loadTumFolder(path, options) : loadDepthFolder(path, options);
   if (!fs::exists(path, ec)) throw InputError(path, "no such file or folder");
-  std::string extension = fs::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension = detail::lowercaseExtension(path);
   if (extension == ".conf") {
     StanfordScanOptions stanford = options.stanford;
     stanford.interrupter = options.interrupter;
