@@ -66,13 +66,6 @@ float intensityOf(const TextLineReader& lines) {
   return static_cast<float>(value);
 }
 
-PtxColour colourOf(const TextLineReader& lines) {
-  PtxColour colour{};
-  for (std::size_t c = 0; c < 3; ++c)
-    colour[c] = static_cast<std::uint8_t>(lines.wholeNumber(4 + c, 0, 255, "a colour (a whole number from 0 to 255)"));
-  return colour;
-}
-
 }  // namespace
 
 PtxScan readPtxPoints(TextLineReader& lines, const PtxHeader& header, const Interrupter& interrupter) {
@@ -97,7 +90,7 @@ PtxScan readPtxPoints(TextLineReader& lines, const PtxHeader& header, const Inte
     }
     const Vec3d written(lines.number(0), lines.number(1), lines.number(2));
     scan.intensities.push_back(intensityOf(lines));
-    if (scanFields == 7) scan.colours.push_back(colourOf(lines));
+    if (scanFields == 7) scan.colours.push_back(lines.colour(4));
     const bool returned = written != Vec3d(0.0);
     scan.points.push_back(returned ? toScannerFrame(written) : Vec3d(0.0));
     if (returned) ++scan.returns;

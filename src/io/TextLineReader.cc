@@ -115,4 +115,11 @@ long long TextLineReader::wholeNumber(std::size_t i, long long lowest, long long
   return *value;
 }
 
+Rgb8 TextLineReader::colour(std::size_t first) const {
+  Rgb8 rgb{};
+  for (std::size_t c = 0; c < 3; ++c)
+    rgb[c] = static_cast<std::uint8_t>(wholeNumber(first + c, 0, 255, "a colour (a whole number from 0 to 255)"));
+  return rgb;
+}
+
 }  // namespace levelfuse::io

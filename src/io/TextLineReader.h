@@ -3,6 +3,8 @@
 // (private to the readers).
 #pragma once
 
+#include <levelfuse/scan/Colour.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -48,6 +50,9 @@ class TextLineReader {
   std::optional<long long> wholeNumberIn(std::size_t i, long long lowest, long long highest) const;
   /// The same, failing with "'<field>' is not <what>" if it is not one.
   long long wholeNumber(std::size_t i, long long lowest, long long highest, const std::string& what) const;
+  /// Fields `first` to `first + 2` as a colour: red, green and blue, whole
+  /// numbers from 0 to 255; fails naming the field that is not one.
+  Rgb8 colour(std::size_t first) const;
 
  private:
   /// Moves what is left of the buffer to its front and reads more after it;

@@ -39,14 +39,6 @@ void requireFieldCount(const TextLineReader& lines, std::size_t fields, std::int
 /// The intensity is checked (a finite number) but not kept.
 void checkIntensity(const TextLineReader& lines) { static_cast<void>(lines.number(3)); }
 
-Rgb8 colourOf(const TextLineReader& lines, std::size_t first) {
-  Rgb8 colour{};
-  for (std::size_t c = 0; c < 3; ++c)
-    colour[c] = static_cast<std::uint8_t>(
-        lines.wholeNumber(first + c, 0, 255, "a colour (a whole number from 0 to 255)"));
-  return colour;
-}
-
 }  // namespace
 
 PointCloud readXyzPoints(const std::string& path, const Interrupter& interrupter) {
@@ -64,7 +56,7 @@ PointCloud readXyzPoints(const std::string& path, const Interrupter& interrupter
     }
     cloud.points.emplace_back(lines.number(0), lines.number(1), lines.number(2));
     if (fields == 4 || fields == 7) checkIntensity(lines);
-    if (hasColour(fields)) cloud.colours.push_back(colourOf(lines, fields - 3));
+    if (hasColour(fields)) cloud.colours.push_back(lines.colour(fields - 3));
   }
   if (cloud.points.empty()) throw InputError(path, "no points: the file is empty, blank or only comments");
   return cloud;
