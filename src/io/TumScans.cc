@@ -44,7 +44,7 @@ std::string seconds(double t, bool isTime) {
 
 }  // namespace
 
-std::vector<TumFrame> readTumDepthList(const std::string& path) {
+std::vector<TumFrame> readTumImageList(const std::string& path) {
   std::vector<TumFrame> frames;
   forEachTextRecord(path, [&](int line, const std::string& at, std::istringstream& words) {
     TumFrame f;
@@ -89,7 +89,7 @@ std::vector<TumFrame> colourImagesOf(const fs::path& root) {
   std::error_code ec;
   const fs::path list = root / "rgb.txt";
   if (!fs::is_regular_file(list, ec)) return {};
-  std::vector<TumFrame> images = readTumDepthList(list.string());
+  std::vector<TumFrame> images = readTumImageList(list.string());
   std::stable_sort(images.begin(), images.end(), [](const TumFrame& a, const TumFrame& b) { return a.time < b.time; });
   return images;
 }
@@ -131,7 +131,7 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
   std::error_code ec;
   if (!fs::is_regular_file(trajectory, ec))
     throw InputError(folder, "a TUM RGB-D folder (it holds depth.txt) without groundtruth.txt, the camera poses");
-  const std::vector<TumFrame> frames = readTumDepthList(list);
+  const std::vector<TumFrame> frames = readTumImageList(list);
   const std::vector<TumPose> poses = readTumTrajectory(trajectory);
   const PinholeProjection intrinsics = tumIntrinsics(folder);
   const std::vector<TumFrame> colourImages = colourImagesOf(root);

@@ -1,4 +1,4 @@
-// Fuzzes the TUM RGB-D lists: the input as depth.txt (readTumDepthList) and as
+// Fuzzes the TUM RGB-D lists: the input as depth.txt (readTumImageList) and as
 // groundtruth.txt (readTumTrajectory), each then in a TUM folder beside a valid
 // other list whose frames are the fixtures' depth.png (loadTumFolder: matching
 // frames to poses, loading the frames).
@@ -36,7 +36,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace levelfuse;
   const std::string list = fuzz::writeScratchFile("fuzzed-depth/depth.txt", data, size);
-  fuzz::expectOnlyInputErrors([&] { io::readTumDepthList(list); });
+  fuzz::expectOnlyInputErrors([&] { io::readTumImageList(list); });
   fuzz::expectOnlyInputErrors([&] { io::loadTumFolder(depthFolder); });
   const std::string trajectory = fuzz::writeScratchFile("fuzzed-poses/groundtruth.txt", data, size);
   fuzz::expectOnlyInputErrors([&] { io::readTumTrajectory(trajectory); });

@@ -176,10 +176,10 @@ TEST(TumLists, CommentsBlankLinesAndCarriageReturns) {
   TempDir dir;
   writeText(dir.path("depth.txt"), "# depth maps\r\n\r\n  1305031102.160407 depth/1305031102.160407.png\r\n"
                                    "1305031102.194330 depth/1305031102.194330.png # no\n");
-  expectInputError([&] { readTumDepthList(dir.path("depth.txt")); }, dir.path("depth.txt"),
+  expectInputError([&] { readTumImageList(dir.path("depth.txt")); }, dir.path("depth.txt"),
                    "line 4: unexpected '#' after the file name");
   writeText(dir.path("depth.txt"), "# depth maps\r\n\r\n  1305031102.160407 depth/1305031102.160407.png\r\n");
-  const std::vector<TumFrame> frames = readTumDepthList(dir.path("depth.txt"));
+  const std::vector<TumFrame> frames = readTumImageList(dir.path("depth.txt"));
   ASSERT_EQ(frames.size(), 1u);
   EXPECT_EQ(frames[0].file, "depth/1305031102.160407.png");
   EXPECT_EQ(frames[0].line, 3);
@@ -214,9 +214,9 @@ TEST(TumLists, RefuseMalformedLines) {
   trajectoryError("1 0 0 0 0 0 0 1 7\n", "line 1: unexpected '7' after the quaternion");
   trajectoryError("# nothing\n", "no poses");
   writeText(dir.path("depth.txt"), "1.0\n");
-  expectInputError([&] { readTumDepthList(dir.path("depth.txt")); }, dir.path("depth.txt"),
+  expectInputError([&] { readTumImageList(dir.path("depth.txt")); }, dir.path("depth.txt"),
                    "line 1: expected 'timestamp filename'");
-  expectInputError([&] { readTumDepthList(dir.path("none.txt")); }, dir.path("none.txt"), "no such file");
+  expectInputError([&] { readTumImageList(dir.path("none.txt")); }, dir.path("none.txt"), "no such file");
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ namespace levelfuse::io {
 /// Units per metre of TUM RGB-D depth PNGs.
 constexpr double kTumDepthUnitsPerMetre = 5000.0;
 
-/// A line of depth.txt.
+/// A line of depth.txt or rgb.txt: an image and its time.
 struct TumFrame {
   double time = 0.0;
   std::string file;  ///< as written
@@ -47,10 +47,10 @@ struct TumPose {
   int line = 0;
 };
 
-/// Both folder files, strictly: every line that is not a comment holds
+/// The folder's lists (depth.txt or rgb.txt, and groundtruth.txt), strictly: every line that is not a comment holds
 /// exactly the fields its format names, finite numbers, unit quaternions.
 /// Throw InputError naming the file and line; a file without entries is refused.
-std::vector<TumFrame> readTumDepthList(const std::string& path);
+std::vector<TumFrame> readTumImageList(const std::string& path);
 std::vector<TumPose> readTumTrajectory(const std::string& path);
 
 /// The pose in `poses` (sorted by time, not empty) nearest to `time`.
