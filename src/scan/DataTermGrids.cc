@@ -5,6 +5,7 @@
 
 #include "LeavesReached.h"
 #include "ReadingWeight.h"
+#include "TrilinearCorners.h"
 
 #include <algorithm>
 #include <cmath>
@@ -214,13 +215,10 @@ class LeafReadingSums {
 
 Corners cornersAround(const Vec3d& x, double h) {
   Corners c;
-  const Vec3d index = x / h;
-  const Coord lo = Coord::floor(index);
-  const Vec3d f = index - lo.asVec3d();
+  const detail::TrilinearCorners around = detail::trilinearCorners(x / h);
   for (int k = 0; k < 8; ++k) {
-    const int dx = k & 1, dy = (k >> 1) & 1, dz = k >> 2;
-    c.ijk[k] = lo.offsetBy(dx, dy, dz);
-    c.t[k] = (dx ? f.x() : 1.0 - f.x()) * (dy ? f.y() : 1.0 - f.y()) * (dz ? f.z() : 1.0 - f.z());
+    c.ijk[k] = around.ijk[k];
+    c.t[k] = around.t[k];
     c.offset[k] = x - c.ijk[k].asVec3d() * h;
   }
   return c;

@@ -7,6 +7,7 @@
 
 #include "LeavesReached.h"
 #include "ReadingWeight.h"
+#include "TrilinearCorners.h"
 
 #include <openvdb/tree/LeafManager.h>
 
@@ -130,20 +131,15 @@ openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const 
 }
 
 Vec3f colourAt(const openvdb::Vec3fGrid& colour, const Vec3d& x) {
-  const Vec3d index = colour.worldToIndex(x);
-  const Coord lo = Coord::floor(index);
-  const Vec3d f = index - lo.asVec3d();
+  const detail::TrilinearCorners around = detail::trilinearCorners(colour.worldToIndex(x));
   openvdb::Vec3fGrid::ConstAccessor access = colour.getConstAccessor();
   Vec3d sum(0.0);
   double weight = 0.0;
   for (int k = 0; k < 8; ++k) {
-    const int dx = k & 1, dy = (k >> 1) & 1, dz = k >> 2;
-    const Coord ijk = lo.offsetBy(dx, dy, dz);
     Vec3f value;
-    if (!access.probeValue(ijk, value)) continue;
-    const double t = (dx ? f.x() : 1.0 - f.x()) * (dy ? f.y() : 1.0 - f.y()) * (dz ? f.z() : 1.0 - f.z());
-    sum += Vec3d(value) * t;
-    weight += t;
+    if (!access.probeValue(around.ijk[k], value)) continue;  // inactive: no colour there
+    sum += Vec3d(value) * around.t[k];
+    weight += around.t[k];
   }
   return weight > 0.0 ? Vec3f(sum / weight) : Vec3f(kUnseenGrey);
 }
