@@ -195,6 +195,8 @@ PreviewImage rayCast(const openvdb::FloatGrid& levelSet, const PreviewOptions& o
     std::optional<openvdb::FloatGrid::ConstAccessor> weight;
     if (options.weight) weight.emplace(options.weight->getConstAccessor());
     const RayEntry entry(levelSet);
+    std::optional<ColourSampler> paint;  // the surface's colour, if given
+    if (options.colour) paint.emplace(*options.colour);
     // The first surface along the ray that is drawn.
     const auto drawnHit = [&](const Vec3d& direction, Vec3d& hit, Vec3d& normal) {
       double start = 0.0, time = 0.0;
@@ -226,7 +228,7 @@ PreviewImage rayCast(const openvdb::FloatGrid& levelSet, const PreviewOptions& o
           const double diffuse = 0.75 * std::max(0.0, normal.dot(key)) + 0.35 * std::max(0.0, -normal.dot(direction));
           const Vec3d halfway = (key - direction).unit();
           const double specular = 0.15 * std::pow(std::max(0.0, normal.dot(halfway)), 40.0);
-          const Vec3d surfaceAlbedo = options.colour ? linearColour(colourAt(*options.colour, hit)) : albedo;
+          const Vec3d surfaceAlbedo = paint ? linearColour(paint->at(hit)) : albedo;
           colour = surfaceAlbedo * (0.08 + diffuse) + Vec3d(specular);
         } else {
           const double t = static_cast<double>(y) / options.height;

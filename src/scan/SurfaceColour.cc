@@ -130,14 +130,13 @@ openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const 
   return colour;
 }
 
-Vec3f colourAt(const openvdb::Vec3fGrid& colour, const Vec3d& x) {
-  const detail::TrilinearCorners around = detail::trilinearCorners(colour.worldToIndex(x));
-  openvdb::Vec3fGrid::ConstAccessor access = colour.getConstAccessor();
+Vec3f ColourSampler::at(const Vec3d& x) const {
+  const detail::TrilinearCorners around = detail::trilinearCorners(mColour.worldToIndex(x));
   Vec3d sum(0.0);
   double weight = 0.0;
   for (int k = 0; k < 8; ++k) {
     Vec3f value;
-    if (!access.probeValue(around.ijk[k], value)) continue;  // inactive: no colour there
+    if (!mAccess.probeValue(around.ijk[k], value)) continue;  // inactive: no colour there
     sum += Vec3d(value) * around.t[k];
     weight += around.t[k];
   }
@@ -147,8 +146,9 @@ Vec3f colourAt(const openvdb::Vec3fGrid& colour, const Vec3d& x) {
 void paintMesh(TriangleMesh& mesh, const openvdb::Vec3fGrid& colour) {
   mesh.rgb.resize(mesh.xyz.size());
   parallelFor(mesh.vertexCount(), 4096, [&](std::size_t begin, std::size_t end) {
+    const ColourSampler sample(colour);
     for (std::size_t v = begin; v < end; ++v) {
-      const Vec3f c = colourAt(colour, Vec3d(mesh.xyz[3 * v], mesh.xyz[3 * v + 1], mesh.xyz[3 * v + 2]));
+      const Vec3f c = sample.at(Vec3d(mesh.xyz[3 * v], mesh.xyz[3 * v + 1], mesh.xyz[3 * v + 2]));
       for (int k = 0; k < 3; ++k)
         mesh.rgb[3 * v + k] = static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
     }

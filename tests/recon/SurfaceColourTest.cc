@@ -55,12 +55,13 @@ TEST(SurfaceColour, ATwoColouredSphereComesBackWithEachHalfInItsColour) {
   EXPECT_EQ(result.colour->getName(), kColourGridName);
   EXPECT_EQ(result.colour->getGridClass(), openvdb::GRID_UNKNOWN);
   const double h = result.levelSet->voxelSize()[0];
+  const ColourSampler colour(*result.colour);
   std::size_t points = 0, wrong = 0;
   float worst = 0.0f;
   for (const Vec3d& p : zeroCrossings(*result.levelSet)) {
     if (std::fabs(p.z()) < kSeam * h) continue;
     ++points;
-    const float error = colourError(colourAt(*result.colour, p), unit(p.z() > 0.0 ? kRed : kBlue));
+    const float error = colourError(colour.at(p), unit(p.z() > 0.0 ? kRed : kBlue));
     worst = std::max(worst, error);
     wrong += error > 0.02f;
   }
@@ -105,12 +106,13 @@ TEST(SurfaceColour, EachFaceOfAThinPlateTakesTheColourOfTheScannerThatFacedIt) {
   options.epsilon = 0.05;  // windows 0.15 deep: each reaches through the plate to the far face
   const ReconstructionResult result = Reconstructor(maps, options).run();
   ASSERT_TRUE(result.colour);
+  const ColourSampler colour(*result.colour);
   std::size_t top = 0, bottom = 0, wrong = 0;
   for (const Vec3d& p : zeroCrossings(*result.levelSet)) {
     if (std::max(std::fabs(p.x()), std::fabs(p.y())) > 0.9) continue;  // the faces, not the rims
     const bool onTop = p.z() > 0.0;
     (onTop ? top : bottom) += 1;
-    wrong += colourError(colourAt(*result.colour, p), unit(onTop ? kRed : kBlue)) > 0.02f;
+    wrong += colourError(colour.at(p), unit(onTop ? kRed : kBlue)) > 0.02f;
   }
   EXPECT_GT(top, 5000u);
   EXPECT_GT(bottom, 5000u);

@@ -23,6 +23,7 @@
 #include <levelfuse/scan/RangeMap.h>
 
 #include <openvdb/openvdb.h>
+#include <openvdb/tree/ValueAccessor.h>
 
 namespace levelfuse {
 
@@ -43,12 +44,21 @@ openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const 
                                       const DataWindow& window, double positionVariance,
                                       const Interrupter& interrupter = {});
 
-/// The colour of `colour` (a grid surfaceColour made) at world point x,
-/// interpolated trilinearly between the active voxels around x; kUnseenGrey
-/// where none of the eight is active.
-openvdb::Vec3f colourAt(const openvdb::Vec3fGrid& colour, const openvdb::Vec3d& x);
+/// Samples a colour grid (surfaceColour's) at world points: interpolated
+/// trilinearly between the active voxels around a point; kUnseenGrey where
+/// none of the eight is active. One per thread: it keeps its way into the
+/// grid's tree between points (the grid must outlive it).
+class ColourSampler {
+ public:
+  explicit ColourSampler(const openvdb::Vec3fGrid& colour) : mColour(colour), mAccess(colour.tree()) {}
+  openvdb::Vec3f at(const openvdb::Vec3d& x) const;
 
-/// Gives every vertex of `mesh` the colour of `colour` there (colourAt),
+ private:
+  const openvdb::Vec3fGrid& mColour;
+  mutable openvdb::tree::ValueAccessor<const openvdb::Vec3fTree, false> mAccess;
+};
+
+/// Gives every vertex of `mesh` the colour of `colour` there (ColourSampler),
 /// rounded to bytes (TriangleMesh::rgb).
 void paintMesh(TriangleMesh& mesh, const openvdb::Vec3fGrid& colour);
 
