@@ -4,6 +4,8 @@
 #include <levelfuse/core/Median.h>
 #include <levelfuse/scan/SphericalScan.h>
 
+#include "PointDirection.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -33,18 +35,8 @@ constexpr std::size_t kRowSplitsTried = 4;
 /// A gap within this fraction of the lower quartile of the gaps is a step.
 constexpr double kStepWindow = 0.25;
 
-struct Direction {
-  double azimuth, elevation;
-};
-
-/// A point the binning can place: finite, off the scanner and off its poles.
-std::optional<Direction> directionOf(const Vec3d& p) {
-  if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()) || !(p.lengthSqr() > 0.0))
-    return std::nullopt;
-  const double elevation = std::atan2(p.z(), std::hypot(p.x(), p.y()));
-  if (std::fabs(elevation) > 0.5 * M_PI - kPoleMargin) return std::nullopt;
-  return Direction{std::atan2(p.y(), p.x()), elevation};
-}
+using detail::binnableDirection;
+using Direction = detail::PointDirection;
 
 /// The directions of every k-th point, k chosen so that at most
 /// kMaxSampledDirections are taken.
@@ -53,13 +45,13 @@ std::vector<Direction> sampledDirections(const std::vector<Vec3d>& points) {
   std::vector<Direction> sample;
   sample.reserve(points.size() / stride + 1);
   for (std::size_t i = 0; i < points.size(); i += stride)
-    if (const std::optional<Direction> d = directionOf(points[i])) sample.push_back(*d);
+    if (const std::optional<Direction> d = binnableDirection(points[i])) sample.push_back(*d);
   return sample;
 }
 
 std::size_t countDirections(const std::vector<Vec3d>& points) {
   return static_cast<std::size_t>(
-      std::count_if(points.begin(), points.end(), [](const Vec3d& p) { return directionOf(p).has_value(); }));
+      std::count_if(points.begin(), points.end(), [](const Vec3d& p) { return binnableDirection(p).has_value(); }));
 }
 
 /// The value below which a fraction `q` of the values lie.
@@ -165,7 +157,7 @@ std::optional<double> azimuthStepWithinRows(const std::vector<Vec3d>& points, co
   const std::size_t every = (rows.centres.size() + kMaxRowsForAzimuths - 1) / kMaxRowsForAzimuths;
   std::vector<std::vector<double>> azimuths(rows.centres.size());
   for (const Vec3d& p : points) {
-    const std::optional<Direction> d = directionOf(p);
+    const std::optional<Direction> d = binnableDirection(p);
     if (!d) continue;
     const auto above = std::lower_bound(rows.centres.begin(), rows.centres.end(), d->elevation);
     std::size_t row = static_cast<std::size_t>(above - rows.centres.begin());

@@ -4,6 +4,8 @@
 
 #include <levelfuse/core/Median.h>
 
+#include "PointDirection.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -17,13 +19,9 @@ namespace {
 using openvdb::Vec3d;
 constexpr double kTurn = 2.0 * M_PI;
 
-/// A point with a return: finite and not at the scanner.
-bool hasReturn(const Vec3d& p) {
-  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()) && p.lengthSqr() > 0.0;
-}
-
-double azimuthOf(const Vec3d& p) { return std::atan2(p.y(), p.x()); }
-double elevationOf(const Vec3d& p) { return std::atan2(p.z(), std::hypot(p.x(), p.y())); }
+using detail::azimuthOf;
+using detail::elevationOf;
+using detail::hasReturn;
 
 /// A point's direction as the binning sees it.
 struct Direction {
@@ -91,13 +89,9 @@ TurnCut turnCutOf(const std::vector<Direction>& directions, double step, bool wh
 std::vector<Direction> directionsOf(const std::vector<Vec3d>& points) {
   std::vector<Direction> directions;
   directions.reserve(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3d& p = points[i];
-    if (!hasReturn(p)) continue;
-    const double elevation = elevationOf(p);
-    if (std::fabs(elevation) > 0.5 * M_PI - kPoleMargin) continue;
-    directions.push_back({azimuthOf(p), elevation, static_cast<float>(p.length()), i});
-  }
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (const std::optional<detail::PointDirection> d = detail::binnableDirection(points[i]))
+      directions.push_back({d->azimuth, d->elevation, static_cast<float>(points[i].length()), i});
   return directions;
 }
 
