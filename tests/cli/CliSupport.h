@@ -46,8 +46,7 @@ inline nlohmann::json jsonOf(const CliRun& run) {
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    mDir = fs::temp_directory_path() /
-           ("levelfuse_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    mDir = fs::temp_directory_path() / uniqueDirectoryName();
     fs::remove_all(mDir);
     fs::create_directories(mDir);
   }
@@ -57,6 +56,17 @@ class Cli : public ::testing::Test {
     return static_cast<std::size_t>(std::distance(fs::directory_iterator(mDir), fs::directory_iterator()));
   }
   fs::path mDir;
+
+ private:
+  /// Suite, test and process: tests of different suites may share a name and run at once under ctest -j.
+  static std::string uniqueDirectoryName() {
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string("levelfuse_cli_") + test->test_suite_name() + "." + test->name() + "_" +
+                       std::to_string(::getpid());
+    for (char& c : name)
+      if (c == '/') c = '_';
+    return name;
+  }
 };
 
 }  // namespace levelfuse
