@@ -93,17 +93,25 @@ std::vector<RangeMap> loadTumEntry(const Entry& e, const ScanLoadOptions& defaul
   return loadTumFolder(folder, o);
 }
 
-/// A spherical scan's angular grid: "azimuth_start", "azimuth_step",
-/// "elevation_start", "elevation_step", in degrees.
-SphericalProjection sphericalGridOf(const Entry& e) {
+/// A spherical scan's angular grid of `rows` rows, in degrees:
+/// "azimuth_start", "azimuth_step", and either "elevation_start" and
+/// "elevation_step" or "row_elevations", one per row (uneven rows).
+SphericalProjection sphericalGridOf(const Entry& e, int rows) {
   constexpr double kRadians = M_PI / 180.0;
   SphericalProjection grid;
-  for (const auto& [key, target] : {std::pair<const char*, double*>{"azimuth_start", &grid.azimuthStart},
-                                    {"azimuth_step", &grid.azimuthStep},
-                                    {"elevation_start", &grid.elevationStart},
-                                    {"elevation_step", &grid.elevationStep}}) {
+  const bool unevenRows = e.has("row_elevations");
+  if (unevenRows && e.countOf({"elevation_start", "elevation_step"}) > 0)
+    e.fail("give 'row_elevations' or 'elevation_start' and 'elevation_step', not both");
+  std::vector<std::pair<const char*, double*>> keys{{"azimuth_start", &grid.azimuthStart},
+                                                    {"azimuth_step", &grid.azimuthStep}};
+  if (!unevenRows) keys.insert(keys.end(), {{"elevation_start", &grid.elevationStart}, {"elevation_step", &grid.elevationStep}});
+  for (const auto& [key, target] : keys) {
     if (!e.has(key)) e.fail(std::string("missing '") + key + "' (degrees)");
     *target = e.number(key, 0.0) * kRadians;
+  }
+  if (unevenRows) {
+    grid.rowElevations = e.numbers("row_elevations", static_cast<std::size_t>(rows));
+    for (double& elevation : grid.rowElevations) elevation *= kRadians;
   }
   return grid;
 }
@@ -220,7 +228,7 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       const std::string file = e.path("file");
       DepthImage image = readDepthPfm(file);
       if (!e.has("sigma")) e.fail("missing 'sigma'");
-      const SphericalProjection grid = sphericalGridOf(e);
+      const SphericalProjection grid = sphericalGridOf(e, image.height);
       try {
         maps.push_back(RangeMap::spherical(image.width, image.height, std::move(image.depth), grid, poseOf(e, path),
                                            depthNoiseOf(e), fs::path(file).filename().string()));
@@ -338,8 +346,14 @@ std::string writeScanSet(OutputSet& outputs, const std::string& directory, const
       entry["format"] = "spherical-pfm";
       entry["azimuth_start"] = p.azimuthStart * kDegrees;
       entry["azimuth_step"] = p.azimuthStep * kDegrees;
-      entry["elevation_start"] = p.elevationStart * kDegrees;
-      entry["elevation_step"] = p.elevationStep * kDegrees;
+      if (p.rowElevations.empty()) {
+        entry["elevation_start"] = p.elevationStart * kDegrees;
+        entry["elevation_step"] = p.elevationStep * kDegrees;
+      } else {
+        std::vector<double> rows;
+        for (const double elevation : p.rowElevations) rows.push_back(elevation * kDegrees);
+        entry["row_elevations"] = rows;
+      }
     } else {
       const PinholeProjection& p = m.pinholeProjection();
       entry["format"] = "depth-pfm";

@@ -201,6 +201,16 @@ double meanSpacing(const std::vector<Direction>& sample, std::size_t count) {
   return std::sqrt(solidAngle / static_cast<double>(count));
 }
 
+/// The rows' centres if they are unevenly spaced (a gap between neighbouring
+/// rows more than kStepWindow of a step from the typical `step`) and at most
+/// kMostUnevenRows; else none.
+std::vector<double> unevenRowElevations(const Rows& rows, double step) {
+  if (rows.centres.size() > kMostUnevenRows) return {};
+  for (const double gap : rows.centreGaps())
+    if (std::fabs(gap - step) > kStepWindow * step) return rows.centres;
+  return {};
+}
+
 }  // namespace
 
 AngularSteps estimateAngularSteps(const std::vector<Vec3d>& scannerPoints) {
@@ -209,10 +219,10 @@ AngularSteps estimateAngularSteps(const std::vector<Vec3d>& scannerPoints) {
   if (const std::optional<Rows> rows = elevationRows(sample)) {
     const double elevationStep = *typicalStep(rows->centreGaps());
     if (const std::optional<double> azimuthStep = azimuthStepWithinRows(scannerPoints, *rows, elevationStep))
-      return AngularSteps{*azimuthStep, elevationStep};
+      return AngularSteps{*azimuthStep, elevationStep, unevenRowElevations(*rows, elevationStep)};
   }
   const double spacing = meanSpacing(sample, countDirections(scannerPoints));
-  return AngularSteps{spacing, spacing};
+  return AngularSteps{spacing, spacing, {}};
 }
 
 }  // namespace levelfuse

@@ -16,12 +16,12 @@ using openvdb::Coord;
 using openvdb::Vec3d;
 constexpr int kLeafDim = 8;
 
-/// How far the rays of a spherical map's tile of du x dv pixels, out to
-/// `range`, reach beyond the box of their corners: the arcs between the
-/// corners bulge by at most range (1 - cos(the tile's diagonal angle)).
-double sphericalBulge(const RangeMap& m, int du, int dv, double range) {
+/// How far the rays of a spherical map's tile of du columns and rows v0 to
+/// v1, out to `range`, reach beyond the box of their corners: the arcs
+/// between the corners bulge by at most range (1 - cos(the tile's diagonal angle)).
+double sphericalBulge(const RangeMap& m, int du, int v0, int v1, double range) {
   const SphericalProjection& p = m.sphericalProjection();
-  const double diagonal = std::hypot(du * p.azimuthStep, dv * p.elevationStep);
+  const double diagonal = std::hypot(du * p.azimuthStep, elevationOfRow(p, v1) - elevationOfRow(p, v0));
   return range * (1.0 - std::cos(diagonal)) + 1e-9 * range;
 }
 
@@ -49,7 +49,7 @@ void forEachTileBox(const RangeMap& m, double reach, const Visit& visit) {
       openvdb::BBoxd box;
       for (int c = 0; c < 8; ++c)
         box.expand(m.pointAt(c & 1 ? u1 : u0, c & 2 ? v1 : v0, c & 4 ? farthest + reach : front));
-      if (m.kind() == RangeMap::Kind::kSpherical) box.expand(sphericalBulge(m, u1 - u0, v1 - v0, farthest + reach));
+      if (m.kind() == RangeMap::Kind::kSpherical) box.expand(sphericalBulge(m, u1 - u0, v0, v1, farthest + reach));
       visit(box);
     }
 }
@@ -126,8 +126,8 @@ CubeFootprint sphericalFootprint(const RangeMap& m, const Vec3d& centre, double 
   f.u1 = column + halfAzimuth;
   const bool wrapsIntoTheMap = (f.u0 < 0.0 && f.u0 + m.azimuthPeriod() <= m.width() - 1) || f.u1 >= m.azimuthPeriod();
   f.inFront = wrapsIntoTheMap ? 4 : 8;
-  const double r0 = (elevation - angularRadius - p.elevationStart) / p.elevationStep;
-  const double r1 = (elevation + angularRadius - p.elevationStart) / p.elevationStep;
+  const double r0 = rowOfElevation(p, elevation - angularRadius);
+  const double r1 = rowOfElevation(p, elevation + angularRadius);
   f.v0 = std::min(r0, r1);
   f.v1 = std::max(r0, r1);
   return f;

@@ -131,9 +131,35 @@ RangeMap RangeMap::orthographic(int width, int height, std::vector<float> readin
   return m;
 }
 
-RangeMap RangeMap::sphericalWithoutReadings(int width, int height, const SphericalProjection& p, std::string name) {
+void requireRowElevations(const std::vector<double>& rows, const std::string& who) {
+  if (rows.size() < 2)
+    throw std::invalid_argument(who + ": " + std::to_string(rows.size()) + " row elevation(s); uneven rows need two or more");
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    if (!std::isfinite(rows[r]) || (r > 0 && !(rows[r] > rows[r - 1])))
+      throw std::invalid_argument(who + ": the row elevations must be finite and strictly increasing (row " +
+                                  std::to_string(r) + ")");
+}
+
+namespace {
+
+/// Uneven rows' elevations checked (one per row), and the grid's elevation
+/// start and step taken from them: the first and the mean spacing.
+void takeRowElevations(SphericalProjection& p, int height, const std::string& who) {
+  const std::vector<double>& rows = p.rowElevations;
+  if (rows.size() != static_cast<std::size_t>(height))
+    throw std::invalid_argument(who + ": " + std::to_string(rows.size()) + " row elevations for " +
+                                std::to_string(height) + " rows");
+  requireRowElevations(rows, who);
+  p.elevationStart = rows.front();
+  p.elevationStep = (rows.back() - rows.front()) / static_cast<double>(height - 1);
+}
+
+}  // namespace
+
+RangeMap RangeMap::sphericalWithoutReadings(int width, int height, SphericalProjection p, std::string name) {
   RangeMap m(Kind::kSpherical, width, height, std::move(name));
   const std::string who = "range map '" + m.mName + "'";
+  if (!p.rowElevations.empty()) takeRowElevations(p, height, who);
   if (!std::isfinite(p.azimuthStart) || !std::isfinite(p.elevationStart) || !std::isfinite(p.azimuthStep) ||
       !std::isfinite(p.elevationStep) || p.azimuthStep == 0.0 || p.elevationStep == 0.0)
     throw std::invalid_argument(who + ": the angular steps must be finite and not zero");
@@ -145,9 +171,9 @@ RangeMap RangeMap::sphericalWithoutReadings(int width, int height, const Spheric
   // A closed turn repeats its first column after its last: one step more than a turn.
   if ((width - 1) * std::fabs(p.azimuthStep) > 2.0 * M_PI * (1.0 + 1e-9))
     throw std::invalid_argument(who + ": its " + std::to_string(width) + " columns span more than a turn");
-  m.mSpherical = p;
   m.mAzimuthPeriod = 2.0 * M_PI / std::fabs(p.azimuthStep);
-  m.mAngularStep = std::max(std::fabs(p.azimuthStep), std::fabs(p.elevationStep));
+  m.mAngularStep = std::max(std::fabs(p.azimuthStep), largestRowStep(p));
+  m.mSpherical = std::move(p);
   return m;
 }
 
@@ -391,9 +417,23 @@ openvdb::Vec3d RangeMap::pointAt(double u, double v, double r) const {
   return mMapToWorld.transform(p);
 }
 
+double elevationOfRow(const SphericalProjection& p, double v) {
+  const std::vector<double>& rows = p.rowElevations;
+  if (rows.empty()) return p.elevationStart + v * p.elevationStep;
+  const std::size_t below = static_cast<std::size_t>(std::clamp(std::floor(v), 0.0, static_cast<double>(rows.size() - 2)));
+  return rows[below] + (v - static_cast<double>(below)) * (rows[below + 1] - rows[below]);
+}
+
+double largestRowStep(const SphericalProjection& p) {
+  const std::vector<double>& rows = p.rowElevations;
+  double largest = std::fabs(p.elevationStep);
+  for (std::size_t r = 1; r < rows.size(); ++r) largest = std::max(largest, rows[r] - rows[r - 1]);
+  return largest;
+}
+
 openvdb::Vec3d sphericalDirection(const SphericalProjection& p, double u, double v) {
   const double azimuth = p.azimuthStart + u * p.azimuthStep;
-  const double elevation = p.elevationStart + v * p.elevationStep;
+  const double elevation = elevationOfRow(p, v);
   return Vec3d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
 }
 

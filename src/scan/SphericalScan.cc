@@ -120,9 +120,19 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
   const long wholeColumns = std::lround(perTurn);
   const bool wholeTurn = std::fabs(perTurn - static_cast<double>(wholeColumns)) < 0.05;
   if (wholeTurn) steps.azimuth = kTurn / static_cast<double>(wholeColumns);
-  const double elevationPhase = phaseOf(directions, [](const Direction& d) { return d.elevation; }, steps.elevation);
+  // Rows evenly spaced on the points' phase, or the uneven rows given (each
+  // point in the row nearest its elevation).
+  const bool unevenRows = !steps.rowElevations.empty();
+  if (unevenRows) requireRowElevations(steps.rowElevations, who);
+  SphericalProjection rowsGiven;
+  rowsGiven.rowElevations = steps.rowElevations;
+  const double elevationPhase =
+      unevenRows ? 0.0 : phaseOf(directions, [](const Direction& d) { return d.elevation; }, steps.elevation);
   const auto nearest = [](double x) { return static_cast<long>(std::floor(x + 0.5)); };
-  const auto rowOf = [&](const Direction& d) { return nearest((d.elevation - elevationPhase) / steps.elevation); };
+  const auto rowOf = [&](const Direction& d) {
+    return nearest(unevenRows ? rowOfElevation(rowsGiven, d.elevation)
+                              : (d.elevation - elevationPhase) / steps.elevation);
+  };
 
   // The sweep's columns, counted from its first by each point's azimuth from
   // the cut: the turn is cut in the sweep's widest gap, so that a step which
@@ -137,6 +147,10 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
     firstTurn = std::min(firstTurn, turnOf(d));
     lowestRow = std::min(lowestRow, rowOf(d));
     highestRow = std::max(highestRow, rowOf(d));
+  }
+  if (unevenRows) {  // the rows given, whichever the points fill
+    lowestRow = 0;
+    highestRow = static_cast<long>(steps.rowElevations.size()) - 1;
   }
   // The first column on the points' phase, at most half a step from the first point.
   const double startTurn =
@@ -164,12 +178,14 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
   scan.grid.azimuthStep = steps.azimuth;
   scan.grid.elevationStart = elevationPhase + static_cast<double>(lowestRow) * steps.elevation;
   scan.grid.elevationStep = steps.elevation;
+  scan.grid.rowElevations = steps.rowElevations;  // RangeMap::spherical takes the start and step from them
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   scan.ranges.assign(pixels, std::numeric_limits<float>::quiet_NaN());
   if (!colours.empty()) scan.colours.assign(pixels, Rgb8{0, 0, 0});
   for (const Direction& d : directions) {
     const long u = columnOf(d);
     const long v = rowOf(d) - lowestRow;
+    if (v < 0 || v >= height) continue;  // beyond the uneven rows given
     const std::size_t at = static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u);
     if (scan.ranges[at] <= d.range) continue;  // the nearest point of a pixel
     scan.ranges[at] = d.range;

@@ -110,22 +110,14 @@ double rayHit(const Vec3d& direction, const Vec3d& a, const Vec3d& b, const Vec3
   return t > 0.0 ? t : std::numeric_limits<double>::infinity();
 }
 
-/// Where a spherical grid sees a point of its scanner's frame: its column
-/// (within a turn, from the first) and its row.
-openvdb::math::Vec2d sphericalPixel(const SphericalProjection& grid, const Vec3d& p) {
-  const double period = 2.0 * M_PI / std::fabs(grid.azimuthStep);
-  double column = (std::atan2(p.y(), p.x()) - grid.azimuthStart) / grid.azimuthStep;
-  column -= period * std::floor(column / period);
-  return {column, (std::atan2(p.z(), std::hypot(p.x(), p.y())) - grid.elevationStart) / grid.elevationStep};
-}
-
 /// Casts the rays of the pixels around triangle (a, b, c) of the scanner's
 /// frame, small enough in angle that its corners' pixels bound it, and keeps
 /// the nearest hits in `ranges`.
 void castAroundTriangle(const View& view, const Vec3d& a, const Vec3d& b, const Vec3d& c, std::vector<float>& ranges) {
   const SphericalProjection& grid = view.spherical;
   const double period = 2.0 * M_PI / std::fabs(grid.azimuthStep);
-  const openvdb::math::Vec2d pa = sphericalPixel(grid, a), pb = sphericalPixel(grid, b), pc = sphericalPixel(grid, c);
+  const openvdb::math::Vec2d pa = sphericalPixel(grid, period, a), pb = sphericalPixel(grid, period, b),
+                            pc = sphericalPixel(grid, period, c);
   double columns[3] = {pa.x(), pb.x(), pc.x()};
   const double rows[3] = {pa.y(), pb.y(), pc.y()};
   // A triangle across the first column: its corners on one side of it.

@@ -52,13 +52,54 @@ struct PinholeProjection {
 /// The angular grid of a scanner that sweeps azimuth and elevation from one
 /// centre (radians). Steps may be negative (a scanner turning clockwise);
 /// every row lies strictly between the poles, and the columns span at most a
-/// full turn.
+/// full turn. The rows are evenly spaced, or lie at the elevations of
+/// `rowElevations` (a spinning LiDAR's lasers, spaced as the sensor spaces
+/// them): between two rows a fractional row is linear in elevation.
 struct SphericalProjection {
   double azimuthStart = 0.0;    ///< azimuth of column 0
   double azimuthStep = 1e-3;    ///< from a column to the next
   double elevationStart = 0.0;  ///< elevation of row 0
-  double elevationStep = 1e-3;  ///< from a row to the next
+  double elevationStep = 1e-3;  ///< from a row to the next (with rowElevations: their mean spacing)
+  /// One elevation per row, strictly increasing; empty for evenly spaced rows.
+  std::vector<double> rowElevations;
 };
+
+/// Throws std::invalid_argument, naming `who`, unless `rows` are at least two
+/// elevations, finite and strictly increasing (SphericalProjection::rowElevations).
+void requireRowElevations(const std::vector<double>& rows, const std::string& who);
+
+/// The fractional row at which a spherical grid sees `elevation` (beyond the
+/// first and the last of uneven rows, on the spacing of the nearest two).
+inline double rowOfElevation(const SphericalProjection& p, double elevation) {
+  const std::vector<double>& rows = p.rowElevations;
+  if (rows.empty()) return (elevation - p.elevationStart) / p.elevationStep;
+  const std::size_t below =
+      static_cast<std::size_t>(std::upper_bound(rows.begin() + 1, rows.end() - 1, elevation) - rows.begin()) - 1;
+  return static_cast<double>(below) + (elevation - rows[below]) / (rows[below + 1] - rows[below]);
+}
+
+/// Where a spherical grid sees a point `x` of its scanner's frame: its column,
+/// counted from the first in the direction of the sweep within a turn of
+/// `period` columns (2 pi / |azimuth step|), and its fractional row.
+inline openvdb::math::Vec2d sphericalPixel(const SphericalProjection& p, double period, const openvdb::Vec3d& x) {
+  double column = (std::atan2(x.y(), x.x()) - p.azimuthStart) / p.azimuthStep;
+  column -= period * std::floor(column / period);
+  const double elevation = std::atan2(x.z(), std::sqrt(x.x() * x.x() + x.y() * x.y()));
+  return {column, rowOfElevation(p, elevation)};
+}
+
+/// The elevation of fractional row v (the inverse of rowOfElevation).
+double elevationOfRow(const SphericalProjection& p, double v);
+
+/// The signed elevation from row j to row j + 1 (0 <= j < rows - 1).
+inline double rowStep(const SphericalProjection& p, int j) {
+  if (p.rowElevations.empty()) return p.elevationStep;
+  const std::size_t at = static_cast<std::size_t>(j);
+  return p.rowElevations[at + 1] - p.rowElevations[at];
+}
+
+/// The largest elevation between neighbouring rows (radians, positive).
+double largestRowStep(const SphericalProjection& p);
 
 /// The unit line of sight of pixel coordinates (u, v) of a spherical grid, in
 /// the scanner's frame.
@@ -116,7 +157,9 @@ class RangeMap {
   /// column per azimuth), distances from the scanner in world units, NaN or
   /// values <= 0 for no return. `scannerToWorld` is rigid, in OpenVDB's
   /// row-vector layout. Throws std::invalid_argument for inconsistent sizes or
-  /// geometry (a step of zero, a row at or beyond a pole, more than a turn).
+  /// geometry (a step of zero, a row at or beyond a pole, more than a turn,
+  /// row elevations that are not one per row or not increasing). With
+  /// `p.rowElevations`, the map's elevation start and step are taken from them.
   static RangeMap spherical(int width, int height, std::vector<float> ranges, const SphericalProjection& p,
                             const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name = "");
   /// The same with sigmas that follow the range (setDepthNoise); the map's
@@ -290,7 +333,7 @@ class RangeMap {
   static RangeMap finished(RangeMap m, std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld,
                            const DepthNoise& noise);
   /// A spherical map of checked geometry that has yet to be given its readings (finish).
-  static RangeMap sphericalWithoutReadings(int width, int height, const SphericalProjection& p, std::string name);
+  static RangeMap sphericalWithoutReadings(int width, int height, SphericalProjection p, std::string name);
   /// A pinhole map of checked geometry that has yet to be given its readings (finish).
   static RangeMap pinholeWithoutReadings(int width, int height, const PinholeProjection& p, std::string name);
   void finish(std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld, double sigma);
@@ -349,7 +392,7 @@ class RangeMap {
   PinholeProjection mPinhole;
   SphericalProjection mSpherical;
   double mAzimuthPeriod = 0.0;  ///< columns in a full turn (spherical): 2 pi / |azimuth step|
-  double mAngularStep = 0.0;    ///< the larger of a spherical map's two steps (radians)
+  double mAngularStep = 0.0;    ///< the larger of a spherical map's two steps, its widest row spacing (radians)
   openvdb::math::Mat4d mMapToWorld = openvdb::math::Mat4d::identity();
   openvdb::math::Mat4d mWorldToMap = openvdb::math::Mat4d::identity();
   openvdb::math::Mat3d mRotation = openvdb::math::Mat3d::identity();  ///< map-to-world rotation
@@ -362,11 +405,7 @@ inline openvdb::math::Vec2d RangeMap::project(const openvdb::Vec3d& p) const {
     return {(p.x() - mOrtho.origin.x()) / mOrtho.pixelSize, (p.y() - mOrtho.origin.y()) / mOrtho.pixelSize};
   if (mKind == Kind::kPinhole)
     return {mPinhole.fx * p.x() / p.z() + mPinhole.cx, mPinhole.fy * p.y() / p.z() + mPinhole.cy};
-  // Columns counted from the first in the direction of the sweep, within one turn.
-  double column = (std::atan2(p.y(), p.x()) - mSpherical.azimuthStart) / mSpherical.azimuthStep;
-  column -= mAzimuthPeriod * std::floor(column / mAzimuthPeriod);
-  const double elevation = std::atan2(p.z(), std::sqrt(p.x() * p.x() + p.y() * p.y()));
-  return {column, (elevation - mSpherical.elevationStart) / mSpherical.elevationStep};
+  return sphericalPixel(mSpherical, mAzimuthPeriod, p);
 }
 
 inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
@@ -423,18 +462,19 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
     out.D = distance - r;  // Eq. 13, along the ray from the scanner
     if (!(std::fabs(out.D) <= reach)) return false;
     // grad D = grad |p| - r_u grad u - r_v grad v, with u and v the azimuth and
-    // elevation in steps.
+    // elevation in steps (the step of the cell's rows).
     const double across2 = p.x() * p.x() + p.y() * p.y(), across = std::sqrt(across2);
     const double distance2 = distance * distance;
+    const double elevationStep = rowStep(mSpherical, j);
     const openvdb::Vec3d gradU = openvdb::Vec3d(-p.y(), p.x(), 0.0) / (across2 * mSpherical.azimuthStep);
     const openvdb::Vec3d gradV = openvdb::Vec3d(-p.z() * p.x() / across, -p.z() * p.y() / across, across) /
-                                 (distance2 * mSpherical.elevationStep);
+                                 (distance2 * elevationStep);
     out.lineOfSight = p / distance;
     out.gradD = out.lineOfSight - gradU * ru - gradV * rv;
     out.gradDSquared = out.gradD.lengthSqr();
     // Rays per unit area across the line of sight: one per solid angle
     // |dtheta dphi| cos(phi), at distance |p|.
-    out.gamma = distance / (distance2 * across * std::fabs(mSpherical.azimuthStep * mSpherical.elevationStep));
+    out.gamma = distance / (distance2 * across * std::fabs(mSpherical.azimuthStep * elevationStep));
   } else {
     // D = k (z - r) with k >= 1: a depth farther than the reach from the
     // reading is out of the window (a relative slack leaves ties within

@@ -21,7 +21,10 @@ namespace levelfuse {
 /// The angles between neighbouring rays of a spherical scanner (radians, positive).
 struct AngularSteps {
   double azimuth = 0.0;
-  double elevation = 0.0;
+  double elevation = 0.0;  ///< between rows (with rowElevations: their typical spacing)
+  /// The elevations of unevenly spaced rows (a spinning LiDAR's lasers),
+  /// strictly increasing; empty for rows `elevation` apart.
+  std::vector<double> rowElevations;
 };
 
 /// Points closer to a pole than this (radians, 0.1 degree) have no azimuth a
@@ -34,11 +37,15 @@ inline constexpr double kPoleMargin = 0.1 * M_PI / 180.0;
 /// comes back pixel for pixel), and spans the points' azimuths and
 /// elevations; a full turn of azimuth is closed (the first column is repeated
 /// after the last, so no seam is left). Points that are not finite, at the
-/// scanner, or within kPoleMargin of a pole are left out. With `colours`
+/// scanner, or within kPoleMargin of a pole are left out. With uneven rows
+/// (steps.rowElevations), each point goes to the row nearest its elevation
+/// (rowOfElevation), the points beyond the first and the last row by more
+/// than half their spacing left out. With `colours`
 /// (one per point), each pixel takes its nearest point's colour
 /// (RangeMap::setColours), pixels without a point black. Throws
-/// std::invalid_argument for steps that are not positive and finite, a grid
-/// of more than 2^31 pixels, or fewer than two rows or columns of points.
+/// std::invalid_argument for steps that are not positive and finite, row
+/// elevations that are not increasing, a grid of more than 2^31 pixels, or
+/// fewer than two rows or columns of points.
 RangeMap sphericalMapFromPoints(const std::vector<openvdb::Vec3d>& scannerPoints, const AngularSteps& steps,
                                 const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name = "",
                                 const std::vector<Rgb8>& colours = {});
@@ -53,7 +60,12 @@ RangeMap sphericalMapFromPoints(const std::vector<openvdb::Vec3d>& scannerPoints
 ///    rows of its grid), the elevation step is the typical gap between
 ///    neighbouring rows, and the azimuth step the typical gap between
 ///    neighbours within a row (so a Velodyne's 0.4 x 0.17 degrees come back
-///    as they are; of rows spaced unevenly, the finer spacing);
+///    as they are). Rows spaced unevenly (a gap more than a quarter of a
+///    step from the typical one), at most kMostUnevenRows of them (a spinning
+///    LiDAR's lasers, such as the HDL-64E's two blocks a third and half a
+///    degree apart), are returned as they are (rowElevations, their
+///    centres), so that no laser's row is merged with another or leaves an
+///    empty row between two; the elevation step is then the finer spacing;
 ///  - otherwise both are the mean angular spacing of the points (the side of
 ///    the patch of sphere a point has to itself), one point per pixel.
 /// "Typical" is the median of the gaps within a quarter of a step of the
@@ -65,6 +77,10 @@ RangeMap sphericalMapFromPoints(const std::vector<openvdb::Vec3d>& scannerPoints
 /// kMinPointsForSteps points with a direction (finite, off the scanner and
 /// its poles) or points that all look one way.
 AngularSteps estimateAngularSteps(const std::vector<openvdb::Vec3d>& scannerPoints);
+
+/// The most rows estimateAngularSteps returns as a table of uneven rows
+/// (AngularSteps::rowElevations): a LiDAR's lasers, not a terrestrial grid's rows.
+inline constexpr std::size_t kMostUnevenRows = 256;
 
 /// The fewest points estimateAngularSteps takes.
 inline constexpr std::size_t kMinPointsForSteps = 16;
