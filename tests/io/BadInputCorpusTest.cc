@@ -127,6 +127,9 @@ const BadInput kCorpus[] = {
   {"manifest/spherical-without-an-azimuth-step.json", Reader::kManifest, "scans[0]: missing 'azimuth_step' (degrees)"},
   {"manifest/spherical-more-than-a-turn.json", Reader::kManifest, "scans[0]: range map 'plane.pfm': its 4 columns span more than a turn"},
   {"manifest/spherical-step-of-zero.json", Reader::kManifest, "scans[0]: range map 'plane.pfm': the angular steps must be finite and not zero"},
+  {"manifest/spherical-row-elevations-and-step.json", Reader::kManifest, "scans[0]: give 'row_elevations' or 'elevation_start' and 'elevation_step', not both"},
+  {"manifest/spherical-row-elevations-not-one-per-row.json", Reader::kManifest, "scans[0]: 'row_elevations' needs 4 numbers"},
+  {"manifest/spherical-row-elevations-decreasing.json", Reader::kManifest, "scans[0]: range map 'plane.pfm': the row elevations must be finite and strictly increasing (row 1)"},
   // Depth PNG (readDepthPng)
   {"png/empty.png", Reader::kDepthPng, "not a PNG file"},
   {"png/not-a-png.png", Reader::kDepthPng, "not a PNG file"},

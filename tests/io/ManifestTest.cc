@@ -9,8 +9,10 @@
 #include <levelfuse/scan/Synth.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <sstream>
 
@@ -115,6 +117,28 @@ TEST(Manifest, WritesAndReadsSphericalScans) {
   ASSERT_TRUE(truth);
   EXPECT_STREQ(truth->name(), "room");
   EXPECT_EQ(truth->room.size, shapes::Room{}.size);
+}
+
+TEST(Manifest, WritesAndReadsUnevenRows) {
+  // A LiDAR's rows spaced unevenly go out as 'row_elevations' and come back as they were.
+  constexpr double kDegree = M_PI / 180.0;
+  SphericalProjection grid;
+  grid.azimuthStart = -20.0 * kDegree;
+  grid.azimuthStep = 0.5 * kDegree;
+  grid.rowElevations = {-24.0 * kDegree, -23.5 * kDegree, -23.0 * kDegree, -21.5 * kDegree, 2.0 * kDegree};
+  const RangeMap map = RangeMap::spherical(81, 5, std::vector<float>(81 * 5, 7.5f), grid,
+                                           openvdb::math::Mat4d::identity(), 0.002, "sweep");
+  TempDir dir;
+  const std::string manifest = writeScanSet(dir.path("sweep"), {map});
+  const nlohmann::json written = nlohmann::json::parse(std::ifstream(manifest));
+  ASSERT_TRUE(written["scans"][0].contains("row_elevations"));
+  EXPECT_FALSE(written["scans"][0].contains("elevation_step"));
+  const std::vector<RangeMap> maps = loadManifest(manifest);
+  ASSERT_EQ(maps.size(), 1u);
+  const std::vector<double>& rows = maps[0].sphericalProjection().rowElevations;
+  ASSERT_EQ(rows.size(), 5u);
+  for (std::size_t r = 0; r < rows.size(); ++r) EXPECT_NEAR(rows[r], grid.rowElevations[r], 1e-12) << r;
+  EXPECT_NEAR(maps[0].sphericalProjection().elevationStart, -24.0 * kDegree, 1e-12);
 }
 
 TEST(Manifest, WritesAndReadsColoursBesideEachScan) {

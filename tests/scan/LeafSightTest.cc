@@ -67,6 +67,20 @@ RangeMap roomAroundAScanner(bool wholeTurn) {
                              map.name());
 }
 
+/// The same room seen on rows spaced unevenly, as a spinning LiDAR's lasers
+/// are: 35 rows 2.5 degrees apart from -70 degrees, then 35 rows 1.5 apart.
+RangeMap roomOnUnevenRows() {
+  const shapes::Box room{Vec3d(0.0, 0.0, 1.25), Vec3d(1.5, 1.5, 1.25)};
+  const shapes::Box box{Vec3d(0.6, 0.5, 0.3), Vec3d(0.3, 0.25, 0.3)};
+  const shapes::Sphere ball{Vec3d(-0.7, 0.4, 1.2), 0.3};
+  const auto distance = [&](const Vec3d& p) { return std::min(-room(p), std::min(box(p), ball(p))); };
+  synth::View view = synth::sphericalView(Vec3d(0.1, -0.05, 1.0), -150.0, 150.0, -70.0, 70.0, 2.0, "room, uneven rows");
+  view.spherical.rowElevations.clear();
+  for (int r = 0; r < view.height; ++r)
+    view.spherical.rowElevations.push_back((r <= 35 ? -70.0 + 2.5 * r : 17.5 + 1.5 * (r - 35)) * M_PI / 180.0);
+  return synth::renderDistanceFunction(distance, view, synth::Noise{}, 0.002);
+}
+
 constexpr double kVoxel = 0.02, kMargin = 0.03;
 
 /// What `map` says of the cubes of `dim` voxels a side over a box around its
@@ -94,7 +108,7 @@ std::array<std::size_t, 4> cubesTold(const RangeMap& map, int dim) {
 }
 
 TEST(LeafSight, WhatALeafIsToldEveryVoxelIsToo) {
-  for (const RangeMap& map : {wallWithABox(), tiltedPlaneAlongZ(), roomAroundAScanner(false)}) {
+  for (const RangeMap& map : {wallWithABox(), tiltedPlaneAlongZ(), roomAroundAScanner(false), roomOnUnevenRows()}) {
     const std::array<std::size_t, 4> leaves = cubesTold(map, 8);
     // The shortcut answers for most leaves: in front, behind and beside.
     EXPECT_GT(leaves[static_cast<std::size_t>(Sight::kEmpty)], 100u);
@@ -107,7 +121,7 @@ TEST(LeafSight, WhatACubeIsToldEveryVoxelIsToo) {
   // The cubes of 4 voxels a side that carving splits a leaf into when a map
   // cannot speak for the whole leaf at once (detail::BlockVotes): they decide
   // where leaves cannot.
-  for (const RangeMap& map : {wallWithABox(), tiltedPlaneAlongZ(), roomAroundAScanner(false)}) {
+  for (const RangeMap& map : {wallWithABox(), tiltedPlaneAlongZ(), roomAroundAScanner(false), roomOnUnevenRows()}) {
     const std::array<std::size_t, 4> cubes = cubesTold(map, 4);
     for (const Sight s : {Sight::kEmpty, Sight::kBehind, Sight::kOutside})
       EXPECT_GT(cubes[static_cast<std::size_t>(s)], 1000u) << map.name();
@@ -135,7 +149,7 @@ TEST(LeavesReached, EveryVoxelAReadingReachesIsInALeafReached) {
   // The leaves and cubes that accumulation visits (DataTermGrids::integrate)
   // hold every voxel within the reach of a reading: checked voxel by voxel.
   const double reach = 0.07;
-  for (const RangeMap& map : {wallWithABox(), roomAroundAScanner(false), roomAroundAScanner(true)}) {
+  for (const RangeMap& map : {wallWithABox(), roomAroundAScanner(false), roomAroundAScanner(true), roomOnUnevenRows()}) {
     const std::vector<Coord> leaves = detail::leavesReached(map, kVoxel, reach);
     std::size_t reached = 0;
     for (int x = -96; x < 96; ++x)
