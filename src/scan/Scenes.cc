@@ -108,6 +108,8 @@ Scene analyticScene(const shapes::AnalyticShape& shape, const SceneOptions& opti
       scene.sizeName = "the handle's width";
       break;
     }
+    case Kind::kRoom:  // seen from inside, by tripods: roomScene
+      return roomScene(shape.room, options);
   }
   const auto distance = [&shape](const Vec3d& p) { return shape(p); };
   const double margin = 0.2 * scene.size;

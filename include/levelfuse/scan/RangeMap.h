@@ -56,6 +56,12 @@ struct PinholeProjection {
 /// `rowElevations` (a spinning LiDAR's lasers, spaced as the sensor spaces
 /// them): between two rows a fractional row is linear in elevation.
 struct SphericalProjection {
+  SphericalProjection() = default;
+  /// Evenly spaced rows.
+  SphericalProjection(double azimuthStart, double azimuthStep, double elevationStart, double elevationStep)
+      : azimuthStart(azimuthStart), azimuthStep(azimuthStep), elevationStart(elevationStart),
+        elevationStep(elevationStep) {}
+
   double azimuthStart = 0.0;    ///< azimuth of column 0
   double azimuthStep = 1e-3;    ///< from a column to the next
   double elevationStart = 0.0;  ///< elevation of row 0

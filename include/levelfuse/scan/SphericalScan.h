@@ -14,12 +14,17 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace levelfuse {
 
 /// The angles between neighbouring rays of a spherical scanner (radians, positive).
 struct AngularSteps {
+  AngularSteps() = default;
+  AngularSteps(double azimuth, double elevation, std::vector<double> rowElevations = {})
+      : azimuth(azimuth), elevation(elevation), rowElevations(std::move(rowElevations)) {}
+
   double azimuth = 0.0;
   double elevation = 0.0;  ///< between rows (with rowElevations: their typical spacing)
   /// The elevations of unevenly spaced rows (a spinning LiDAR's lasers),
