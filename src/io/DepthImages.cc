@@ -6,6 +6,7 @@
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/MemoryBudget.h>
 
+#include "ByteOrder.h"
 #include "ExrHeader.h"
 #include "Orthonormal.h"
 #include "FileExtension.h"
@@ -190,13 +191,8 @@ DepthImage readDepthPfm(const std::string& path, bool positiveOnly) {
   in.seekg(start);
   std::vector<float> raw(count);
   in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(count * sizeof(float)));
-  const std::uint16_t probe = 1;
-  const bool hostLittle = *reinterpret_cast<const unsigned char*>(&probe) == 1;
-  if ((scale < 0.0) != hostLittle)  // negative scale: little-endian data
-    for (float& f : raw) {
-      unsigned char* b = reinterpret_cast<unsigned char*>(&f);
-      std::reverse(b, b + 4);
-    }
+  const bool littleEndian = scale < 0.0;  // a negative scale says little-endian
+  for (float& f : raw) detail::toHostOrder(reinterpret_cast<unsigned char*>(&f), sizeof f, littleEndian);
   // PFM rows run bottom to top.
   image.depth.resize(count);
   for (int y = 0; y < image.height; ++y)
@@ -223,13 +219,11 @@ void writeDepthPfm(OutputSet& outputs, const std::string& path, const DepthImage
     std::ofstream out(temporary, std::ios::binary);
     if (!out) throw std::runtime_error("cannot open a temporary file beside it");
     out << "Pf\n" << image.width << " " << image.height << "\n-1\n";  // negative scale: little-endian
-    const std::uint16_t probe = 1;
-    const bool hostLittle = *reinterpret_cast<const unsigned char*>(&probe) == 1;
     for (int y = image.height - 1; y >= 0; --y)  // PFM rows run bottom to top
       for (int x = 0; x < image.width; ++x) {
         float d = image.depth[static_cast<std::size_t>(y) * image.width + x];
         unsigned char* b = reinterpret_cast<unsigned char*>(&d);
-        if (!hostLittle) std::reverse(b, b + 4);
+        detail::toFileOrder(b, sizeof d, true);
         out.write(reinterpret_cast<const char*>(b), 4);
       }
     closeChecked(out);

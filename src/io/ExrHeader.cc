@@ -1,6 +1,7 @@
 // levelfuse: what an EXR file's header declares.
 
 #include "ExrHeader.h"
+#include "ByteOrder.h"
 
 #include <levelfuse/io/InputError.h>
 
@@ -17,10 +18,6 @@ constexpr std::uint32_t kExrMagic = 20000630;
 constexpr std::uint32_t kLongNamesFlag = 0x400;
 /// Attribute values a header needs to hold are small; a longer one is skipped, not read.
 constexpr std::uint32_t kLargestReadValue = 1 << 16;
-
-std::uint32_t littleEndian32(const unsigned char* b) {
-  return std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24;
-}
 
 /// A NUL-terminated string of at most `longest` bytes; false at the end of the file or if longer.
 bool readName(std::ifstream& in, std::size_t longest, std::string& name) {

@@ -6,6 +6,8 @@
 #include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/io/PointScans.h>
 
+#include "ByteOrder.h"
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -22,15 +24,6 @@ constexpr std::uintmax_t kPointBytes = 16;
 /// Bytes held per point while a sweep is read and binned: its bytes, its
 /// position and its share of the range map.
 constexpr double kBytesPerPoint = 64.0;
-
-/// The float32 stored little-endian at `bytes`, whatever the machine's order.
-float littleEndianFloat(const unsigned char* bytes) {
-  const std::uint32_t word = static_cast<std::uint32_t>(bytes[0]) | static_cast<std::uint32_t>(bytes[1]) << 8 |
-                             static_cast<std::uint32_t>(bytes[2]) << 16 | static_cast<std::uint32_t>(bytes[3]) << 24;
-  float value = 0.0f;
-  std::memcpy(&value, &word, sizeof value);
-  return value;
-}
 
 /// The file's size, which must be a positive whole number of points.
 std::uintmax_t sweepBytes(const std::string& path) {
@@ -69,7 +62,7 @@ PointCloud readKittiBin(const std::string& path) {
   for (std::size_t i = 0; i < count; ++i) {
     const unsigned char* point = data.data() + i * kPointBytes;
     float values[4];
-    for (int k = 0; k < 4; ++k) values[k] = littleEndianFloat(point + 4 * k);
+    for (int k = 0; k < 4; ++k) values[k] = detail::littleEndianFloat(point + 4 * k);
     for (int k = 0; k < 4; ++k)
       if (!std::isfinite(values[k]))
         throw InputError(path, "point " + std::to_string(i) + " (at byte " + std::to_string(i * kPointBytes) +

@@ -6,6 +6,8 @@
 #include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/io/Ply.h>
 
+#include "ByteOrder.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -286,10 +288,7 @@ class Parser {
     unsigned char raw[8];
     std::memcpy(raw, mBytes.data() + mPos, n);
     mPos += n;
-    const bool little = mData.format == PlyFormat::kBinaryLittleEndian;
-    const std::uint16_t probe = 1;
-    const bool hostLittle = *reinterpret_cast<const unsigned char*>(&probe) == 1;
-    if (little != hostLittle) std::reverse(raw, raw + n);
+    detail::toHostOrder(raw, n, mData.format == PlyFormat::kBinaryLittleEndian);
     switch (type) {
       case PlyType::kInt8: { std::int8_t v; std::memcpy(&v, raw, 1); return v; }
       case PlyType::kUInt8: { std::uint8_t v; std::memcpy(&v, raw, 1); return v; }
@@ -379,7 +378,9 @@ struct MeshArrays {
 };
 
 void writeMeshHeader(std::ostream& out, const MeshArrays& mesh, bool binary) {
-  out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
+  // Binary values are written in the machine's order, which the header states.
+  const char* binaryFormat = detail::hostIsLittleEndian() ? "binary_little_endian" : "binary_big_endian";
+  out << "ply\nformat " << (binary ? binaryFormat : "ascii") << " 1.0\n"
       << "comment written by levelfuse\n"
       << "element vertex " << mesh.xyz.size() / 3 << "\nproperty float x\nproperty float y\nproperty float z\n"
       << (mesh.rgb.empty() ? "" : "property uchar red\nproperty uchar green\nproperty uchar blue\n")

@@ -2,6 +2,8 @@
 
 #include "PngRead.h"
 
+#include "ByteOrder.h"
+
 #include <png.h>
 
 #include <csetjmp>
@@ -37,8 +39,7 @@ void choosePixels(png_structp png, int depth, int colour, PngPixels as, ImagePro
                     "not a grayscale image (PNG colour type %d): a depth image has one channel", colour);
     else if (depth != 16)
       std::snprintf(problem, sizeof(problem), "has %d-bit samples; a depth image needs 16 bits", depth);
-    const png_uint_16 probe = 1;
-    if (*reinterpret_cast<const unsigned char*>(&probe) == 1) png_set_swap(png);  // PNG is big-endian
+    if (detail::hostIsLittleEndian()) png_set_swap(png);  // PNG is big-endian
     return;
   }
   if (colour == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);

@@ -8,7 +8,7 @@
 
 namespace levelfuse::io {
 
-/// Writes `mesh` by the file's extension: `.ply` (binary little-endian) or
+/// Writes `mesh` by the file's extension: `.ply` (binary, the machine's byte order) or
 /// `.obj` (text), atomically. Throws std::invalid_argument for another
 /// extension, std::runtime_error naming `path` if it cannot be written.
 void writeMesh(const std::string& path, const TriangleMesh& mesh);

@@ -58,7 +58,8 @@ struct PlyData {
 PlyData readPly(const std::string& path);
 
 /// Writes a triangle mesh (float vertices, int triangles) as binary
-/// little-endian PLY (or ASCII), atomically: temporary file, then rename.
+/// PLY in the machine's byte order, little-endian on x86-64 and arm64 (or
+/// ASCII), atomically: temporary file, then rename.
 /// `rgb`, if not empty, is three bytes per vertex, written as the vertices'
 /// uchar red, green and blue.
 void writeMeshPly(const std::string& path, const std::vector<float>& xyz, const std::vector<std::uint32_t>& triangles,
