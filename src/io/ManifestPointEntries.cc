@@ -4,10 +4,14 @@
 
 #include <levelfuse/io/PointScans.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <utility>
+#include <vector>
 
 namespace levelfuse::io {
 
@@ -20,17 +24,50 @@ constexpr double kRadians = M_PI / 180.0;
 /// The largest frame index a `kitti-bin` entry takes.
 constexpr double kMaxFrame = 1e9;
 
-/// The entry's "azimuth_step" and "elevation_step" in radians, if it gives them.
+/// The entry's angular step `key` (degrees), in radians: positive, less than half a turn.
+double stepOf(const Entry& e, const char* key) {
+  const double degrees = e.positive(key, 0.0);
+  if (!(degrees < 180.0)) e.fail(std::string("'") + key + "' must be less than 180 degrees");
+  return degrees * kRadians;
+}
+
+/// The entry's "row_elevations" (degrees, a sensor's lasers), in radians: two
+/// or more, strictly increasing, strictly between the poles.
+std::vector<double> rowElevationsOf(const Entry& e) {
+  const auto& rows = e["row_elevations"];
+  if (!rows.is_array() || rows.size() < 2)
+    e.fail("'row_elevations' needs two or more elevations (degrees, one per laser, lowest first)");
+  std::vector<double> elevations = e.numbers(rows, "row_elevations", rows.size());
+  for (double& elevation : elevations) {
+    if (!(std::fabs(elevation) < 90.0)) e.fail("'row_elevations' must lie strictly between -90 and 90 degrees");
+    elevation *= kRadians;
+  }
+  try {
+    requireRowElevations(elevations, "'row_elevations'");
+  } catch (const std::invalid_argument& error) {
+    e.fail(error.what());
+  }
+  return elevations;
+}
+
+/// The entry's angular steps, if it gives them: "azimuth_step" and either
+/// "elevation_step" or "row_elevations" (uneven rows: the elevation step is
+/// then their finest spacing).
 std::optional<AngularSteps> stepsOf(const Entry& e) {
+  if (e.has("row_elevations")) {
+    if (e.has("elevation_step")) e.fail("give 'elevation_step' or 'row_elevations', not both");
+    if (!e.has("azimuth_step")) e.fail("'row_elevations' needs the 'azimuth_step' (degrees) beside it");
+    std::vector<double> rows = rowElevationsOf(e);
+    double finest = rows[1] - rows[0];
+    for (std::size_t r = 2; r < rows.size(); ++r) finest = std::min(finest, rows[r] - rows[r - 1]);
+    return AngularSteps{stepOf(e, "azimuth_step"), finest, std::move(rows)};
+  }
   const int given = e.countOf({"azimuth_step", "elevation_step"});
   if (given == 0) return std::nullopt;
   if (given == 1)
     e.fail("give both 'azimuth_step' and 'elevation_step' (degrees), or neither (then they are estimated from the "
            "points)");
-  const double azimuthDegrees = e.positive("azimuth_step", 0.0), elevationDegrees = e.positive("elevation_step", 0.0);
-  if (!(azimuthDegrees < 180.0 && elevationDegrees < 180.0))
-    e.fail("'azimuth_step' and 'elevation_step' must be less than 180 degrees");
-  return AngularSteps{azimuthDegrees * kRadians, elevationDegrees * kRadians};
+  return AngularSteps{stepOf(e, "azimuth_step"), stepOf(e, "elevation_step")};
 }
 
 /// The sensor's pose from its "origin" (its axes the world's) or its "pose"
@@ -86,7 +123,7 @@ std::string fileName(const std::string& path) { return std::filesystem::path(pat
 
 RangeMap loadPointsEntry(const Entry& e, const ScanLoadOptions& defaults) {
   e.requireOnly({"format", "file", "origin", "pose", "pose_file", "coordinates", "azimuth_step", "elevation_step",
-                 "sigma", "misses_are_empty", "dropout_reach"});
+                 "row_elevations", "sigma", "misses_are_empty", "dropout_reach"});
   const std::string file = e.path("file");
   const Mat4d sensorToWorld = sensorPoseOf(e);
   const bool inWorld = pointsInWorld(e);
@@ -100,7 +137,7 @@ RangeMap loadPointsEntry(const Entry& e, const ScanLoadOptions& defaults) {
 
 RangeMap loadKittiBinEntry(const Entry& e, const ScanLoadOptions& defaults) {
   e.requireOnly({"format", "file", "pose", "pose_file", "poses", "calib", "frame", "azimuth_step", "elevation_step",
-                 "sigma", "misses_are_empty", "dropout_reach"});
+                 "row_elevations", "sigma", "misses_are_empty", "dropout_reach"});
   const std::string file = e.path("file");
   const Mat4d velodyneToWorld = velodynePoseOf(e);
   const std::optional<AngularSteps> steps = stepsOf(e);

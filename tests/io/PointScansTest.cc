@@ -150,6 +150,29 @@ TEST(PointScans, GivenStepsAreTheMapsSteps) {
   EXPECT_EQ(map.validCount(), points.size());  // half steps: each point on a pixel of its own, one pixel in two
 }
 
+TEST(PointScans, GivenRowElevationsAreTheMapsRows) {
+  // A sensor's lasers, a degree apart below the horizon and half a degree
+  // above, each sweeping 90 degrees of a wall 5 m away in degree steps.
+  const std::vector<double> lasers{-4.0, -3.0, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0};
+  std::vector<Vec3d> points;
+  for (const double elevation : lasers)
+    for (int c = 0; c <= 90; ++c) {
+      const double e = elevation * M_PI / 180.0, a = (c - 45) * M_PI / 180.0;
+      points.push_back(Vec3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)) * 5.0);
+    }
+  TempDir dir;
+  writeText(dir.path("sweep.xyz"), test::xyzText(points));
+  writeText(dir.path("scans.json"), R"({"scans": [{"format": "points", "file": "sweep.xyz", "origin": [0, 0, 0],
+      "azimuth_step": 1, "row_elevations": [-4, -3, -2, -1, -0.5, 0, 0.5, 1]}]})");
+  const RangeMap map = loadManifest(dir.path("scans.json")).at(0);
+  ASSERT_EQ(map.height(), 8);
+  EXPECT_EQ(map.width(), 91);
+  EXPECT_EQ(map.validCount(), points.size());  // each laser's points in its own row
+  const std::vector<double>& rows = map.sphericalProjection().rowElevations;
+  ASSERT_EQ(rows.size(), lasers.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) EXPECT_NEAR(rows[r], lasers[r] * M_PI / 180.0, 1e-12) << r;
+}
+
 TEST(PointScans, KittiSweepWithAPoseLandsOnTheSphereToFloatPrecision) {
   TempDir dir;
   const test::PtxGrid grid = test::turnedGrid();
