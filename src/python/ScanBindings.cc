@@ -13,9 +13,11 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
+#include <vector>
 
 namespace levelfuse::python {
 namespace {
@@ -73,6 +75,34 @@ std::pair<double, double> startAndStepFrom(const py::handle& value, const std::s
   return pair;
 }
 
+/// Rows spaced unevenly (a LiDAR's lasers): their elevations in degrees, lowest first, in radians.
+std::vector<double> rowElevationsFrom(const py::handle& value, const std::string& name) {
+  std::vector<double> rows;
+  try {
+    rows = py::cast<std::vector<double>>(value);
+  } catch (const py::cast_error&) {
+    throw py::type_error(name + " must be numbers (degrees)");
+  }
+  for (double& elevation : rows) elevation *= kRadians;
+  try {
+    requireRowElevations(rows, name);
+  } catch (const std::invalid_argument& error) {
+    throw py::value_error(error.what());
+  }
+  return rows;
+}
+
+/// A grid's rows from `elevation`: (start, step), or one elevation per row.
+void setRowsFrom(SphericalProjection& grid, const py::handle& elevation) {
+  if (py::len(elevation) != 2) {
+    grid.rowElevations = rowElevationsFrom(elevation, "elevation");
+    return;
+  }
+  const auto [start, step] = startAndStepFrom(elevation, "elevation");
+  grid.elevationStart = start * kRadians;
+  grid.elevationStep = step * kRadians;
+}
+
 RangeMap sphericalMapFrom(const py::handle& ranges, const py::handle& azimuth, const py::handle& elevation,
                           const py::handle& pose, double sigma, double sigmaPerMetre, const std::string& name) {
   const py::array r = requireArray(ranges, "ranges", 2);
@@ -80,9 +110,10 @@ RangeMap sphericalMapFrom(const py::handle& ranges, const py::handle& azimuth, c
   const float* d = static_cast<const float*>(r.data());
   std::vector<float> values(d, d + r.size());
   const auto [azimuthStart, azimuthStep] = startAndStepFrom(azimuth, "azimuth");
-  const auto [elevationStart, elevationStep] = startAndStepFrom(elevation, "elevation");
-  const SphericalProjection grid{azimuthStart * kRadians, azimuthStep * kRadians, elevationStart * kRadians,
-                                 elevationStep * kRadians};
+  SphericalProjection grid;
+  grid.azimuthStart = azimuthStart * kRadians;
+  grid.azimuthStep = azimuthStep * kRadians;
+  setRowsFrom(grid, elevation);
   const openvdb::math::Mat4d scannerToWorld = rigidMotionFrom(pose, "pose");
   const DepthNoise noise = rangeNoiseFrom(sigma, sigmaPerMetre);
   py::gil_scoped_release released;
@@ -90,11 +121,22 @@ RangeMap sphericalMapFrom(const py::handle& ranges, const py::handle& azimuth, c
                              scannerToWorld, noise, name);
 }
 
-RangeMap sphericalMapOfPoints(const py::handle& points, double azimuthStep, double elevationStep,
+/// A scanner's steps: `elevationStep` a number of degrees, or the elevations
+/// of its lasers (uneven rows; the step is then their finest spacing).
+AngularSteps stepsFrom(double azimuthStep, const py::handle& elevationStep) {
+  const double azimuth = numberFrom(py::float_(azimuthStep), "azimuth_step", true) * kRadians;
+  if (!py::isinstance<py::sequence>(elevationStep) && !py::isinstance<py::array>(elevationStep))
+    return AngularSteps{azimuth, numberFrom(elevationStep, "elevation_step", true) * kRadians};
+  std::vector<double> rows = rowElevationsFrom(elevationStep, "elevation_step");
+  double finest = rows[1] - rows[0];
+  for (std::size_t r = 2; r < rows.size(); ++r) finest = std::min(finest, rows[r] - rows[r - 1]);
+  return AngularSteps{azimuth, finest, std::move(rows)};
+}
+
+RangeMap sphericalMapOfPoints(const py::handle& points, double azimuthStep, const py::handle& elevationStep,
                               const py::handle& pose, double sigma, double sigmaPerMetre, const std::string& name) {
   const std::vector<openvdb::Vec3d> scannerPoints = pointsFrom(points, "points");
-  const AngularSteps steps{numberFrom(py::float_(azimuthStep), "azimuth_step", true) * kRadians,
-                           numberFrom(py::float_(elevationStep), "elevation_step", true) * kRadians};
+  const AngularSteps steps = stepsFrom(azimuthStep, elevationStep);
   const openvdb::math::Mat4d scannerToWorld = rigidMotionFrom(pose, "pose");
   const DepthNoise noise = rangeNoiseFrom(sigma, sigmaPerMetre);
   py::gil_scoped_release released;
@@ -155,16 +197,28 @@ void bindScans(py::module_& m) {
                   "A scan on a spherical scanner's grid: ranges (H, W) float32, distances from the scanner in world "
                   "units (NaN or <= 0: no return), a row per elevation and a column per azimuth. azimuth, "
                   "elevation: (start, step) in degrees; azimuth about the scanner's z axis (up) from its x axis, "
-                  "elevation from its xy plane. pose: 4x4 scanner-to-world, column vectors. sigma: the noise, at "
+                  "elevation from its xy plane. elevation may instead hold one elevation per row (H of them, "
+                  "increasing: rows spaced unevenly, a LiDAR's lasers). pose: 4x4 scanner-to-world, column vectors. sigma: the noise, at "
                   "least; sigma_per_metre: noise per metre of range (sigma(r) = max(sigma, sigma_per_metre r)).")
       .def_static("from_points", &sphericalMapOfPoints, py::arg("points"), py::arg("azimuth_step"),
                   py::arg("elevation_step"), py::arg("pose"), py::arg("sigma"), py::arg("sigma_per_metre") = 0.0,
                   py::arg("name") = "",
                   "A spherical scan from the points a scanner measured: points (N, 3) in the scanner's frame (z "
                   "up; points at the scanner are no return), binned at the scanner's angular steps (degrees); a "
-                  "pixel that several points fall in keeps the nearest. pose, sigma, sigma_per_metre: as for "
+                  "pixel that several points fall in keeps the nearest. elevation_step may instead hold the "
+                  "elevations of the scanner's lasers (degrees, increasing): each point goes to the row nearest "
+                  "its elevation. pose, sigma, sigma_per_metre: as for "
                   "spherical().")
       .def_property_readonly("kind", [](const RangeMap& r) { return projectionName(r.kind()); })
+      .def_property_readonly(
+          "row_elevations",
+          [](const RangeMap& r) {
+            std::vector<double> degrees;
+            if (r.kind() == RangeMap::Kind::kSpherical)
+              for (const double elevation : r.sphericalProjection().rowElevations) degrees.push_back(elevation / kRadians);
+            return degrees;
+          },
+          "A spherical map's row elevations (degrees) where its rows are spaced unevenly; empty otherwise.")
       .def_property_readonly("width", &RangeMap::width)
       .def_property_readonly("height", &RangeMap::height)
       .def_property_readonly("name", &RangeMap::name)

@@ -74,3 +74,27 @@ def test_points_need_usable_steps():
     with pytest.raises(ValueError):
         levelfuse.RangeMap.from_points(np.ones((10, 3)), azimuth_step=1.0, elevation_step=1.0, pose=np.eye(4),
                                        sigma=-1.0)
+
+
+def test_uneven_rows_from_a_grid_or_from_points():
+    # A LiDAR's lasers, a degree apart below the horizon and half a degree above, sweeping a wall 5 m away.
+    lasers = np.array([-4.0, -3.0, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0])
+    rays = directions(np.arange(-45.0, 45.5, 1.0), lasers)
+    ranges = (5.0 / rays[..., 0]).astype(np.float32)
+    m = levelfuse.RangeMap.spherical(ranges, azimuth=(-45.0, 1.0), elevation=lasers, pose=np.eye(4), sigma=0.002)
+    assert (m.width, m.height) == (91, 8)
+    assert m.row_elevations == pytest.approx(lasers)
+    points = (rays * ranges[..., None]).reshape(-1, 3)
+    binned = levelfuse.RangeMap.from_points(points, azimuth_step=1.0, elevation_step=lasers, pose=np.eye(4),
+                                            sigma=0.002)
+    assert (binned.width, binned.height) == (91, 8)
+    assert binned.valid_count == 91 * 8  # each laser's points in its own row
+    assert binned.row_elevations == pytest.approx(lasers)
+    even = levelfuse.RangeMap.from_points(points, azimuth_step=1.0, elevation_step=0.5, pose=np.eye(4), sigma=0.002)
+    assert even.height == 11 and even.row_elevations == []  # three empty rows between the lower lasers
+    with pytest.raises(ValueError):  # not increasing
+        levelfuse.RangeMap.spherical(ranges, azimuth=(-45.0, 1.0), elevation=lasers[::-1].copy(), pose=np.eye(4),
+                                     sigma=0.002)
+    with pytest.raises(ValueError):  # not one per row
+        levelfuse.RangeMap.spherical(ranges, azimuth=(-45.0, 1.0), elevation=lasers[:5], pose=np.eye(4),
+                                     sigma=0.002)
