@@ -36,6 +36,11 @@ bool cubeMayBeReached(const RangeMap& map, const openvdb::Coord& origin, int dim
 /// `map` may reach (cubeMayBeReached): bit (x / 4) * 4 + (y / 4) * 2 + z / 4
 /// for the cube holding local voxel (x, y, z).
 std::uint8_t leafCubesMayBeReached(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double reach);
+/// The bit of leafCubesMayBeReached for the voxel at `offset` in its leaf
+/// (OpenVDB's order: offset = x * 64 + y * 8 + z).
+inline unsigned cubeOfOffset(openvdb::Index offset) {
+  return ((offset >> 8) & 1u) << 2 | ((offset >> 5) & 1u) << 1 | ((offset >> 2) & 1u);
+}
 
 /// What RangeMap::sight(x, margin) says at every voxel centre x of the leaf at
 /// `origin`, when it says the same everywhere and that can be told from the

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace levelfuse {
 
@@ -34,44 +35,74 @@ bool centredOnMultiples(const openvdb::math::Transform& transform) {
          transform.indexToWorld(Coord(0)).length() <= 1e-9 * h;
 }
 
+/// Where a voxel's colour is looked for: its nearest surface point y = x -
+/// phi N, as the step from the voxel's centre (-phi N), and the outward
+/// normal N there (world).
+struct SurfaceStep {
+  openvdb::Index offset;  ///< the voxel in its leaf
+  Vec3f toSurface;
+  Vec3f normal;
+};
+/// The steps of a leaf's voxels that have a normal, in order.
+using LeafSurfaceSteps = std::vector<SurfaceStep>;
+
+/// The surface steps of every active voxel of the leaves, found once for all
+/// the maps (parallel over the leaves).
+std::vector<LeafSurfaceSteps> surfaceSteps(const openvdb::FloatGrid& levelSet,
+                                           const openvdb::tree::LeafManager<ColourTree>& leaves,
+                                           const ParallelInterrupt& interrupt) {
+  std::vector<LeafSurfaceSteps> steps(leaves.leafCount());
+  const VoxelNormals normals(levelSet);
+  parallelFor(steps.size(), 1, [&](std::size_t begin, std::size_t end) {
+    openvdb::FloatGrid::ConstAccessor phi = levelSet.getConstAccessor();
+    for (std::size_t i = begin; i < end && !interrupt.stop(); ++i)
+      for (auto it = leaves.leaf(i).cbeginValueOn(); it; ++it) {
+        const Coord ijk = it.getCoord();
+        Vec3d normal;
+        if (!normals.at(phi, ijk, normal)) continue;
+        steps[i].push_back({it.pos(), Vec3f(-normal * static_cast<double>(phi.getValue(ijk))), Vec3f(normal)});
+      }
+  });
+  interrupt.throwIfStopped();
+  return steps;
+}
+
 /// Adds one map's colours, weighted, to the sums of every voxel of a leaf
 /// whose nearest surface point it sees from outside.
 struct AddMapColoursOp {
   const openvdb::FloatGrid* levelSet;
+  const std::vector<LeafSurfaceSteps>* steps;  ///< per leaf of the colour tree's LeafManager
   const RangeMap* map;
   const DataWindow* window;
   double positionVariance;
-  VoxelNormals normals;
-  bool cull;            ///< leaves the map's readings cannot reach are skipped
+  bool cull;            ///< cubes of leaves the map's readings cannot reach are skipped
   double cullReach;     ///< the window's reach plus the band's half-width
   openvdb::FloatTree* weights;
   const ParallelInterrupt* interrupt;
 
-  void operator()(ColourTree::LeafNodeType& sums, std::size_t) const {
+  void operator()(ColourTree::LeafNodeType& sums, std::size_t leaf) const {
     if (interrupt->stop()) return;
     const double h = levelSet->voxelSize()[0];
-    if (cull && !detail::leafMayBeReached(*map, sums.origin(), h, cullReach)) return;
+    const std::uint8_t cubes = cull ? detail::leafCubesMayBeReached(*map, sums.origin(), h, cullReach) : 0xFF;
+    if (cubes == 0) return;
     openvdb::FloatTree::LeafNodeType* weightLeaf = weights->probeLeaf(sums.origin());
-    openvdb::FloatGrid::ConstAccessor phi = levelSet->getConstAccessor();
     const openvdb::math::Mat4d& toMap = map->worldToMap();
     const openvdb::math::Mat4d& toWorld = map->mapToWorld();
     const double reach = window->reach();
     RangeMap::LocalSample s;
-    for (auto it = sums.beginValueOn(); it; ++it) {
-      const Coord ijk = it.getCoord();
-      Vec3d normal;
-      if (!normals.at(phi, ijk, normal)) continue;
-      const Vec3d nearest = levelSet->indexToWorld(ijk) - normal * static_cast<double>(phi.getValue(ijk));
+    for (const SurfaceStep& step : (*steps)[leaf]) {
+      if (!(cubes & (1u << detail::cubeOfOffset(step.offset)))) continue;
+      const Vec3d nearest = levelSet->indexToWorld(sums.offsetToGlobalCoord(step.offset)) + Vec3d(step.toSurface);
       const Vec3d p = toMap.transform(nearest);
       if (!map->sampleLocal(p, reach, s)) continue;
-      if (!(toWorld.transform3x3(s.lineOfSight).dot(normal) < 0.0)) continue;  // Eq. 37
+      if (!(toWorld.transform3x3(s.lineOfSight).dot(Vec3d(step.normal)) < 0.0)) continue;  // Eq. 37
       const double w = (*window)(s.D);
       if (w == 0.0) continue;
       Vec3f rgb;
       if (!map->colourAt(p, rgb)) continue;
       const double weight = detail::readingWeight(w, s, positionVariance);  // Eq. 38
-      it.setValue(*it + rgb * static_cast<float>(weight));
-      weightLeaf->setValueOnly(it.pos(), weightLeaf->getValue(it.pos()) + static_cast<float>(weight));
+      sums.setValueOnly(step.offset, sums.getValue(step.offset) + rgb * static_cast<float>(weight));
+      weightLeaf->setValueOnly(step.offset, weightLeaf->getValue(step.offset) + static_cast<float>(weight));
     }
   }
 };
@@ -109,7 +140,8 @@ openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const 
   const ParallelInterrupt interrupt(interrupter);
   openvdb::tree::LeafManager<ColourTree> leaves(colour->tree());
   const double bandHalfWidth = std::abs(static_cast<double>(levelSet.background()));
-  AddMapColoursOp add{&levelSet, nullptr, &window, positionVariance, VoxelNormals(levelSet),
+  const std::vector<LeafSurfaceSteps> steps = surfaceSteps(levelSet, leaves, interrupt);
+  AddMapColoursOp add{&levelSet, &steps, nullptr, &window, positionVariance,
                       centredOnMultiples(levelSet.transform()), window.reach() + bandHalfWidth, &weights,
                       &interrupt};
   scans([&](const RangeMap& map) {
