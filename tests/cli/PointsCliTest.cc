@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,30 @@ TEST_F(PointsCli, InfoDescribesEachScan) {
   EXPECT_EQ(j["scans"][0]["name"], "scan0.xyz");
   EXPECT_EQ(j["scans"][1]["name"], "scan1.ply");
   EXPECT_EQ(j["scans"][2]["name"], "scan2.bin");
+}
+
+// A sensor's lasers spaced unevenly, a degree apart below the horizon and
+// half a degree above: info gives the rows the estimate keeps.
+TEST_F(PointsCli, InfoGivesTheRowsOfUnevenLasers) {
+  const std::vector<double> lasers{-4.0, -3.0, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0};
+  std::vector<Vec3d> points;
+  for (const double elevation : lasers)
+    for (int c = -45; c <= 45; ++c) {
+      const double e = elevation * M_PI / 180.0, a = c * M_PI / 180.0;
+      points.push_back(Vec3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)) * (5.0 / std::cos(a)));
+    }
+  test::writeText(path("sweep.xyz"), test::xyzText(points));
+  test::writeText(path("scans.json"), R"({"scans": [{"format": "points", "file": "sweep.xyz", "origin": [0, 0, 0]}]})");
+  const CliRun info = levelfuse("info --json " + path("scans.json"));
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  const nlohmann::json grid = jsonOf(info)["scans"][0]["angular_grid"];
+  EXPECT_NEAR(grid["azimuth_step"].get<double>(), 1.0, 1e-6);
+  ASSERT_EQ(grid["row_elevations"].size(), lasers.size());
+  for (std::size_t r = 0; r < lasers.size(); ++r) EXPECT_NEAR(grid["row_elevations"][r].get<double>(), lasers[r], 1e-6);
+  const CliRun text = levelfuse("info " + path("scans.json"));
+  EXPECT_NE(text.output.find("spherical 91 x 8, "), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find(", steps 1 deg x 8 rows 0.5 to 1 deg apart"), std::string::npos)
+      << text.output;
 }
 
 // Their steps estimated from the points, the maps are the scanners' grids.

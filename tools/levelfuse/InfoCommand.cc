@@ -12,9 +12,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace levelfuse::cli {
 namespace {
@@ -57,6 +61,38 @@ nlohmann::json describeVdb(const std::string& path) {
   return {{"path", path}, {"kind", "vdb"}, {"grids", list}};
 }
 
+/// A spherical map's angular grid in degrees: its azimuth step, and its
+/// elevation step or, for uneven rows, their elevations.
+nlohmann::json angularGrid(const RangeMap& m) {
+  constexpr double kDegrees = 180.0 / M_PI;
+  const SphericalProjection& p = m.sphericalProjection();
+  nlohmann::json grid{{"azimuth_step", std::fabs(p.azimuthStep) * kDegrees}};
+  if (p.rowElevations.empty()) {
+    grid["elevation_step"] = std::fabs(p.elevationStep) * kDegrees;
+    return grid;
+  }
+  std::vector<double> rows;
+  for (const double elevation : p.rowElevations) rows.push_back(elevation * kDegrees);
+  grid["row_elevations"] = rows;
+  return grid;
+}
+
+/// "steps 0.17 x 0.3333 deg", or for uneven rows "steps 0.17 deg x 64 rows
+/// 0.3333 to 0.5 deg apart".
+std::string angularGridText(const nlohmann::json& grid) {
+  const std::string azimuth = fixed(grid["azimuth_step"].get<double>());
+  if (grid.contains("elevation_step"))
+    return "steps " + azimuth + " x " + fixed(grid["elevation_step"].get<double>()) + " deg";
+  const std::vector<double> rows = grid["row_elevations"].get<std::vector<double>>();
+  double closest = rows[1] - rows[0], widest = closest;
+  for (std::size_t r = 2; r < rows.size(); ++r) {
+    closest = std::min(closest, rows[r] - rows[r - 1]);
+    widest = std::max(widest, rows[r] - rows[r - 1]);
+  }
+  return "steps " + azimuth + " deg x " + std::to_string(rows.size()) + " rows " + fixed(closest) + " to " +
+         fixed(widest) + " deg apart";
+}
+
 nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
   io::ScanLoadOptions load;
   if (!s.towardScanner.empty()) load.stanford.towardScanner = parseVec3(s.towardScanner);
@@ -83,6 +119,7 @@ nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
                     {"sigma", m.sigma()},
                     {"coloured", m.hasColours()},
                     {scannerKey, {scanner.x(), scanner.y(), scanner.z()}}});
+    if (m.kind() == RangeMap::Kind::kSpherical) list.back()["angular_grid"] = angularGrid(m);
   }
   nlohmann::json j{{"path", path},
                    {"kind", "scans"},
@@ -131,6 +168,7 @@ void print(const nlohmann::json& j) {
               << withCommas(m["points"].get<std::size_t>()) << " points, "
               << withCommas(m["readings"].get<std::size_t>()) << " readings, ray spacing "
               << length(m["ray_spacing"].get<double>()) << ", sigma " << length(m["sigma"].get<double>())
+              << (m.contains("angular_grid") ? ", " + angularGridText(m["angular_grid"]) : "")
               << (m["coloured"].get<bool>() ? ", coloured" : "") << "\n";
 }
 
