@@ -1,5 +1,7 @@
 // Range maps against analytic answers.
 
+#include "support/RangeSampleChecks.h"
+
 #include <levelfuse/scan/RangeMap.h>
 
 #include <openvdb/math/Vec3.h>
@@ -141,15 +143,7 @@ TEST(RangeMap, PinholeGeometry) {
   const double cosTheta = 1.0 / ray.length();
   EXPECT_NEAR(s.gamma, 2500.0 / (behind.lengthSqr() * std::pow(cosTheta, 3)), 1e-6 * s.gamma);
   // D along the ray is |p| - |reading|: its gradient is the ray direction for a flat wall.
-  const double h = 1e-6;
-  for (int a = 0; a < 3; ++a) {
-    Vec3d step(0.0);
-    step[a] = h;
-    RangeSample plus, minus;
-    ASSERT_TRUE(map.sample(c2w.transform(behind) + step, plus));
-    ASSERT_TRUE(map.sample(c2w.transform(behind) - step, minus));
-    EXPECT_NEAR(s.gradD[a], (plus.D - minus.D) / (2 * h), 1e-4) << "axis " << a;
-  }
+  test::expectGradDByDifferences(map, c2w.transform(behind), s, 1e-6, 1e-4);
   // Behind the camera: nothing.
   EXPECT_FALSE(map.sample(c2w.transform(Vec3d(0, 0, -1)), s));
   // Depths <= 0 are missing readings.

@@ -1,6 +1,8 @@
 // Spherical range maps (terrestrial laser scanners, spinning LiDAR) against
 // analytic spheres and planes, and the binning of a scanner's points.
 
+#include "support/RangeSampleChecks.h"
+
 #include <levelfuse/scan/RangeMap.h>
 #include <levelfuse/scan/SphericalScan.h>
 
@@ -92,15 +94,7 @@ TEST(SphericalRangeMap, AWallGradientIsThatOfItsDistance) {
   RangeSample s;
   ASSERT_TRUE(map.sample(x, s));
   EXPECT_NEAR(s.D, -0.1, 2e-4);  // the bilinear readings of a plane bend by a little
-  const double h = 1e-5;
-  for (int a = 0; a < 3; ++a) {
-    Vec3d step(0.0);
-    step[a] = h;
-    RangeSample plus, minus;
-    ASSERT_TRUE(map.sample(x + step, plus));
-    ASSERT_TRUE(map.sample(x - step, minus));
-    EXPECT_NEAR(s.gradD[a], (plus.D - minus.D) / (2 * h), 1e-3) << "axis " << a;
-  }
+  test::expectGradDByDifferences(map, x, s, 1e-5, 1e-3);
   // For a plane, grad D points along the wall's normal scaled by the ray's
   // slant: |grad D| = 1 / cos(incidence) at the wall.
   const Vec3d normal = pose.transform3x3(Vec3d(1, 0, 0));
