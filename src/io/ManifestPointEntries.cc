@@ -4,7 +4,6 @@
 
 #include <levelfuse/io/PointScans.h>
 
-#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -32,7 +31,7 @@ double stepOf(const Entry& e, const char* key) {
 }
 
 /// The entry's "row_elevations" (degrees, a sensor's lasers), in radians: two
-/// or more, strictly increasing, strictly between the poles.
+/// or more, strictly between the poles (stepsOnRows checks their order).
 std::vector<double> rowElevationsOf(const Entry& e) {
   const auto& rows = e["row_elevations"];
   if (!rows.is_array() || rows.size() < 2)
@@ -42,25 +41,22 @@ std::vector<double> rowElevationsOf(const Entry& e) {
     if (!(std::fabs(elevation) < 90.0)) e.fail("'row_elevations' must lie strictly between -90 and 90 degrees");
     elevation *= kRadians;
   }
-  try {
-    requireRowElevations(elevations, "'row_elevations'");
-  } catch (const std::invalid_argument& error) {
-    e.fail(error.what());
-  }
   return elevations;
 }
 
 /// The entry's angular steps, if it gives them: "azimuth_step" and either
-/// "elevation_step" or "row_elevations" (uneven rows: the elevation step is
-/// then their finest spacing).
+/// "elevation_step" or "row_elevations" (uneven rows: stepsOnRows).
 std::optional<AngularSteps> stepsOf(const Entry& e) {
   if (e.has("row_elevations")) {
     if (e.has("elevation_step")) e.fail("give 'elevation_step' or 'row_elevations', not both");
     if (!e.has("azimuth_step")) e.fail("'row_elevations' needs the 'azimuth_step' (degrees) beside it");
     std::vector<double> rows = rowElevationsOf(e);
-    double finest = rows[1] - rows[0];
-    for (std::size_t r = 2; r < rows.size(); ++r) finest = std::min(finest, rows[r] - rows[r - 1]);
-    return AngularSteps{stepOf(e, "azimuth_step"), finest, std::move(rows)};
+    const double azimuthStep = stepOf(e, "azimuth_step");
+    try {
+      return stepsOnRows(azimuthStep, std::move(rows), "'row_elevations'");
+    } catch (const std::invalid_argument& error) {
+      e.fail(error.what());
+    }
   }
   const int given = e.countOf({"azimuth_step", "elevation_step"});
   if (given == 0) return std::nullopt;

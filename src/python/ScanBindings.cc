@@ -13,7 +13,6 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -75,7 +74,10 @@ std::pair<double, double> startAndStepFrom(const py::handle& value, const std::s
   return pair;
 }
 
-/// Rows spaced unevenly (a LiDAR's lasers): their elevations in degrees, lowest first, in radians.
+/// Rows spaced unevenly (a LiDAR's lasers): their elevations in degrees,
+/// lowest first, in radians. Their order is checked where they are used
+/// (RangeMap::spherical, stepsOnRows), whose std::invalid_argument Python
+/// sees as ValueError.
 std::vector<double> rowElevationsFrom(const py::handle& value, const std::string& name) {
   std::vector<double> rows;
   try {
@@ -84,11 +86,6 @@ std::vector<double> rowElevationsFrom(const py::handle& value, const std::string
     throw py::type_error(name + " must be numbers (degrees)");
   }
   for (double& elevation : rows) elevation *= kRadians;
-  try {
-    requireRowElevations(rows, name);
-  } catch (const std::invalid_argument& error) {
-    throw py::value_error(error.what());
-  }
   return rows;
 }
 
@@ -127,10 +124,7 @@ AngularSteps stepsFrom(double azimuthStep, const py::handle& elevationStep) {
   const double azimuth = numberFrom(py::float_(azimuthStep), "azimuth_step", true) * kRadians;
   if (!py::isinstance<py::sequence>(elevationStep) && !py::isinstance<py::array>(elevationStep))
     return AngularSteps{azimuth, numberFrom(elevationStep, "elevation_step", true) * kRadians};
-  std::vector<double> rows = rowElevationsFrom(elevationStep, "elevation_step");
-  double finest = rows[1] - rows[0];
-  for (std::size_t r = 2; r < rows.size(); ++r) finest = std::min(finest, rows[r] - rows[r - 1]);
-  return AngularSteps{azimuth, finest, std::move(rows)};
+  return stepsOnRows(azimuth, rowElevationsFrom(elevationStep, "elevation_step"), "elevation_step");
 }
 
 RangeMap sphericalMapOfPoints(const py::handle& points, double azimuthStep, const py::handle& elevationStep,

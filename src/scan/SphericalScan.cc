@@ -202,6 +202,14 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
 
 }  // namespace
 
+AngularSteps stepsOnRows(double azimuthStep, std::vector<double> rowElevations, const std::string& who) {
+  requireRowElevations(rowElevations, who);
+  double finest = rowElevations[1] - rowElevations[0];
+  for (std::size_t r = 2; r < rowElevations.size(); ++r)
+    finest = std::min(finest, rowElevations[r] - rowElevations[r - 1]);
+  return AngularSteps{azimuthStep, finest, std::move(rowElevations)};
+}
+
 RangeMap sphericalMapFromPoints(const std::vector<Vec3d>& scannerPoints, const AngularSteps& steps,
                                 const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name,
                                 const std::vector<Rgb8>& colours) {

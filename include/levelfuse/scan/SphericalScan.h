@@ -32,6 +32,12 @@ struct AngularSteps {
   std::vector<double> rowElevations;
 };
 
+/// A scanner's steps on uneven rows (its lasers' elevations, radians,
+/// lowest first): the elevation step is their finest spacing. Throws
+/// std::invalid_argument, naming `who`, unless the rows are two or more,
+/// finite and strictly increasing (requireRowElevations).
+AngularSteps stepsOnRows(double azimuthStep, std::vector<double> rowElevations, const std::string& who);
+
 /// Points closer to a pole than this (radians, 0.1 degree) have no azimuth a
 /// grid can hold: binning leaves them out.
 inline constexpr double kPoleMargin = 0.1 * M_PI / 180.0;
