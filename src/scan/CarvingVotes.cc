@@ -63,12 +63,6 @@ BlockVotes::BlockVotes(std::vector<Coord> origins, std::vector<Mask> asked, doub
   }
 }
 
-std::size_t BlockVotes::Block::rank(openvdb::Index offset) const {
-  const Mask::Word word = asked.template getWord<Mask::Word>(offset >> 6);
-  const Mask::Word below = (Mask::Word(1) << (offset & 63)) - 1;
-  return firstOfWord[offset >> 6] + openvdb::util::CountOn(word & below);
-}
-
 void BlockVotes::add(const RangeMap& map, double margin) {
   parallelFor(mBlocks.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b)
@@ -93,27 +87,39 @@ void BlockVotes::addToBlock(Block& block, const RangeMap& map, double margin) co
 }
 
 void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, const Coord& local) const {
-  // The asked voxels of the cube that no map has seen empty yet.
-  std::array<openvdb::Index, kCubeDim * kCubeDim * kCubeDim> open;
+  // The asked voxels of the cube that no map has seen empty yet, in offset
+  // order: a row of the cube along z is kCubeDim neighbouring bits of one
+  // word of the masks (a word holds a leaf's 64 voxels of one x).
+  constexpr int kCubeVoxels = kCubeDim * kCubeDim * kCubeDim;
+  static_assert(kLeafDim * kLeafDim == 64 && kCubeDim <= kLeafDim, "a word of the mask is one x of the leaf");
+  constexpr Mask::Word kRow = (Mask::Word(1) << kCubeDim) - 1;
+  std::array<openvdb::Index, kCubeVoxels> open;
   std::size_t count = 0;
-  for (int x = 0; x < kCubeDim; ++x)
-    for (int y = 0; y < kCubeDim; ++y)
-      for (int z = 0; z < kCubeDim; ++z) {
-        const openvdb::Index o = LeafT::coordToOffset(local.offsetBy(x, y, z));
-        if (block.asked.isOn(o) && !block.voxelEmpty.isOn(o)) open[count++] = o;
-      }
+  for (int x = local.x(); x < local.x() + kCubeDim; ++x) {
+    const Mask::Word openWord =
+        block.asked.template getWord<Mask::Word>(x) & ~block.voxelEmpty.template getWord<Mask::Word>(x);
+    for (int y = local.y(); y < local.y() + kCubeDim; ++y) {
+      const int shift = y * kLeafDim + local.z();
+      for (Mask::Word row = (openWord >> shift) & kRow; row != 0; row &= row - 1)
+        open[count++] = static_cast<openvdb::Index>(x * 64 + shift) + openvdb::util::FindLowestOn(row);
+    }
+  }
   if (count == 0) return;
   const RangeMap::Sight whole = count > 1 ? cubeSight(map, block.origin + local, kCubeDim, mVoxelSize, margin)
                                           : RangeMap::Sight::kUnknown;
+  std::array<RangeMap::Sight, kCubeVoxels> sight;
+  if (whole == RangeMap::Sight::kUnknown) {
+    std::array<openvdb::Vec3d, kCubeVoxels> x;
+    for (std::size_t i = 0; i < count; ++i)
+      x[i] = (block.origin + LeafT::offsetToLocalCoord(open[i])).asVec3d() * mVoxelSize;
+    map.sights(x.data(), count, margin, sight.data());
+  } else {
+    sight.fill(whole);
+  }
   for (std::size_t i = 0; i < count; ++i) {
     const openvdb::Index o = open[i];
-    RangeMap::Sight s = whole;
-    if (s == RangeMap::Sight::kUnknown) {
-      const openvdb::Vec3d x = (block.origin + LeafT::offsetToLocalCoord(o)).asVec3d() * mVoxelSize;
-      s = map.sight(x, margin);
-    }
-    if (s == RangeMap::Sight::kEmpty) block.voxelEmpty.setOn(o);
-    else block.voxels[block.rank(o)] += sightVote(s, map.kind());
+    if (sight[i] == RangeMap::Sight::kEmpty) block.voxelEmpty.setOn(o);
+    else block.voxels[block.rank(o)] += sightVote(sight[i], map.kind());
   }
 }
 

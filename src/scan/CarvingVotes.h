@@ -90,7 +90,11 @@ class BlockVotes {
     Mask voxelEmpty;              ///< asked voxels some map saw empty
     std::vector<std::int32_t> voxels;  ///< per asked voxel in order, the others' balance (allocated when first needed)
     /// The place of asked voxel `offset` in `voxels`.
-    std::size_t rank(openvdb::Index offset) const;
+    std::size_t rank(openvdb::Index offset) const {
+      const Mask::Word word = asked.template getWord<Mask::Word>(offset >> 6);
+      const Mask::Word below = (Mask::Word(1) << (offset & 63)) - 1;
+      return firstOfWord[offset >> 6] + openvdb::util::CountOn(word & below);
+    }
   };
   void addToBlock(Block& block, const RangeMap& map, double margin) const;
   /// The votes of `map` on the asked voxels of the cube of kCubeDim voxels a

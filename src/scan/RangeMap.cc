@@ -348,22 +348,48 @@ RangeMap::Sight RangeMap::sight(const Vec3d& x, double margin) const {
   if (mKind == Kind::kPinhole && !(p.z() > 0.0)) return Sight::kOutside;
   if (mKind == Kind::kSpherical && !(p.x() * p.x() + p.y() * p.y() > 0.0)) return Sight::kOutside;
   const openvdb::math::Vec2d uv = project(p);
-  if (!(uv.x() >= 0.0 && uv.y() >= 0.0 && uv.x() <= mWidth - 1 && uv.y() <= mHeight - 1)) return Sight::kOutside;
+  return sightAtPixel(uv.x(), uv.y(), readingCoordinate(p), margin);
+}
+
+void RangeMap::sights(const Vec3d* x, std::size_t count, double margin, Sight* out) const {
+  if (mKind != Kind::kPinhole) {
+    for (std::size_t i = 0; i < count; ++i) out[i] = sight(x[i], margin);
+    return;
+  }
+  // A camera's projections, a batch at a time, as sight() and project() work
+  // them out (the same operations in the same order: the same answers).
+  constexpr std::size_t kBatch = 64;
+  double u[kBatch], v[kBatch], z[kBatch];
+  for (std::size_t first = 0; first < count; first += kBatch) {
+    const std::size_t n = std::min(kBatch, count - first);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3d p = mWorldToMap.transform(x[first + i]);
+      z[i] = p.z();
+      u[i] = mPinhole.fx * p.x() / p.z() + mPinhole.cx;
+      v[i] = mPinhole.fy * p.y() / p.z() + mPinhole.cy;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      out[first + i] = z[i] > 0.0 ? sightAtPixel(u[i], v[i], z[i], margin) : Sight::kOutside;
+  }
+}
+
+RangeMap::Sight RangeMap::sightAtPixel(double u, double v, double along, double margin) const {
+  if (!(u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1)) return Sight::kOutside;
   // The four pixels around x must agree: near a depth discontinuity or a
   // silhouette the nearest ray alone could pass either side of x.
-  const int i = std::min(static_cast<int>(uv.x()), mWidth - 2), j = std::min(static_cast<int>(uv.y()), mHeight - 2);
-  const double along = readingCoordinate(p);
+  const int i = std::min(static_cast<int>(u), mWidth - 2), j = std::min(static_cast<int>(v), mHeight - 2);
+  const bool missesAreEmpty = !mMisses.empty();
   int empty = 0, behind = 0;
   for (int c = 0; c < 4; ++c) {
     const std::size_t at = index(i + (c & 1), j + (c >> 1));
     const float r = mReadings[at];
-    if (!(r == r)) {
-      empty += !mMisses.empty() && mMisses[at];
-      continue;
-    }
-    const double D = along - r;  // along the rays (parallel), the optical axis (pinhole) or the ray (spherical)
+    // Along the rays (parallel), the optical axis (pinhole) or the ray
+    // (spherical); NaN where the pixel has no reading, neither in front nor
+    // behind (no branch on the holes, which come and go from pixel to pixel).
+    const double D = along - r;
     empty += D < -margin;
     behind += D > margin;
+    if (missesAreEmpty && !(r == r)) empty += mMisses[at];
   }
   if (empty == 4) return Sight::kEmpty;
   if (behind == 4) return Sight::kBehind;

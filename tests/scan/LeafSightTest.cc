@@ -1,6 +1,8 @@
-// What a range map says of a whole leaf node at once (detail::leafSight):
-// never other than what it says of each voxel.
+// What a range map says of a whole leaf node at once (detail::leafSight), of
+// many points at once (RangeMap::sights) and carving's votes on blocks
+// (detail::BlockVotes): never other than what it says of each voxel.
 
+#include "../../src/scan/CarvingVotes.h"
 #include "../../src/scan/LeavesReached.h"
 
 #include <levelfuse/geometry/Shapes.h>
@@ -11,6 +13,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -168,6 +171,85 @@ TEST(LeavesReached, EveryVoxelAReadingReachesIsInALeafReached) {
         }
     EXPECT_GT(reached, 10000u) << map.name();
   }
+}
+
+/// Points over a box around the readings of the maps above (and behind the
+/// camera), from a fixed sequence of pseudo-random numbers.
+std::vector<Vec3d> pointsAround(std::size_t count) {
+  std::vector<Vec3d> points(count);
+  std::uint64_t state = 12345;
+  const auto uniform = [&state](double lo, double hi) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (hi - lo) * static_cast<double>(state >> 11) * 0x1.0p-53;
+  };
+  for (Vec3d& p : points) p = Vec3d(uniform(-2.0, 2.0), uniform(-2.0, 2.0), uniform(-0.5, 3.3));
+  return points;
+}
+
+TEST(Sights, ManyPointsAtOnceAreToldWhatEachIsAlone) {
+  RangeMap missesEmpty = wallWithABox();
+  missesEmpty.setMissesAreEmpty(true, 0);
+  // 1000 points: the batches of 64 and a last short one.
+  const std::vector<Vec3d> points = pointsAround(1000);
+  for (const RangeMap& map :
+       {wallWithABox(), missesEmpty, tiltedPlaneAlongZ(), roomAroundAScanner(false), roomOnUnevenRows()}) {
+    std::vector<Sight> together(points.size());
+    map.sights(points.data(), points.size(), kMargin, together.data());
+    std::array<std::size_t, 4> told{};
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      ASSERT_EQ(together[i], map.sight(points[i], kMargin)) << map.name() << " point " << points[i];
+      ++told[static_cast<std::size_t>(together[i])];
+    }
+    for (const Sight s : {Sight::kOutside, Sight::kEmpty, Sight::kBehind})
+      EXPECT_GT(told[static_cast<std::size_t>(s)], 20u) << map.name();
+  }
+}
+
+TEST(BlockVotes, TheVotesOnBlocksAreTheVotesOnEachVoxel) {
+  // Blocks around the wall and the box, each asking of some of its voxels
+  // (every voxel, one, or a pseudo-random half), voted on by a camera, the
+  // same camera whose misses are empty, and parallel rays; PointVotes asks the
+  // same voxels one by one.
+  using Mask = detail::BlockVotes::Mask;
+  std::vector<Coord> origins;
+  std::vector<Mask> asked;
+  std::vector<Vec3d> voxels;  // the asked voxels' centres, block by block, in offset order
+  std::uint64_t state = 777;
+  for (int x = -48; x <= 48; x += 8)
+    for (int y = -48; y <= 48; y += 8)
+      for (int z = 64; z <= 120; z += 8) {
+        Mask mask;
+        const std::size_t kind = origins.size() % 3;
+        for (openvdb::Index o = 0; o < Mask::SIZE; ++o) {
+          state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+          if (kind == 0 || (kind == 1 && o == 300) || (kind == 2 && (state >> 63))) mask.setOn(o);
+        }
+        origins.emplace_back(x, y, z);
+        asked.push_back(mask);
+        for (auto it = mask.beginOn(); it; ++it)
+          voxels.push_back((origins.back() + openvdb::FloatTree::LeafNodeType::offsetToLocalCoord(it.pos())).asVec3d() *
+                           kVoxel);
+      }
+  detail::BlockVotes blocks(origins, asked, kVoxel);
+  detail::PointVotes points(voxels.size(), [&voxels](std::size_t i) { return voxels[i]; });
+  RangeMap closer = wallWithABox();
+  closer.setMissesAreEmpty(true, 0);
+  for (const RangeMap& map : {wallWithABox(), closer, tiltedPlaneAlongZ()}) {
+    blocks.add(map, kMargin);
+    points.add(map, kMargin);
+  }
+  std::size_t next = 0, inside = 0;
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    blocks.forEachAsked(b, [&](openvdb::Index o, bool in) {
+      ASSERT_LT(next, voxels.size());
+      EXPECT_EQ(in, points.inside(next)) << "block " << blocks.origin(b) << " voxel " << o;
+      inside += in;
+      ++next;
+    });
+  EXPECT_EQ(next, voxels.size());
+  // Both answers occur: the test can tell them apart.
+  EXPECT_GT(inside, 1000u);
+  EXPECT_GT(voxels.size() - inside, 1000u);
 }
 
 }  // namespace

@@ -247,6 +247,10 @@ class RangeMap {
   /// four by more than `margin` (depths along the optical axis for a pinhole),
   /// unknown where they disagree.
   Sight sight(const openvdb::Vec3d& x, double margin) const;
+  /// sight(x[i], margin) into out[i] for `count` points: the same answers,
+  /// with the points' projections worked out together before their readings
+  /// are read (carving asks a block's voxels so).
+  void sights(const openvdb::Vec3d* x, std::size_t count, double margin, Sight* out) const;
   /// Pixels without a reading saw empty space along their whole line of sight
   /// (the ray missed the object), as for synthetic renderings and turntable
   /// scans against an empty background. Off by default: depth cameras also
@@ -331,6 +335,9 @@ class RangeMap {
   std::size_t index(int u, int v) const {
     return static_cast<std::size_t>(v) * static_cast<std::size_t>(mWidth) + static_cast<std::size_t>(u);
   }
+  /// sight() of a point in the map's frame at pixel coordinates (u, v) and
+  /// reading coordinate `along`, from the four pixels around it.
+  Sight sightAtPixel(double u, double v, double along, double margin) const;
   /// `m` given its readings, pose and sigma (finish).
   static RangeMap finished(RangeMap m, std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld,
                            double sigma);
