@@ -39,6 +39,7 @@
 
 #include "BenchmarkSupport.h"
 
+#include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/levelset/Mesh.h>
@@ -119,7 +120,8 @@ TriangleMesh fuseDepthFrames(int frameStride, double voxel, bool linearOnly) {
   {
     const ScansReconstruction r = prepareReconstruction(std::move(frames), options);
     surface = linearOnly ? r.reconstructor->linearSolution() : r.reconstructor->run().levelSet;
-  }  // the grids and the frames are let go before meshing
+  }  // the grids and the frames are let go before meshing, as the converter does
+  returnFreedMemory();
   return meshFromLevelSet(*surface);
 }
 

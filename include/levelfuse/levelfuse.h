@@ -13,6 +13,7 @@
 #include <levelfuse/Version.h>
 
 #include <levelfuse/core/DebugCheck.h>
+#include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/core/Median.h>
 #include <levelfuse/core/Parallel.h>

@@ -2,6 +2,7 @@
 
 #include <levelfuse/recon/ScansReconstruction.h>
 
+#include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/SurfaceWeight.h>
@@ -18,6 +19,7 @@ void ScansReconstruction::letTheGridsGo() {
   if (!fusion) return;
   kept = fusion->takeScans();
   fusion.reset();
+  returnFreedMemory();  // the grids, built on the worker threads' heaps
   scans = kept.unpacked();
 }
 

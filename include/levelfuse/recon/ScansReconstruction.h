@@ -31,8 +31,9 @@ struct ScansReconstruction {
 
   /// Once the surface and its weight are made, a fusion's grids are let go
   /// (before the fit and the mesh, which would otherwise hold them at their
-  /// peak); its scans stay for the fit. The reconstructor is asked nothing
-  /// more that needs the fusion: its options and summary are its own.
+  /// peak), and their memory handed back (returnFreedMemory); its scans stay
+  /// for the fit. The reconstructor is asked nothing more that needs the
+  /// fusion: its options and summary are its own.
   void letTheGridsGo();
 };
 
