@@ -164,8 +164,13 @@ bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, 
 bool cubeMayBeReached(const RangeMap& m, const Coord& origin, int dim, double voxelSize, double reach) {
   const CubeFootprint f = cubeFootprint(m, origin, voxelSize, dim);
   if (f.inFront < 8) return true;  // straddles the camera plane
-  double lo, hi;
-  return m.readingBounds(f.u0, f.v0, f.u1 + 1.0, f.v1 + 1.0, lo, hi) && f.z0 - hi <= reach && f.z1 - lo >= -reach;
+  // A voxel is reached only from the usable cell it projects into, whose
+  // reading lies within the reach of its depth. A little slack leaves ties
+  // within rounding to the voxels.
+  constexpr double kPixelSlack = 1e-6;
+  const double depthSlack = 1e-9 * (std::fabs(f.z0) + std::fabs(f.z1) + reach);
+  return m.usableReadingsMeet(f.u0 - kPixelSlack, f.v0 - kPixelSlack, f.u1 + kPixelSlack, f.v1 + kPixelSlack,
+                              f.z0 - reach - depthSlack, f.z1 + reach + depthSlack);
 }
 
 std::uint8_t leafCubesMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {

@@ -27,8 +27,9 @@ std::vector<openvdb::Coord> leavesReached(const RangeMap& map, double voxelSize,
 double leafMarks(const RangeMap& map, double voxelSize, double reach, openvdb::BBoxd& reached);
 
 /// Whether readings of `map` can reach the leaf at `origin` within `reach`:
-/// false if the leaf's depths and the readings over its footprint in the map
-/// are more than `reach` apart.
+/// false if the leaf's depths and the readings of the usable cells over its
+/// footprint in the map (RangeMap::usableReadingsMeet) are more than `reach`
+/// apart.
 bool leafMayBeReached(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double reach);
 /// The same for the cube of `dim` voxels a side at `origin` (a leaf's is 8).
 bool cubeMayBeReached(const RangeMap& map, const openvdb::Coord& origin, int dim, double voxelSize, double reach);

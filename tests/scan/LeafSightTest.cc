@@ -173,6 +173,42 @@ TEST(LeavesReached, EveryVoxelAReadingReachesIsInALeafReached) {
   }
 }
 
+TEST(LeavesReached, TheEmptyStretchOfADepthDiscontinuityIsNotReached) {
+  // The box stands 0.5 m in front of the wall over pixels 30 to 49 and rows
+  // 20 to 39; the cells across its edge are not usable, so no reading is
+  // interpolated between 1.5 and 2 m.
+  const RangeMap map = wallWithABox();
+  const auto meets = [&map](double u0, double u1, double lo, double hi) {
+    return map.usableReadingsMeet(u0, 25.0, u1, 30.0, lo, hi);
+  };
+  EXPECT_TRUE(meets(44.0, 56.0, 1.45, 1.55));   // the box
+  EXPECT_TRUE(meets(44.0, 56.0, 1.95, 2.05));   // the wall
+  EXPECT_FALSE(meets(44.0, 56.0, 1.6, 1.9));    // between them
+  EXPECT_TRUE(meets(44.0, 56.0, 1.45, 2.05));   // both
+  EXPECT_FALSE(meets(33.0, 40.0, 1.95, 2.05));  // the wall, behind the box
+  EXPECT_FALSE(meets(-20.0, -5.0, 1.95, 2.05)); // beside the map
+  // The reading bounds of the blocks see one span from the box to the wall.
+  double lo = 0.0, hi = 0.0;
+  ASSERT_TRUE(map.readingBounds(44.0, 25.0, 57.0, 31.0, lo, hi));
+  EXPECT_EQ(lo, 1.5);
+  EXPECT_EQ(hi, 2.0);
+  // Cubes of 4 voxels between the box and the wall, over its edge, are not
+  // reached: the culling of accumulation asks of the usable cells.
+  std::size_t between = 0, culled = 0;
+  for (int x = -96; x <= 96; x += 4)
+    for (int y = -96; y <= 96; y += 4)
+      for (int z = -16; z <= 160; z += 4) {
+        const Vec3d centre = map.worldToMap().transform(Coord(x, y, z).asVec3d() * kVoxel + Vec3d(1.5 * kVoxel));
+        const openvdb::math::Vec2d uv = map.project(centre);
+        if (!(centre.z() > 1.62 && centre.z() < 1.88 && uv.y() > 22.0 && uv.y() < 37.0 && std::fabs(uv.x() - 49.5) < 3.0))
+          continue;
+        ++between;
+        culled += !detail::cubeMayBeReached(map, Coord(x, y, z), 4, kVoxel, 0.05);
+      }
+  EXPECT_GT(between, 5u);
+  EXPECT_EQ(culled, between);
+}
+
 /// Points over a box around the readings of the maps above (and behind the
 /// camera), from a fixed sequence of pseudo-random numbers.
 std::vector<Vec3d> pointsAround(std::size_t count) {

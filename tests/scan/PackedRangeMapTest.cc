@@ -126,6 +126,11 @@ void expectSameMap(const RangeMap& a, const RangeMap& b) {
         ++sampled;
       }
       EXPECT_EQ(a.sight(x, 0.01), b.sight(x, 0.01));
+      // The usable cells' reading spans, per block, over a window around the pixel.
+      const double r = a.reading(u, v);
+      for (const double depth : {r - 0.3, r, r + 0.3})
+        EXPECT_EQ(a.usableReadingsMeet(u - 3.5, v - 3.5, u + 3.5, v + 3.5, depth - 0.01, depth + 0.01),
+                  b.usableReadingsMeet(u - 3.5, v - 3.5, u + 3.5, v + 3.5, depth - 0.01, depth + 0.01));
     }
   EXPECT_GT(sampled, 500) << a.name();
 }
