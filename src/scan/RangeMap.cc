@@ -447,13 +447,21 @@ RangeMap::Sight RangeMap::sightAtPixel(double u, double v, double along, double 
   return Sight::kUnknown;
 }
 
+namespace {
+
+/// Pixel (or cell) coordinate x as an index from 0 to `last`: clamped before
+/// it is made an integer, as a footprint near a camera's plane reaches far
+/// beyond the map.
+int clampedIndex(double x, int last) { return static_cast<int>(std::clamp(x, 0.0, static_cast<double>(last))); }
+
+}  // namespace
+
 bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi,
                              bool* complete) const {
-  const int b0 = std::max(0, static_cast<int>(std::floor(u0)) / kBlock);
-  const int b1 = std::min(mBlocksX - 1, static_cast<int>(std::ceil(u1)) / kBlock);
-  const int c0 = std::max(0, static_cast<int>(std::floor(v0)) / kBlock);
-  const int c1 = std::min(mBlocksY - 1, static_cast<int>(std::ceil(v1)) / kBlock);
   if (!(u1 >= 0.0) || !(v1 >= 0.0) || !(u0 <= mWidth - 1) || !(v0 <= mHeight - 1)) return false;
+  const int b0 = clampedIndex(std::floor(u0), mWidth - 1) / kBlock, b1 = clampedIndex(std::ceil(u1), mWidth - 1) / kBlock;
+  const int c0 = clampedIndex(std::floor(v0), mHeight - 1) / kBlock;
+  const int c1 = clampedIndex(std::ceil(v1), mHeight - 1) / kBlock;
   bool any = false;
   lo = std::numeric_limits<double>::max();
   hi = -lo;
@@ -472,10 +480,9 @@ bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double&
 
 bool RangeMap::usableReadingsMeet(double u0, double v0, double u1, double v1, double lo, double hi) const {
   if (!(u1 >= 0.0) || !(v1 >= 0.0) || !(u0 < mWidth - 1) || !(v0 < mHeight - 1)) return false;
-  const int b0 = std::max(0, static_cast<int>(std::floor(u0))) / kBlock;
-  const int b1 = std::min(mWidth - 2, static_cast<int>(std::floor(u1))) / kBlock;
-  const int c0 = std::max(0, static_cast<int>(std::floor(v0))) / kBlock;
-  const int c1 = std::min(mHeight - 2, static_cast<int>(std::floor(v1))) / kBlock;
+  const int b0 = clampedIndex(std::floor(u0), mWidth - 2) / kBlock, b1 = clampedIndex(std::floor(u1), mWidth - 2) / kBlock;
+  const int c0 = clampedIndex(std::floor(v0), mHeight - 2) / kBlock;
+  const int c1 = clampedIndex(std::floor(v1), mHeight - 2) / kBlock;
   for (int c = c0; c <= c1; ++c)
     for (int b = b0; b <= b1; ++b) {
       const std::size_t at = static_cast<std::size_t>(c) * mBlocksX + b;

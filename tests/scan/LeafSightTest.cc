@@ -187,9 +187,16 @@ TEST(LeavesReached, TheEmptyStretchOfADepthDiscontinuityIsNotReached) {
   EXPECT_TRUE(meets(44.0, 56.0, 1.45, 2.05));   // both
   EXPECT_FALSE(meets(33.0, 40.0, 1.95, 2.05));  // the wall, behind the box
   EXPECT_FALSE(meets(-20.0, -5.0, 1.95, 2.05)); // beside the map
+  // A window reaching far beyond the map (a footprint near the camera's plane)
+  // is clamped to it.
+  EXPECT_TRUE(meets(44.0, 1e15, 1.95, 2.05));
+  EXPECT_TRUE(meets(-1e15, 1e15, 1.45, 1.55));
   // The reading bounds of the blocks see one span from the box to the wall.
   double lo = 0.0, hi = 0.0;
   ASSERT_TRUE(map.readingBounds(44.0, 25.0, 57.0, 31.0, lo, hi));
+  EXPECT_EQ(lo, 1.5);
+  EXPECT_EQ(hi, 2.0);
+  ASSERT_TRUE(map.readingBounds(-1e15, 25.0, 1e15, 31.0, lo, hi));
   EXPECT_EQ(lo, 1.5);
   EXPECT_EQ(hi, 2.0);
   // Cubes of 4 voxels between the box and the wall, over its edge, are not
