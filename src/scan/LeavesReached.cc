@@ -155,6 +155,13 @@ CubeFootprint cubeFootprint(const RangeMap& m, const Coord& origin, double voxel
   return f;
 }
 
+/// The slack a footprint's tests leave to the voxels, for ties within
+/// rounding: in pixels, and in depth for a distance `distance` from it.
+constexpr double kPixelSlack = 1e-6;
+double depthSlack(const CubeFootprint& f, double distance) {
+  return 1e-9 * (std::fabs(f.z0) + std::fabs(f.z1) + distance);
+}
+
 }  // namespace
 
 bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {
@@ -165,12 +172,10 @@ bool cubeMayBeReached(const RangeMap& m, const Coord& origin, int dim, double vo
   const CubeFootprint f = cubeFootprint(m, origin, voxelSize, dim);
   if (f.inFront < 8) return true;  // straddles the camera plane
   // A voxel is reached only from the usable cell it projects into, whose
-  // reading lies within the reach of its depth. A little slack leaves ties
-  // within rounding to the voxels.
-  constexpr double kPixelSlack = 1e-6;
-  const double depthSlack = 1e-9 * (std::fabs(f.z0) + std::fabs(f.z1) + reach);
+  // reading lies within the reach of its depth.
+  const double slack = depthSlack(f, reach);
   return m.usableReadingsMeet(f.u0 - kPixelSlack, f.v0 - kPixelSlack, f.u1 + kPixelSlack, f.v1 + kPixelSlack,
-                              f.z0 - reach - depthSlack, f.z1 + reach + depthSlack);
+                              f.z0 - reach - slack, f.z1 + reach + slack);
 }
 
 std::uint8_t leafCubesMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {
@@ -198,8 +203,7 @@ RangeMap::Sight cubeSight(const RangeMap& m, const Coord& origin, int dim, doubl
   // In front of a camera, or along parallel rays, the leaf projects into the
   // convex hull of its corners' projections; its depths lie between its
   // corners'. A little slack leaves ties within rounding to the voxels.
-  constexpr double kPixelSlack = 1e-6;
-  const double depthSlack = 1e-9 * (std::fabs(z0) + std::fabs(z1) + margin);
+  const double slack = depthSlack(f, margin);
   u0 -= kPixelSlack;
   v0 -= kPixelSlack;
   u1 += kPixelSlack;
@@ -213,8 +217,8 @@ RangeMap::Sight cubeSight(const RangeMap& m, const Coord& origin, int dim, doubl
                        &complete) ||
       !complete)
     return Sight::kUnknown;
-  if (z0 - hi > margin + depthSlack) return Sight::kBehind;
-  if (z1 - lo < -margin - depthSlack) return Sight::kEmpty;
+  if (z0 - hi > margin + slack) return Sight::kBehind;
+  if (z1 - lo < -margin - slack) return Sight::kEmpty;
   return Sight::kUnknown;
 }
 

@@ -148,7 +148,7 @@ void RangeMap::findUsableSpans() {
         }
       }
       if (spans.empty()) continue;
-      std::sort(spans.begin(), spans.end(), [](const Span& a, const Span& b) { return a.lo < b.lo; });
+      std::sort(spans.begin(), spans.end(), [](const Span& one, const Span& other) { return one.lo < other.lo; });
       const std::size_t at = static_cast<std::size_t>(c) * mBlocksX + b;
       float reached = spans.front().hi;  // the largest reading of the spans so far
       for (const Span& s : spans) {
@@ -407,17 +407,17 @@ void RangeMap::sights(const Vec3d* x, std::size_t count, double margin, Sight* o
     for (std::size_t i = 0; i < count; ++i) out[i] = sight(x[i], margin);
     return;
   }
-  // A camera's projections, a batch at a time, as sight() and project() work
-  // them out (the same operations in the same order: the same answers).
+  // A camera's projections, a batch at a time, as sight() works them out.
   constexpr std::size_t kBatch = 64;
   double u[kBatch], v[kBatch], z[kBatch];
   for (std::size_t first = 0; first < count; first += kBatch) {
     const std::size_t n = std::min(kBatch, count - first);
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3d p = mWorldToMap.transform(x[first + i]);
+      const openvdb::math::Vec2d uv = project(p);
       z[i] = p.z();
-      u[i] = mPinhole.fx * p.x() / p.z() + mPinhole.cx;
-      v[i] = mPinhole.fy * p.y() / p.z() + mPinhole.cy;
+      u[i] = uv.x();
+      v[i] = uv.y();
     }
     for (std::size_t i = 0; i < n; ++i)
       out[first + i] = z[i] > 0.0 ? sightAtPixel(u[i], v[i], z[i], margin) : Sight::kOutside;
