@@ -50,10 +50,13 @@
 #include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/levelset/Refine.h>
 #include <levelfuse/levelset/RequireLevelSet.h>
+#include <levelfuse/levelset/SlabField.h>
+#include <levelfuse/levelset/SlabFieldStep.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/SparseFieldStep.h>
 #include <levelfuse/levelset/SpeedTerms.h>
 #include <levelfuse/levelset/Stencil.h>
+#include <levelfuse/levelset/StepTally.h>
 #include <levelfuse/levelset/TimeStep.h>
 #include <levelfuse/levelset/VoxelNormals.h>
 #include <levelfuse/levelset/ZeroCrossings.h>

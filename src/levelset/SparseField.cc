@@ -45,12 +45,14 @@ using Seed = std::pair<openvdb::Coord, float>;
 /// Builds the state from the active set `seeds` (values in [-1/2, 1/2] voxel).
 /// `insideOf(accessorFactory)`: Probe is constructed per task and answers
 /// inside(ijk) for any voxel, so the leaves around the layers get the right side.
+/// Leaves are made only where their origin lies in `domain`.
 template <typename ProbeFactory>
 std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform& transform,
                                                  const SparseFieldOptions& options, std::vector<Seed> seeds,
-                                                 const ProbeFactory& makeProbe) {
+                                                 const ProbeFactory& makeProbe, const detail::XRange& domain = {}) {
   auto state = std::make_unique<SparseFieldState>();
   state->options = options;
+  state->domain = domain;
   state->dx = transform.voxelSize()[0];
   state->background = static_cast<float>((options.layers + 0.5) * state->dx);
   state->grid = openvdb::FloatGrid::create(state->background);
@@ -67,7 +69,8 @@ std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform&
   openvdb::tools::dilateActiveValues(reach, options.layers, openvdb::tools::NN_FACE,
                                      openvdb::tools::IGNORE_TILES);
   detail::FloatTree& tree = state->tree();
-  for (auto it = reach.cbeginLeaf(); it; ++it) tree.touchLeaf(it->origin());
+  for (auto it = reach.cbeginLeaf(); it; ++it)
+    if (domain.contains(it->origin().x())) tree.touchLeaf(it->origin());
 
   // Every voxel of those leaves starts at the background of its side.
   {
@@ -144,13 +147,19 @@ SparseField& SparseField::operator=(const SparseField& other) {
   return *this;
 }
 
-SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const SparseFieldOptions& options) {
+namespace detail {
+
+std::unique_ptr<SparseFieldState> stateFromLevelSet(const openvdb::FloatGrid& levelSet,
+                                                    const SparseFieldOptions& options, const XRange& domain) {
   validateOptions(options);
   requireLevelSet(levelSet, "SparseField::fromLevelSet");
 
   const float half = static_cast<float>(0.5 * levelSet.voxelSize()[0]);
   std::vector<const openvdb::FloatTree::LeafNodeType*> leaves;
   levelSet.tree().getNodes(leaves);
+  leaves.erase(std::remove_if(leaves.begin(), leaves.end(),
+                              [&](const auto* leaf) { return !domain.contains(leaf->origin().x()); }),
+               leaves.end());
   std::vector<std::vector<Seed>> found(leaves.size());
   parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
@@ -176,14 +185,20 @@ SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const 
   });
   std::vector<Seed> seeds;
   for (auto& f : found) seeds.insert(seeds.end(), f.begin(), f.end());
-  if (seeds.empty())
+  if (seeds.empty() && domain.begin == XRange{}.begin && domain.end == XRange{}.end)
     throw std::invalid_argument("SparseField::fromLevelSet: " + describeGrid(levelSet) +
                                 " has no zero crossing: there is no surface to evolve");
 
   auto state = buildFromSeeds(levelSet.transform(), options, std::move(seeds),
-                              [&] { return LevelSetProbe{levelSet.getConstAccessor()}; });
+                              [&] { return LevelSetProbe{levelSet.getConstAccessor()}; }, domain);
   state->grid->setName(levelSet.getName());
-  return SparseField(std::move(state));
+  return state;
+}
+
+}  // namespace detail
+
+SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const SparseFieldOptions& options) {
+  return SparseField(detail::stateFromLevelSet(levelSet, options, detail::XRange{}));
 }
 
 SparseField SparseField::fromMask(const openvdb::MaskGrid& inside, const SparseFieldOptions& options) {
@@ -255,34 +270,39 @@ int SparseField::layerOf(const openvdb::Coord& ijk) const {
   return sign * outside;
 }
 
-SparseFieldStats SparseField::stats() const {
+SparseFieldStats detail::statsOf(const SparseFieldState& state) {
   SparseFieldStats s;
-  const detail::LeafTable& table = mState->table;
+  const detail::LeafTable& table = state.table;
   for (std::size_t r = 0; r < table.size(); ++r) {
     if (!table[r].live()) continue;
     s.activeSetVoxels += table[r].layer[0].countOn();
     s.bandVoxels += table[r].leaf->onVoxelCount();
     ++s.leafNodes;
   }
-  s.memoryBytes = mState->tree().memUsage() + table.memoryBytes() +
-                  mState->pointValues.capacity() * sizeof(float);
+  s.memoryBytes = state.tree().memUsage() + table.memoryBytes() + state.pointValues.capacity() * sizeof(float);
   return s;
 }
 
+SparseFieldStats SparseField::stats() const { return detail::statsOf(*mState); }
+
 openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::string& name) const {
+  return detail::levelSetOf(*mState, halfWidth, name);
+}
+
+openvdb::FloatGrid::Ptr detail::levelSetOf(const SparseFieldState& state, double halfWidth, const std::string& name) {
   if (!(halfWidth >= 1.0))
     throw std::invalid_argument("toLevelSet: the narrow-band half-width must be at least 1 voxel");
-  const double dx = mState->dx;
+  const double dx = state.dx;
   const float width = levelSetBackground(halfWidth, dx);
-  openvdb::FloatGrid::Ptr out = mState->grid->deepCopy();
+  openvdb::FloatGrid::Ptr out = state.grid->deepCopy();
   openvdb::FloatTree& tree = out->tree();
 
   // Grow further layers by the sparse field's own layer rule
   // (LeafNeighbourhood.h) until they reach the requested half-width.
   const int wanted = static_cast<int>(std::ceil(halfWidth - 0.5));
   std::vector<openvdb::Coord> ring;
-  const detail::LeafTable& table = mState->table;
-  const int N = mState->options.layers;
+  const detail::LeafTable& table = state.table;
+  const int N = state.options.layers;
   for (std::size_t r = 0; r < table.size(); ++r) {
     if (!table[r].live()) continue;
     for (auto it = table[r].layer[N].beginOn(); it; ++it)
@@ -306,12 +326,18 @@ openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::str
     for (auto it = candidates.cbeginValueOn(); it; ++it) next.emplace_back(it.getCoord(), 0.0f);
     candidates.clear();
     for (auto& [ijk, value] : next) {
-      const bool inside = acc.getValue(ijk) < 0.0f;
-      detail::NearestInner nearest(inside);
+      float inner[detail::kFaceCount];
+      int count = 0;
       for (const auto& e : detail::kFaceOffset) {
         const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
-        if (acc.isValueOn(n)) nearest.offer(acc.getValue(n));
+        if (acc.isValueOn(n)) inner[count++] = acc.getValue(n);
       }
+      // A voxel beyond the band lies on the side of the band voxels beside it
+      // (else a sign change would lie between them, and both would be in the
+      // band), whatever the tiles say: a slab's tiles need not be right.
+      const bool inside = inner[0] < 0.0f;
+      detail::NearestInner nearest(inside);
+      for (int i = 0; i < count; ++i) nearest.offer(inner[i]);
       value = detail::layerValue(nearest.value(), inside, static_cast<float>(dx));
     }
     ring.clear();

@@ -6,6 +6,7 @@
 // per leaf and summed serially, so results do not depend on the thread count.
 
 #include <levelfuse/core/DebugCheck.h>
+#include <levelfuse/levelset/StepTally.h>
 #include <levelfuse/levelset/TimeStep.h>
 #include <levelfuse/levelset/detail/LeafNeighbourhood.h>
 
@@ -48,25 +49,77 @@ float fromNearestInner(const FaceNeighbourhood& inner, unsigned offset, bool ins
   return inside ? layerValue(inner.nearest(offset, true), true, dx) : layerValue(inner.nearest(offset, false), false, dx);
 }
 
-/// Creates the leaves the outermost layer grows into and links their records.
+/// The voxels of a leaf on its face f.
+LeafMask faceVoxels(int f) {
+  using namespace bits;
+  LeafMask m;
+  for (int x = 0; x < 8; ++x) {
+    std::uint64_t w = 0;
+    switch (f) {
+      case kFaceXm: w = x == 0 ? ~0ULL : 0; break;
+      case kFaceXp: w = x == 7 ? ~0ULL : 0; break;
+      case kFaceYm: w = kY0; break;
+      case kFaceYp: w = kY7; break;
+      case kFaceZm: w = kZ0; break;
+      default: w = kZ7; break;
+    }
+    maskWord(m, x) = w;
+  }
+  return m;
+}
+
+/// True if the voxels of `ring` on face f lie inside. The layers reach a
+/// missing neighbour leaf only where the active set keeps off the face, so no
+/// sign changes across the face's voxels: they all lie on one side, which is
+/// the side of the whole leaf beyond (no voxel there is in the layers yet).
+bool faceInside(const LeafRecord& record, const LeafMask& ring, int f) {
+  static const LeafMask kFaces[kFaceCount] = {faceVoxels(0), faceVoxels(1), faceVoxels(2),
+                                              faceVoxels(3), faceVoxels(4), faceVoxels(5)};
+  const openvdb::Index first = (ring & kFaces[f]).findFirstOn();
+  return first < FloatLeaf::SIZE && record.values[first] < 0.0f;
+}
+
+/// A leaf the outermost layer grows into, the side it lies on, and the leaf
+/// that asked for it.
+struct LeafRequest {
+  openvdb::Coord origin;
+  openvdb::Coord askedBy;
+  bool inside;
+  bool operator<(const LeafRequest& o) const {
+    return origin < o.origin || (origin == o.origin && askedBy < o.askedBy);
+  }
+};
+
+/// Creates the leaves the outermost layer grows into, inside the domain, and
+/// links their records. A new leaf lies wholly on the side of the leaf that
+/// asked for it (the one with the least origin, if several did, so that the
+/// choice does not depend on the order of the records); every voxel takes the
+/// background value of that side.
 void allocateRequestedLeaves(SparseFieldState& state) {
   LeafTable& table = state.table;
-  std::vector<openvdb::Coord> origins;
+  std::vector<LeafRequest> requests;
   const int dim = static_cast<int>(FloatLeaf::DIM);
   for (std::size_t r = 0; r < state.faceRequest.size(); ++r) {
     const std::uint8_t request = state.faceRequest[r];
     if (request == 0) continue;
     for (int f = 0; f < kFaceCount; ++f)
-      if (request & (1u << f))
-        origins.push_back(table[r].origin.offsetBy(kFaceOffset[f][0] * dim, kFaceOffset[f][1] * dim, kFaceOffset[f][2] * dim));
+      if (request & (1u << f)) {
+        const openvdb::Coord origin =
+            table[r].origin.offsetBy(kFaceOffset[f][0] * dim, kFaceOffset[f][1] * dim, kFaceOffset[f][2] * dim);
+        if (state.domain.contains(origin.x()))
+          requests.push_back(LeafRequest{origin, table[r].origin, (state.faceInside[r] & (1u << f)) != 0});
+      }
     state.faceRequest[r] = 0;
+    state.faceInside[r] = 0;
   }
-  std::sort(origins.begin(), origins.end());
-  origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
-  for (const openvdb::Coord& origin : origins) {
-    if (table.find(origin) >= 0) continue;
-    // A new leaf takes the value of the inactive tile it replaces: +-background.
-    table.add(state.tree().touchLeaf(origin));
+  std::sort(requests.begin(), requests.end());
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    const LeafRequest& request = requests[i];
+    if (i > 0 && requests[i - 1].origin == request.origin) continue;
+    if (table.find(request.origin) >= 0) continue;
+    FloatLeaf* leaf = state.tree().touchLeaf(request.origin);
+    leaf->fill(request.inside ? -state.background : state.background, false);
+    table.add(leaf);
   }
   state.fitRecordArrays();
 }
@@ -205,30 +258,30 @@ void replaceLeavingPoints(SparseFieldState& state, std::vector<LeafTally>& tally
   });
 }
 
-/// The step's report from the leaves' tallies.
-StepResult summarise(const SparseFieldState& state, const std::vector<LeafTally>& tally, double dt,
-                     double maxSpeed) {
-  StepResult result;
+/// The tally of the leaves the field answers for (all of them, unless it is a slab).
+StepTally summarise(const SparseFieldState& state, const std::vector<LeafTally>& tally, double dt,
+                    double maxSpeed) {
+  StepTally result;
   result.dt = dt;
   result.maxSpeed = maxSpeed;
-  double sumSq = 0.0;
-  std::size_t points = 0;
-  for (const LeafTally& t : tally) {
-    sumSq += t.sumSq;
-    points += t.points;
+  const double voxelArea = state.dx * state.dx;
+  for (std::size_t r = 0; r < tally.size(); ++r) {
+    if (!state.owns(state.table[r])) continue;
+    const LeafTally& t = tally[r];
+    result.addSquaredChanges(t.sumSq / voxelArea);
+    result.points += t.points;
     result.maxChange = std::max(result.maxChange, static_cast<double>(t.maxChange));
     result.movedOut += t.movedOut;
     result.movedIn += t.movedIn;
     result.conflicts += t.conflicts;
+    result.activeSetVoxels += state.activeCount[r];
   }
-  result.rmsChange = points ? std::sqrt(sumSq / static_cast<double>(points)) : 0.0;
-  for (const std::uint32_t n : state.activeCount) result.activeSetVoxels += n;
   return result;
 }
 
 }  // namespace
 
-StepResult applyRates(SparseFieldState& state, double dt, double maxSpeed) {
+StepTally applyRates(SparseFieldState& state, double dt, double maxSpeed) {
   std::vector<LeafTally> tally(state.table.size());
   addChanges(state, static_cast<float>(dt), tally);  // step 2
   holdConflicts(state, tally);
@@ -273,10 +326,14 @@ void rebuildLayers(SparseFieldState& state) {
       }
       if (i == layers - 1) {
         // The outermost layer grows one voxel past this one: ask for the leaves it reaches.
-        std::uint8_t request = 0;
+        std::uint8_t request = 0, inside = 0;
         for (int f = 0; f < kFaceCount; ++f)
-          if (record.neighbour[kFaceSlot[f]] < 0 && touchesFace(ring, f)) request |= std::uint8_t(1u << f);
+          if (record.neighbour[kFaceSlot[f]] < 0 && touchesFace(ring, f)) {
+            request |= std::uint8_t(1u << f);
+            if (faceInside(record, ring, f)) inside |= std::uint8_t(1u << f);
+          }
         state.faceRequest[r] = request;
+        state.faceInside[r] = inside;
       }
       if (i == layers) {
         LeafMask band = record.next;

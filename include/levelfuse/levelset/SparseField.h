@@ -131,6 +131,8 @@ class SparseField {
  private:
   /// The invariant checker reads the engine's internals (Invariants.h).
   friend InvariantReport checkInvariants(const SparseField& field);
+  /// Slabs assemble a whole field from their leaves (SlabField.h).
+  friend class SlabField;
   const detail::SparseFieldState& state() const { return *mState; }
 
   explicit SparseField(std::unique_ptr<detail::SparseFieldState> state);

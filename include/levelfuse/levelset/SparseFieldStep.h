@@ -7,6 +7,7 @@
 
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/SpeedTerms.h>
+#include <levelfuse/levelset/StepTally.h>
 #include <levelfuse/levelset/detail/LeafNeighbourhood.h>
 
 #include <algorithm>
@@ -17,7 +18,8 @@ namespace levelfuse {
 namespace detail {
 
 /// Phase 1 (section 5, step 1): d psi/dt at every active point, stored in
-/// state.pointValues in record order; returns the largest |d psi/dt|.
+/// state.pointValues in record order; returns the largest |d psi/dt| over the
+/// leaves the field answers for (all, unless it is a slab).
 template <typename Speed>
 double computeRates(SparseFieldState& state, const Speed& speed) {
   LeafTable& table = state.table;
@@ -45,7 +47,8 @@ double computeRates(SparseFieldState& state, const Speed& speed) {
     leafMax[r] = maxRate;
   });
   float maxRate = 0.0f;
-  for (float m : leafMax) maxRate = std::max(maxRate, m);
+  for (std::size_t r = 0; r < table.size(); ++r)
+    if (state.owns(table[r])) maxRate = std::max(maxRate, leafMax[r]);
   return maxRate;
 }
 
@@ -57,7 +60,7 @@ StepResult SparseField::step(const Speed& speed, double maxDt) {
   detail::indexActivePoints(state);
   const double maxSpeed = detail::computeRates(state, speed);
   const double dt = detail::chooseTimeStep(state, maxSpeed, speed.curvatureWeight(), speedStiffness(speed), maxDt);
-  return detail::applyRates(state, dt, maxSpeed);
+  return detail::applyRates(state, dt, maxSpeed).result(state.dx);
 }
 
 }  // namespace levelfuse

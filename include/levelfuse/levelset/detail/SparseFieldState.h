@@ -8,6 +8,7 @@
 #pragma once
 
 #include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/StepTally.h>
 #include <levelfuse/levelset/detail/LeafMaskOps.h>
 
 #include <levelfuse/core/Parallel.h>
@@ -16,6 +17,8 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -82,10 +85,24 @@ class LeafTable {
   std::unordered_map<openvdb::Coord, std::int32_t, CoordHash> mIndex;
 };
 
+/// A range of x voxel indices, [begin, end): the whole line unless a field is
+/// one slab of a field split along x (SlabField.h).
+struct XRange {
+  openvdb::Int32 begin = std::numeric_limits<openvdb::Int32>::min();
+  openvdb::Int32 end = std::numeric_limits<openvdb::Int32>::max();
+  bool contains(openvdb::Int32 x) const { return x >= begin && x < end; }
+};
+
 struct SparseFieldState {
   openvdb::FloatGrid::Ptr grid;  ///< values; background (N + 1/2) dx
   SparseFieldOptions options;
   LeafTable table;
+  /// Where leaves may live (no leaf is allocated outside), and which leaves a
+  /// step's reductions count (a slab answers for its own leaves, not for the
+  /// ghosts it keeps of its neighbours'). Leaf origins are tested.
+  XRange domain;
+  XRange owned;
+  bool owns(const LeafRecord& record) const { return record.live() && owned.contains(record.origin.x()); }
   double dx = 1.0;               ///< voxel size
   float background = 2.5f;       ///< (N + 1/2) dx
   std::vector<float> pointValues;  ///< per-active-point scratch of one step (rates)
@@ -94,12 +111,14 @@ struct SparseFieldState {
   std::vector<std::uint32_t> activeCount;  ///< |L0| of each leaf
   std::vector<std::uint32_t> firstActive;  ///< each leaf's first slot in pointValues
   std::vector<std::uint8_t> faceRequest;   ///< faces whose missing neighbour the outermost layer needs
+  std::vector<std::uint8_t> faceInside;    ///< of those, the faces whose side is the inside
 
   /// Sizes the per-record arrays to the table (new records start at zero).
   void fitRecordArrays() {
     activeCount.resize(table.size(), 0);
     firstActive.resize(table.size(), 0);
     faceRequest.resize(table.size(), 0);
+    faceInside.resize(table.size(), 0);
   }
 
   FloatTree& tree() { return grid->tree(); }
@@ -128,6 +147,18 @@ void forEachRecord(const LeafTable& table, std::size_t grain, const Body& body) 
   });
 }
 
+/// The state SparseField::fromLevelSet builds from `levelSet`, with leaves
+/// only where their origin lies in `domain` (a slab's leaves and ghosts;
+/// empty if the surface does not reach it). Throws as fromLevelSet does.
+std::unique_ptr<SparseFieldState> stateFromLevelSet(const openvdb::FloatGrid& levelSet,
+                                                    const SparseFieldOptions& options, const XRange& domain);
+
+/// The state's values as a standard OpenVDB level set (SparseField::toLevelSet).
+openvdb::FloatGrid::Ptr levelSetOf(const SparseFieldState& state, double halfWidth, const std::string& name);
+
+/// Counts and bytes of the state's leaves (SparseField::stats).
+SparseFieldStats statsOf(const SparseFieldState& state);
+
 // ---- phases shared by construction and step (SparseFieldLayers.cc) ----
 
 /// Given the new active set in each record's `next` mask (with final values),
@@ -144,7 +175,8 @@ double chooseTimeStep(const SparseFieldState& state, double maxSpeed, double cur
                       double maxDt);
 
 /// Adds dt times the rates in pointValues to the active values, resolves
-/// conflicting moves, moves points between layers (section 5, steps 2-4).
-StepResult applyRates(SparseFieldState& state, double dt, double maxSpeed);
+/// conflicting moves, moves points between layers (section 5, steps 2-4);
+/// returns the tally of the leaves the field answers for.
+StepTally applyRates(SparseFieldState& state, double dt, double maxSpeed);
 
 }  // namespace levelfuse::detail

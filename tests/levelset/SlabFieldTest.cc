@@ -1,0 +1,270 @@
+// A sparse field cut into slabs and stepped slab by slab, exchanging ghosts,
+// is bit-identical to the whole field stepped at once: the slabs run in one
+// process here, as MPI ranks run them (mpi/).
+
+#include "support/TestSupport.h"
+
+#include <levelfuse/geometry/Shapes.h>
+#include <levelfuse/levelset/LevelSetFromFunction.h>
+#include <levelfuse/levelset/Refine.h>
+#include <levelfuse/levelset/SlabField.h>
+#include <levelfuse/levelset/SlabFieldStep.h>
+#include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/SpeedTerms.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <vector>
+
+namespace levelfuse {
+namespace {
+
+using openvdb::Vec3d;
+
+/// Every slab's ghosts replaced by its neighbours' leaves.
+void refreshGhosts(std::vector<SlabField>& slabs) {
+  std::vector<PackedLeaves> toLower(slabs.size()), toHigher(slabs.size());
+  for (std::size_t i = 0; i < slabs.size(); ++i) {
+    toLower[i] = slabs[i].ghostsFor(SlabSide::kLower);
+    toHigher[i] = slabs[i].ghostsFor(SlabSide::kHigher);
+  }
+  for (std::size_t i = 0; i < slabs.size(); ++i) {
+    if (i > 0) slabs[i].acceptGhosts(SlabSide::kLower, toHigher[i - 1]);
+    if (i + 1 < slabs.size()) slabs[i].acceptGhosts(SlabSide::kHigher, toLower[i + 1]);
+  }
+}
+
+/// One step of the whole field, slab by slab, as the ranks of an MPI run take it.
+template <typename Speed>
+StepResult stepSlabs(std::vector<SlabField>& slabs, const Speed& speed) {
+  refreshGhosts(slabs);
+  double maxSpeed = 0.0;
+  for (SlabField& slab : slabs) maxSpeed = std::max(maxSpeed, slab.computeRates(speed));
+  const double dt = slabs.front().timeStep(maxSpeed, speed.curvatureWeight(), speedStiffness(speed),
+                                           std::numeric_limits<double>::infinity());
+  StepTally total;
+  for (SlabField& slab : slabs) total += slab.applyRates(dt, maxSpeed);
+  return total.result(slabs.front().voxelSize());
+}
+
+std::vector<SlabField> cut(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Int32>& cuts) {
+  std::vector<SlabField> slabs;
+  SlabBounds bounds;
+  for (std::size_t i = 0; i <= cuts.size(); ++i) {
+    bounds.end = i < cuts.size() ? cuts[i] : SlabBounds::kUnbounded;
+    slabs.push_back(SlabField::fromLevelSet(levelSet, bounds));
+    bounds.begin = bounds.end;
+  }
+  return slabs;
+}
+
+SparseField assembled(const std::vector<SlabField>& slabs, const openvdb::FloatGrid& levelSet) {
+  std::vector<PackedLeaves> pieces;
+  for (const SlabField& slab : slabs) pieces.push_back(slab.ownedLeaves());
+  return SlabField::assemble(pieces, levelSet);
+}
+
+/// Layers of every band voxel agree, and so do the values and tiles.
+void expectSameField(const SparseField& whole, const SparseField& parts, const std::string& when) {
+  std::string why;
+  EXPECT_TRUE(test::identical(whole.grid(), parts.grid(), &why)) << when << ": " << why;
+  EXPECT_TRUE(whole.grid().tree().hasSameTopology(parts.grid().tree())) << when;
+  std::size_t differ = 0;
+  for (auto it = whole.grid().tree().cbeginValueOn(); it; ++it)
+    if (whole.layerOf(it.getCoord()) != parts.layerOf(it.getCoord())) ++differ;
+  EXPECT_EQ(differ, 0u) << when << ": band voxels in different layers";
+}
+
+void expectSameStep(const StepResult& a, const StepResult& b, int step) {
+  EXPECT_EQ(a.dt, b.dt) << "step " << step;
+  EXPECT_EQ(a.maxSpeed, b.maxSpeed) << "step " << step;
+  EXPECT_EQ(a.maxChange, b.maxChange) << "step " << step;
+  EXPECT_EQ(a.rmsChange, b.rmsChange) << "step " << step;
+  EXPECT_EQ(a.activeSetVoxels, b.activeSetVoxels) << "step " << step;
+  EXPECT_EQ(a.movedOut, b.movedOut) << "step " << step;
+  EXPECT_EQ(a.movedIn, b.movedIn) << "step " << step;
+  EXPECT_EQ(a.conflicts, b.conflicts) << "step " << step;
+}
+
+/// Steps the whole field and the slabs `steps` times under `speed`, checking
+/// every step's report and, every `checkEvery` steps and at the end, the field.
+template <typename Speed>
+SparseField expectSlabsFollowTheWhole(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Int32>& cuts,
+                                      const Speed& speed, int steps, int checkEvery = 10) {
+  SparseField whole = SparseField::fromLevelSet(levelSet);
+  std::vector<SlabField> slabs = cut(levelSet, cuts);
+  expectSameField(whole, assembled(slabs, levelSet), "as built");
+  for (int s = 1; s <= steps; ++s) {
+    const StepResult a = whole.step(speed);
+    const StepResult b = stepSlabs(slabs, speed);
+    expectSameStep(a, b, s);
+    if (s % checkEvery == 0 || s == steps) expectSameField(whole, assembled(slabs, levelSet), "step " + std::to_string(s));
+    if (::testing::Test::HasFailure()) return whole;
+  }
+  std::string why;
+  EXPECT_TRUE(test::identical(*whole.toLevelSet(3.0), *assembled(slabs, levelSet).toLevelSet(3.0), &why)) << why;
+  return whole;
+}
+
+/// The smallest and largest x of the field's leaves.
+std::pair<int, int> leafExtentX(const SparseField& field) {
+  const openvdb::CoordBBox box = field.grid().evalActiveVoxelBoundingBox();
+  return {box.min().x(), box.max().x()};
+}
+
+openvdb::FloatGrid::Ptr sample(const std::function<double(const Vec3d&)>& f, const openvdb::BBoxd& box) {
+  return levelSetFromFunction(f, box, 1.0);
+}
+
+TEST(SlabField, ACurvatureFlowCutInTwoIsTheWholeFlow) {
+  // The cut at x = 0 passes through the sphere's middle.
+  const auto sphere = sample(shapes::Sphere{Vec3d(0.3, -0.2, 0.1), 14.0}, openvdb::BBoxd(Vec3d(-18), Vec3d(18)));
+  expectSlabsFollowTheWhole(*sphere, {0}, MeanCurvatureFlow{1.0}, 40);
+}
+
+TEST(SlabField, FourSlabsOneLeafWideFollowTheWhole) {
+  // Slabs of one and two columns of leaves: ghosts come from both sides of a
+  // one-column slab, and the outer slabs hold the sphere's caps.
+  const auto sphere = sample(shapes::Sphere{Vec3d(0.3, -0.2, 0.1), 14.0}, openvdb::BBoxd(Vec3d(-18), Vec3d(18)));
+  expectSlabsFollowTheWhole(*sphere, {-8, 0, 16}, MeanCurvatureFlow{1.0}, 30);
+}
+
+TEST(SlabField, AGrowingSurfaceCrossesIntoTheNextSlabs) {
+  // The sphere starts inside the middle slab [-8, 8) and grows through both
+  // of its faces into slabs that hold no leaf at first.
+  const auto sphere = sample(shapes::Sphere{Vec3d(0.4, 0.1, -0.3), 5.0}, openvdb::BBoxd(Vec3d(-9), Vec3d(9)));
+  ASSERT_GT(leafExtentX(SparseField::fromLevelSet(*sphere)).first, -16);
+  const SparseField grown = expectSlabsFollowTheWhole(*sphere, {-8, 8}, ConstantSpeed{ConstantForce{1.0}, 0.2}, 60);
+  EXPECT_LT(leafExtentX(grown).first, -16);
+  EXPECT_GE(leafExtentX(grown).second, 16);
+}
+
+TEST(SlabField, SpheresMergingAcrossACutFollowTheWhole) {
+  // Two spheres, one on each side of the cut at x = 0, grow into one.
+  const auto twoSpheres = sample(
+      [](const Vec3d& p) {
+        return std::min(shapes::Sphere{Vec3d(-7.6, 0.2, 0.1), 6.0}(p), shapes::Sphere{Vec3d(7.4, -0.1, 0.3), 6.0}(p));
+      },
+      openvdb::BBoxd(Vec3d(-16, -9, -9), Vec3d(16, 9, 9)));
+  ASSERT_GT(twoSpheres->tree().getValue(openvdb::Coord(0)), 0.0f);
+  const SparseField merged = expectSlabsFollowTheWhole(*twoSpheres, {0}, ConstantSpeed{ConstantForce{1.0}, 0.1}, 30);
+  EXPECT_LT(merged.grid().tree().getValue(openvdb::Coord(0)), 0.0f) << "the spheres have not merged";
+}
+
+TEST(SlabField, AFaceAlongTheCutAndAThinTorusFollowTheWhole) {
+  // A box whose face lies along the cut's voxel plane x = 8 (between x = 7
+  // and x = 8), shrinking under curvature; a torus whose thin tube the cuts
+  // cross, under a force that varies in space.
+  const auto box = sample(shapes::Box{Vec3d(-2.5, 0.2, -0.1), Vec3d(10.0, 7.2, 6.9)}, openvdb::BBoxd(Vec3d(-16), Vec3d(11)));
+  expectSlabsFollowTheWhole(*box, {8}, MeanCurvatureFlow{1.0}, 30);
+  const auto torus = sample(shapes::Torus{Vec3d(0.2, 0.1, -0.2), 12.0, 2.6}, openvdb::BBoxd(Vec3d(-18), Vec3d(18)));
+  const ExternalForceSpeed force{[](const Vec3d& x, const Vec3d& n) {
+                                   return 0.6 * std::sin(0.3 * x.x()) + 0.4 * std::cos(0.2 * x.y() + 0.1 * x.z()) +
+                                          0.1 * n.z();
+                                 },
+                                 0.8, ForceSampling::kSubcell};
+  expectSlabsFollowTheWhole(*torus, {-8, 8}, force, 40);
+}
+
+TEST(SlabField, SlabsRefinedOneByOneAreTheRefinedWhole) {
+  // Coarse to fine as the reconstruction goes: each slab's level set is
+  // refined to half the voxel size on its own and becomes the slab of the
+  // finer grid twice as many voxels wide.
+  const auto torus = sample(shapes::Torus{Vec3d(0.2, 0.1, -0.2), 12.0, 3.1}, openvdb::BBoxd(Vec3d(-18), Vec3d(18)));
+  const ExternalForceSpeed force{[](const Vec3d& x, const Vec3d& n) {
+                                   return 0.5 * std::sin(0.4 * x.x()) + 0.3 * std::cos(0.3 * x.y()) + 0.1 * n.x();
+                                 },
+                                 0.5, ForceSampling::kSubcell};
+  SparseField whole = SparseField::fromLevelSet(*torus);
+  std::vector<SlabField> slabs = cut(*torus, {-8, 0, 16});
+  for (int s = 0; s < 15; ++s) {
+    whole.step(force);
+    stepSlabs(slabs, force);
+  }
+  const openvdb::FloatGrid::Ptr fineWhole = refineLevelSet(*whole.toLevelSet(3.0));
+  SparseField wholeFine = SparseField::fromLevelSet(*fineWhole);
+  refreshGhosts(slabs);
+  std::vector<SlabField> fine;
+  for (const SlabField& slab : slabs) {
+    SlabBounds twice = slab.bounds();
+    if (twice.begin != -SlabBounds::kUnbounded) twice.begin *= 2;
+    if (twice.end != SlabBounds::kUnbounded) twice.end *= 2;
+    fine.push_back(SlabField::fromLevelSet(*refineLevelSet(*slab.toLevelSet(3.0)), twice));
+  }
+  expectSameField(wholeFine, assembled(fine, *fineWhole), "refined");
+  for (int s = 1; s <= 15; ++s) expectSameStep(wholeFine.step(force), stepSlabs(fine, force), s);
+  expectSameField(wholeFine, assembled(fine, *fineWhole), "refined and stepped");
+}
+
+TEST(SlabField, ASlabsLevelSetKnowsTheSideOfTheCellsBesideItsLeaves) {
+  // A slab's own flood fill cannot see the band beyond its ghosts; the side
+  // of every cell beside its leaves (where refinement samples) is the whole
+  // field's. A large sphere: many of the slabs' internal nodes are cut.
+  const auto sphere = sample(shapes::Sphere{Vec3d(3.3, -70.2, 5.1), 57.0}, openvdb::BBoxd(Vec3d(-60, -130, -60), Vec3d(62, -10, 62)));
+  const SparseField whole = SparseField::fromLevelSet(*sphere);
+  const openvdb::FloatGrid::Ptr wholeSet = whole.toLevelSet(3.0);
+  std::vector<SlabField> slabs = cut(*sphere, {-40, 0, 24});
+  refreshGhosts(slabs);
+  std::size_t cells = 0, wrong = 0;
+  for (const SlabField& slab : slabs) {
+    const openvdb::FloatGrid::Ptr piece = slab.toLevelSet(3.0);
+    const openvdb::Int32 lo = slab.bounds().begin == -SlabBounds::kUnbounded ? -1000 : slab.bounds().begin - 8;
+    const openvdb::Int32 hi = slab.bounds().end == SlabBounds::kUnbounded ? 1000 : slab.bounds().end + 8;
+    for (auto leaf = piece->tree().cbeginLeaf(); leaf; ++leaf)
+      for (int d = 0; d < 27; ++d) {
+        const openvdb::Coord cell = leaf->origin().offsetBy((d / 9 - 1) * 8, (d / 3 % 3 - 1) * 8, (d % 3 - 1) * 8);
+        if (cell.x() < lo || cell.x() >= hi || piece->tree().probeConstLeaf(cell)) continue;
+        ++cells;
+        const bool bad = (piece->tree().getValue(cell) < 0.0f) != (wholeSet->tree().getValue(cell) < 0.0f);
+        wrong += bad;
+      }
+  }
+  EXPECT_GT(cells, 1000u);
+  EXPECT_EQ(wrong, 0u) << "of " << cells << " cells beside the slabs' leaves";
+}
+
+TEST(SlabField, BalancedSlabsShareTheLeaves) {
+  // Columns at x = 0, 8, ..., 72 with 1, 1, ..., 1, 9 leaves: two slabs split
+  // the 18 leaves 9 and 9.
+  std::vector<std::pair<openvdb::Int32, std::size_t>> columns;
+  for (int i = 0; i < 9; ++i) columns.emplace_back(8 * i, 1);
+  columns.emplace_back(72, 9);
+  const std::vector<SlabBounds> two = balancedSlabs(columns, 2);
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_EQ(two[0].begin, -SlabBounds::kUnbounded);
+  EXPECT_EQ(two[0].end, 72);
+  EXPECT_EQ(two[1].begin, 72);
+  EXPECT_EQ(two[1].end, SlabBounds::kUnbounded);
+  // Every slab gets a column, even when one column holds nearly everything.
+  const std::vector<SlabBounds> ten = balancedSlabs(columns, 10);
+  for (std::size_t k = 1; k < ten.size(); ++k) EXPECT_EQ(ten[k].begin, 8 * static_cast<int>(k));
+  EXPECT_THROW(balancedSlabs(columns, 11), std::invalid_argument);
+  EXPECT_THROW(balancedSlabs({{4, 1}, {12, 1}}, 2), std::invalid_argument);
+}
+
+TEST(SlabField, BoundsAndPackedLeavesAreChecked) {
+  const auto sphere = sample(shapes::Sphere{Vec3d(0.0), 6.0}, openvdb::BBoxd(Vec3d(-9), Vec3d(9)));
+  SlabBounds unaligned;
+  unaligned.end = 3;
+  EXPECT_THROW(SlabField::fromLevelSet(*sphere, unaligned), std::invalid_argument);
+  SlabBounds lower, upper;
+  lower.end = upper.begin = 0;
+  SlabField a = SlabField::fromLevelSet(*sphere, lower);
+  SlabField b = SlabField::fromLevelSet(*sphere, upper);
+  PackedLeaves truncated = b.ghostsFor(SlabSide::kLower);
+  ASSERT_FALSE(truncated.empty());
+  truncated.pop_back();
+  EXPECT_THROW(a.acceptGhosts(SlabSide::kHigher, truncated), std::invalid_argument);
+  // Leaves from the wrong column are refused.
+  EXPECT_THROW(a.acceptGhosts(SlabSide::kHigher, a.ghostsFor(SlabSide::kHigher)), std::invalid_argument);
+  // The first slab has no lower neighbour: it sends and takes nothing there.
+  EXPECT_TRUE(a.ghostsFor(SlabSide::kLower).empty());
+}
+
+}  // namespace
+}  // namespace levelfuse
