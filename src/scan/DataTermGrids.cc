@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 
 namespace levelfuse {
 
@@ -78,10 +79,21 @@ DataTermGrids::DataTermGrids(double voxelSize, const DataWindow& window, double 
   mBinMask = emptyGrid<openvdb::Int32Grid>(voxelSize, "sight_bins");
 }
 
+void DataTermGrids::restrictToSlab(openvdb::Int32 begin, openvdb::Int32 end) {
+  if (!(begin < end))
+    throw std::invalid_argument("DataTermGrids::restrictToSlab: the slab [" + std::to_string(begin) + ", " +
+                                std::to_string(end) + ") holds no voxel");
+  mSlabBegin = begin;
+  mSlabEnd = end;
+}
+
 void DataTermGrids::integrate(const RangeMap& map) {
   const double reach = mWindow.reach();
   const double h = mVoxelSize;
-  const std::vector<Coord> leaves = detail::leavesReached(map, h, reach);
+  std::vector<Coord> leaves = detail::leavesReached(map, h, reach);
+  leaves.erase(std::remove_if(leaves.begin(), leaves.end(),
+                              [&](const Coord& origin) { return origin.x() < mSlabBegin || origin.x() >= mSlabEnd; }),
+               leaves.end());
   const openvdb::math::Mat4d& toMap = map.worldToMap();
   const openvdb::math::Mat4d& toWorld = map.mapToWorld();
   const Vec3d step[3] = {toMap.transform3x3(Vec3d(h, 0, 0)), toMap.transform3x3(Vec3d(0, h, 0)),

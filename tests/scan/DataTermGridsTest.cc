@@ -177,6 +177,44 @@ TEST(DataTermGrids, OneAndTwoThreadsGiveTheSameGrids) {
   }
 }
 
+TEST(DataTermGrids, ASlabOfTheGridsHoldsTheWholeGridsSumsThere) {
+  const shapes::Sphere sphere{Vec3d(0.013, -0.021, 0.007), 1.0};
+  std::vector<RangeMap> maps;
+  for (const synth::View& v : synth::viewsAround(Vec3d(0.0), 2.4, 80, 7))
+    maps.push_back(synth::renderDistanceFunction(sphere, v, synth::Noise{}, 0.02));
+  const double voxel = 0.05;
+  const ForceFieldOptions options = optionsFor(voxel, voxel);
+  const DataTermGrids whole = gridsOf(maps, voxel, options);
+  // The slab of leaf columns x = 0 and 8: world x in [-0.025, 0.775).
+  DataTermGrids slab(voxel, options.dataWindow(), options.positionVariance);
+  slab.restrictToSlab(0, 16);
+  for (const RangeMap& m : maps) slab.integrate(m);
+  const openvdb::FloatGrid::Ptr g = whole.gGrid(), w = whole.weightGrid();
+  const openvdb::FloatGrid::Ptr slabG = slab.gGrid(), slabW = slab.weightGrid();
+  std::size_t inside = 0;
+  for (auto it = w->cbeginValueOn(); it; ++it) {
+    const openvdb::Coord ijk = it.getCoord();
+    if (ijk.x() < 0 || ijk.x() >= 16) continue;
+    ++inside;
+    ASSERT_TRUE(slabW->tree().isValueOn(ijk)) << ijk;
+    ASSERT_EQ(*it, slabW->tree().getValue(ijk)) << ijk;
+    ASSERT_EQ(g->tree().getValue(ijk), slabG->tree().getValue(ijk)) << ijk;
+  }
+  EXPECT_GT(inside, 1000u);
+  EXPECT_EQ(slabW->activeVoxelCount(), inside) << "the slab holds terms outside its columns";
+  // The facing-checked term wherever its voxels and leaf lie in the slab.
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> across(0.02, 0.72), coordinate(-1.1, 1.1);
+  for (int i = 0; i < 500; ++i) {
+    const Vec3d x(across(random), coordinate(random), coordinate(random)), n = x.unitSafe();
+    const DataTerms a = whole.facingTerms(x, n), b = slab.facingTerms(x, n);
+    ASSERT_EQ(a.g, b.g) << x;
+    ASSERT_EQ(a.weight, b.weight) << x;
+    ASSERT_EQ(a.readings, b.readings) << x;
+  }
+  EXPECT_THROW(slab.restrictToSlab(8, 8), std::invalid_argument);
+}
+
 TEST(DataTermGrids, RejectsUnusableSettings) {
   const DataWindow window(WindowKind::kGaussian, 0.1, 3.0);
   EXPECT_THROW(DataTermGrids(0.0, window, 0.0), std::invalid_argument);

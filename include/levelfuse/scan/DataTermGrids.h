@@ -45,6 +45,7 @@
 
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace levelfuse {
@@ -77,6 +78,14 @@ class DataTermGrids {
   /// map may be released afterwards. Parallel over leaf nodes; the sums are
   /// deterministic for a given order of maps, whatever the number of threads.
   void integrate(const RangeMap& map);
+
+  /// From now on only the leaf nodes whose origin x (in voxels of these
+  /// grids) lies in [begin, end) take terms: the part of the grids that one
+  /// slab of a field shared by processes reads (levelset/SlabField.h). Their
+  /// sums are those of unrestricted grids, bit for bit, when the same maps
+  /// reaching them come in the same order. Throws std::invalid_argument
+  /// unless begin < end.
+  void restrictToSlab(openvdb::Int32 begin, openvdb::Int32 end);
 
   /// g~(x), its weight and its readings for a surface through x with outward normal N (Eq. 37).
   DataTerms facingTerms(const openvdb::Vec3d& x, const openvdb::Vec3d& normal) const;
@@ -115,6 +124,8 @@ class DataTermGrids {
   DataWindow mWindow;
   double mPositionVariance;
   std::size_t mGrainSize;
+  openvdb::Int32 mSlabBegin = std::numeric_limits<openvdb::Int32>::min();
+  openvdb::Int32 mSlabEnd = std::numeric_limits<openvdb::Int32>::max();
   std::size_t mMapCount = 0;
   std::size_t mEvaluations = 0;
 };
