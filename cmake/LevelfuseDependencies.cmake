@@ -27,3 +27,18 @@ else()
   set(LEVELFUSE_HAVE_OPENEXR OFF)
   message(STATUS "levelfuse: OpenEXR not found, EXR depth images disabled")
 endif()
+
+# MPI (OpenMPI from Debian): the reconstruction shared by processes (mpi/).
+# Optional; left out of sanitizer builds, whose leak checks MPI's own
+# allocations would trip.
+option(LEVELFUSE_MPI "Build the MPI layer (levelfuse_mpi) when MPI is found (not under a sanitizer)" ON)
+set(LEVELFUSE_HAVE_MPI OFF)
+if(LEVELFUSE_MPI AND NOT LEVELFUSE_SANITIZER)
+  find_package(MPI COMPONENTS CXX QUIET)
+  if(MPI_CXX_FOUND)
+    set(LEVELFUSE_HAVE_MPI ON)
+    message(STATUS "levelfuse: MPI ${MPI_CXX_VERSION} found, the MPI layer is built")
+  else()
+    message(STATUS "levelfuse: MPI not found (libopenmpi-dev), the MPI layer is left out")
+  endif()
+endif()

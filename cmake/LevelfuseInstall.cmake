@@ -11,7 +11,9 @@ install(TARGETS levelfuse EXPORT levelfuseTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(DIRECTORY include/levelfuse DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN "*.in" EXCLUDE)
+# The MPI layer (include/levelfuse/mpi) is not part of the installed package yet.
+install(DIRECTORY include/levelfuse DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN "*.in" EXCLUDE
+        PATTERN "mpi" EXCLUDE)
 install(FILES "${PROJECT_BINARY_DIR}/include/levelfuse/Version.h"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/levelfuse)
 install(EXPORT levelfuseTargets NAMESPACE levelfuse:: DESTINATION ${LEVELFUSE_CMAKE_INSTALL_DIR})

@@ -21,7 +21,8 @@ case "$mode" in demo|test|bench) ;; *) echo "usage: $0 demo|test|bench" >&2; exi
 packages=(cmake g++ make ccache pkg-config
           libopenvdb-dev libopenvdb-tools libtbb-dev libblosc-dev libboost-iostreams-dev
           libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libpng-dev libopenexr-dev
-          pybind11-dev python3-dev python3-numpy python3-pytest python3-openvdb libboost-python-dev)
+          pybind11-dev python3-dev python3-numpy python3-pytest python3-openvdb libboost-python-dev
+          libopenmpi-dev openmpi-bin)
 [ "$mode" = bench ] && packages+=(libinsighttoolkit5-dev libopen3d-dev)
 
 "$root/tools/install-packages.sh" "${packages[@]}"
