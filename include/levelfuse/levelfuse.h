@@ -52,6 +52,7 @@
 #include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/levelset/SlabFieldStep.h>
+#include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/SparseFieldStep.h>
 #include <levelfuse/levelset/SpeedTerms.h>

@@ -92,6 +92,20 @@ void insertLeaves(SparseFieldState& state, const PackedLeaves& packed) {
   }
 }
 
+/// A state without leaves with `options`, and the voxel size, transform and
+/// name of `like`.
+std::unique_ptr<SparseFieldState> emptyState(const SparseFieldOptions& options, const openvdb::FloatGrid& like) {
+  auto state = std::make_unique<SparseFieldState>();
+  state->options = options;
+  state->dx = like.voxelSize()[0];
+  state->background = static_cast<float>((options.layers + 0.5) * state->dx);
+  state->grid = openvdb::FloatGrid::create(state->background);
+  state->grid->setTransform(like.transform().copy());
+  state->grid->setGridClass(openvdb::GRID_LEVEL_SET);
+  state->grid->setName(like.getName());
+  return state;
+}
+
 /// Sets every leaf-sized cell beside a leaf of `grid` (face, edge or corner)
 /// that holds no leaf to an inactive tile of the side of the leaf voxel
 /// nearest it. Those voxels lie beyond the band or at its edge, and a voxel
@@ -139,6 +153,22 @@ void requireBounds(const SlabBounds& b) {
                                 std::to_string(b.end) + "))");
 }
 
+/// The x ranges of a slab's own leaves and of its leaves and ghosts: one
+/// column of ghosts beside each neighbour.
+std::pair<XRange, XRange> ownedAndDomain(const SlabBounds& bounds) {
+  requireBounds(bounds);
+  XRange owned, domain;
+  if (hasNeighbour(bounds, SlabSide::kLower)) {
+    owned.begin = bounds.begin;
+    domain.begin = ghostColumn(bounds, SlabSide::kLower);
+  }
+  if (hasNeighbour(bounds, SlabSide::kHigher)) {
+    owned.end = bounds.end;
+    domain.end = ghostColumn(bounds, SlabSide::kHigher) + kLeafWidth;
+  }
+  return {owned, domain};
+}
+
 }  // namespace
 
 SlabField::SlabField(std::unique_ptr<SparseFieldState> state, const SlabBounds& bounds)
@@ -149,19 +179,23 @@ SlabField::~SlabField() = default;
 
 SlabField SlabField::fromLevelSet(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds,
                                   const SparseFieldOptions& options) {
-  requireBounds(bounds);
-  // The slab holds its own leaves and one column of ghosts beside each neighbour.
-  XRange domain, owned;
-  if (hasNeighbour(bounds, SlabSide::kLower)) {
-    owned.begin = bounds.begin;
-    domain.begin = ghostColumn(bounds, SlabSide::kLower);
-  }
-  if (hasNeighbour(bounds, SlabSide::kHigher)) {
-    owned.end = bounds.end;
-    domain.end = ghostColumn(bounds, SlabSide::kHigher) + kLeafWidth;
-  }
+  const auto [owned, domain] = ownedAndDomain(bounds);
   auto state = detail::stateFromLevelSet(levelSet, options, domain);
   state->owned = owned;
+  return SlabField(std::move(state), bounds);
+}
+
+SlabField SlabField::fromField(const SparseField& whole, const SlabBounds& bounds) {
+  const auto [owned, domain] = ownedAndDomain(bounds);
+  const SparseFieldState& from = whole.state();
+  auto state = emptyState(from.options, *from.grid);
+  state->domain = domain;
+  state->owned = owned;
+  PackedLeaves leaves;
+  for (std::size_t r = 0; r < from.table.size(); ++r)
+    if (from.table[r].live() && domain.contains(from.table[r].origin.x()))
+      appendLeaf(leaves, from.table[r], from.options.layers);
+  insertLeaves(*state, leaves);
   return SlabField(std::move(state), bounds);
 }
 
@@ -224,14 +258,7 @@ PackedLeaves SlabField::ownedLeaves() const {
 
 SparseField SlabField::assemble(const std::vector<PackedLeaves>& slabs, const openvdb::FloatGrid& levelSet,
                                 const SparseFieldOptions& options) {
-  auto state = std::make_unique<SparseFieldState>();
-  state->options = options;
-  state->dx = levelSet.voxelSize()[0];
-  state->background = static_cast<float>((options.layers + 0.5) * state->dx);
-  state->grid = openvdb::FloatGrid::create(state->background);
-  state->grid->setTransform(levelSet.transform().copy());
-  state->grid->setGridClass(openvdb::GRID_LEVEL_SET);
-  state->grid->setName(levelSet.getName());
+  auto state = emptyState(options, levelSet);
   for (const PackedLeaves& slab : slabs) insertLeaves(*state, slab);
   // The band is whole again, so the flood fill finds the side of every voxel
   // and tile beyond it.
@@ -242,7 +269,26 @@ SparseField SlabField::assemble(const std::vector<PackedLeaves>& slabs, const op
 const openvdb::FloatGrid& SlabField::grid() const { return *mState->grid; }
 double SlabField::voxelSize() const { return mState->dx; }
 const SparseFieldOptions& SlabField::options() const { return mState->options; }
-SparseFieldStats SlabField::stats() const { return detail::statsOf(*mState); }
+SparseFieldStats SlabField::stats() const {
+  SparseFieldStats s = detail::statsOf(*mState);
+  // Counts of the slab's own leaves; the bytes hold the ghosts too.
+  s.activeSetVoxels = s.bandVoxels = s.leafNodes = 0;
+  for (std::size_t r = 0; r < mState->table.size(); ++r) {
+    const LeafRecord& record = mState->table[r];
+    if (!mState->owns(record)) continue;
+    s.activeSetVoxels += record.layer[0].countOn();
+    s.bandVoxels += record.leaf->onVoxelCount();
+    ++s.leafNodes;
+  }
+  return s;
+}
+
+SlabBounds onFinerGrid(const SlabBounds& bounds) {
+  SlabBounds finer = bounds;
+  if (finer.begin != -SlabBounds::kUnbounded) finer.begin *= 2;
+  if (finer.end != SlabBounds::kUnbounded) finer.end *= 2;
+  return finer;
+}
 
 std::vector<SlabBounds> balancedSlabs(const std::vector<std::pair<openvdb::Int32, std::size_t>>& columns, int count,
                                       openvdb::Int32 leafWidth) {

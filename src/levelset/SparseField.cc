@@ -342,6 +342,11 @@ openvdb::FloatGrid::Ptr detail::levelSetOf(const SparseFieldState& state, double
     }
     ring.clear();
     for (const auto& [ijk, value] : next) {
+      // A leaf the band grows into lies beyond it but for these voxels, on
+      // their side: its other voxels take that side's background, not the
+      // tile's value (a slab's tiles need not be right).
+      if (!acc.probeLeaf(ijk))
+        acc.touchLeaf(ijk)->fill(value < 0.0f ? -state.background : state.background, false);
       acc.setValueOn(ijk, value);
       ring.push_back(ijk);
     }

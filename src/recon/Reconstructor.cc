@@ -1,8 +1,9 @@
 // levelfuse: the reconstruction pipeline (section 6).
 
+#include "EvolvingField.h"
+
 #include <levelfuse/Version.h>
 #include <levelfuse/io/MemoryBudget.h>
-#include <levelfuse/levelset/Refine.h>
 #include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
@@ -25,18 +26,21 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// The largest mean change, over the leaf nodes of `now` holding at least
+/// The largest mean change, over the leaf nodes of `now` that `field` answers
+/// for (EvolvingField::owns) holding at least
 /// eight points of the active set (|psi| <= dx / 2) that the data support (at
 /// the first, at least one reading's window), of those points'
 /// values since `before` (world units). Surfaces no scan saw move under the
 /// prior alone toward a minimal surface, slowly and for long: they are not
 /// waited for.
 template <typename Field>
-double largestLocalDrift(const openvdb::FloatGrid& now, const openvdb::FloatGrid& before, const Field& data) {
+double largestLocalDrift(const detail::EvolvingField& field, const openvdb::FloatGrid& before, const Field& data) {
+  const openvdb::FloatGrid& now = field.grid();
   const float half = static_cast<float>(0.5 * now.voxelSize()[0]);
   openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(now.tree());
   std::vector<double> drift(leaves.leafCount(), 0.0);
   leaves.foreach([&](const openvdb::FloatTree::LeafNodeType& leaf, std::size_t i) {
+    if (!field.owns(leaf.origin())) return;
     openvdb::FloatGrid::ConstAccessor old = before.getConstAccessor();
     double sum = 0.0;
     int points = 0;
@@ -324,7 +328,7 @@ DataTermGrids Reconstructor::dataTermGrids(int level, const Interrupter& interru
 }
 
 template <typename Field>
-LevelReport Reconstructor::evolveLevel(SparseField& field, const Field& data, double h, ReconstructionProgress& state,
+LevelReport Reconstructor::evolveLevel(detail::EvolvingField& field, const Field& data, double h, ReconstructionProgress& state,
                                        const std::function<void()>& report) const {
   DataSpeed<Field> speed;
   speed.force = DataForce<Field>{&data};
@@ -359,8 +363,8 @@ LevelReport Reconstructor::evolveLevel(SparseField& field, const Field& data, do
       lastProgress = iteration;
     }
     if (iteration - snapshotIteration >= mOptions.patience) {
-      state.drift =
-          largestLocalDrift(field.grid(), *snapshot, data) / h / static_cast<double>(iteration - snapshotIteration);
+      state.drift = field.largest(largestLocalDrift(field, *snapshot, data)) / h /
+                    static_cast<double>(iteration - snapshotIteration);
       snapshot = field.grid().deepCopy();
       snapshotIteration = iteration;
       if (iteration - lastProgress >= mOptions.patience && state.drift < mOptions.drift) {
@@ -372,7 +376,8 @@ LevelReport Reconstructor::evolveLevel(SparseField& field, const Field& data, do
   return done;
 }
 
-ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const Interrupter& interrupter) const {
+ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const Interrupter& interrupter,
+                                        const SlabTeam* team) const {
   const auto start = Clock::now();
   ReconstructionProgress state;
   state.levels = *mOptions.levels;
@@ -402,8 +407,13 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
     state.scan = scans;
     report();
   };
-  auto field = std::make_unique<SparseField>(initialModel(interrupter, fusion, carvedWith));
-  requireFinestGridMemory(field->stats().activeSetVoxels);
+  // A team's processes each keep their slab of the initial model, not the whole.
+  detail::EvolvingField field = [&] {
+    SparseField initial = initialModel(interrupter, fusion, carvedWith);
+    requireFinestGridMemory(initial.stats().activeSetVoxels);
+    if (team && team->size() > 1) return detail::EvolvingField(initial, *team);
+    return detail::EvolvingField(std::move(initial));
+  }();
   // 2-3. Each grid evolved, then refined for the next.
   int iterations = 0;
   for (int level = 0; level < *mOptions.levels; ++level) {
@@ -411,8 +421,10 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
     iterations += result.levels.back().iterations;
     result.peakEngineBytes = std::max(result.peakEngineBytes, result.levels.back().engineBytes);
   }
-  describeRun(*result.levelSet, iterations);
-  result.colour = surfaceColour(*result.levelSet, interrupter);
+  if (result.levelSet) {
+    describeRun(*result.levelSet, iterations);
+    result.colour = surfaceColour(*result.levelSet, interrupter);
+  }
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   state.stage = ReconstructionProgress::Stage::kDone;
   report();
@@ -434,7 +446,7 @@ std::unique_ptr<Fusion> Reconstructor::fuseScans(ReconstructionProgress& state, 
   return fusion;
 }
 
-LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseField>& field, const Fusion* fusion,
+LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& field, const Fusion* fusion,
                                             ReconstructionProgress& state,
                                             const std::function<void()>& report, const Interrupter& interrupter,
                                             ReconstructionResult& result) const {
@@ -448,18 +460,17 @@ LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseFie
     // 3. Resample to half the voxel size.
     state.stage = ReconstructionProgress::Stage::kResampling;
     report();
-    field = std::make_unique<SparseField>(
-        SparseField::fromLevelSet(*refineLevelSet(*field->toLevelSet(3.0)), mOptions.engine));
+    field.refine(mOptions.engine);
   }
   // 2. Evolve under the data term and the prior until the surface settles.
   // On the finest grid, the surface's weight is taken while its data term is at hand.
   const bool finestGrid = level + 1 == *mOptions.levels;
   const auto evolveAndWeigh = [&](const auto& data) {
     state.stage = ReconstructionProgress::Stage::kEvolving;
-    const LevelReport evolved = evolveLevel(*field, data, h, state, report);
+    const LevelReport evolved = evolveLevel(field, data, h, state, report);
     if (finestGrid) {
-      result.levelSet = field->toLevelSet(3.0, mOptions.name);
-      result.weight = levelfuse::surfaceWeight(*result.levelSet, data, interrupter);
+      result.levelSet = field.levelSet(mOptions.name);
+      if (result.levelSet) result.weight = levelfuse::surfaceWeight(*result.levelSet, data, interrupter);
     }
     return evolved;
   };
@@ -468,7 +479,7 @@ LevelReport Reconstructor::reconstructLevel(int level, std::unique_ptr<SparseFie
     done = evolveAndWeigh(fusion->dataTerm(level));
   else
     done = evolveAndWeigh(ForceField(mMaps, forceOptions(level)));
-  const SparseFieldStats stats = field->stats();
+  const SparseFieldStats stats = field.stats();
   done.activeSetVoxels = stats.activeSetVoxels;
   done.bandVoxels = stats.bandVoxels;
   done.engineBytes = stats.memoryBytes;

@@ -191,14 +191,40 @@ TEST(SlabField, SlabsRefinedOneByOneAreTheRefinedWhole) {
   refreshGhosts(slabs);
   std::vector<SlabField> fine;
   for (const SlabField& slab : slabs) {
-    SlabBounds twice = slab.bounds();
-    if (twice.begin != -SlabBounds::kUnbounded) twice.begin *= 2;
-    if (twice.end != SlabBounds::kUnbounded) twice.end *= 2;
-    fine.push_back(SlabField::fromLevelSet(*refineLevelSet(*slab.toLevelSet(3.0)), twice));
+    fine.push_back(SlabField::fromLevelSet(*refineLevelSet(*slab.toLevelSet(3.0)), onFinerGrid(slab.bounds())));
   }
   expectSameField(wholeFine, assembled(fine, *fineWhole), "refined");
   for (int s = 1; s <= 15; ++s) expectSameStep(wholeFine.step(force), stepSlabs(fine, force), s);
   expectSameField(wholeFine, assembled(fine, *fineWhole), "refined and stepped");
+}
+
+TEST(SlabField, SlabsCopiedFromAFieldRefineAsTheWhole) {
+  // Slabs copied from a field (fromField) hold its leaves and no tiles: the
+  // inside of a shape is a tile of the outside's value in them. Refining
+  // must not take a side from tiles. Shapes of several sizes, so that the
+  // band grows into cells without leaves somewhere.
+  const MeanCurvatureFlow flow{1.0};
+  for (const double radius : {9.3, 13.7, 17.2, 21.6}) {
+    const auto ball = sample(shapes::Sphere{Vec3d(0.41, -0.27, 0.13), radius},
+                             openvdb::BBoxd(Vec3d(-radius - 4), Vec3d(radius + 4)));
+    SparseField whole = SparseField::fromLevelSet(*ball);
+    for (int s = 0; s < 3; ++s) whole.step(flow);
+    std::vector<SlabField> slabs;
+    SlabBounds bounds;
+    for (const openvdb::Int32 end : {-8, 8, SlabBounds::kUnbounded}) {
+      bounds.end = end;
+      slabs.push_back(SlabField::fromField(whole, bounds));
+      bounds.begin = end;
+    }
+    expectSameField(whole, assembled(slabs, *ball), "copied");
+    std::vector<SlabField> fine;
+    for (const SlabField& slab : slabs) {
+      fine.push_back(SlabField::fromLevelSet(*refineLevelSet(*slab.toLevelSet(3.0)), onFinerGrid(slab.bounds())));
+    }
+    const openvdb::FloatGrid::Ptr fineWhole = refineLevelSet(*whole.toLevelSet(3.0));
+    expectSameField(SparseField::fromLevelSet(*fineWhole), assembled(fine, *fineWhole),
+                    "refined, radius " + std::to_string(radius));
+  }
 }
 
 TEST(SlabField, ASlabsLevelSetKnowsTheSideOfTheCellsBesideItsLeaves) {

@@ -2,6 +2,7 @@
 
 #include "Cancellation.h"
 #include "Commands.h"
+#include "Job.h"
 #include "ProgressBar.h"
 #include "Support.h"
 #include "Units.h"
@@ -147,11 +148,12 @@ ReconstructionResult reconstructSurface(const Reconstructor& reconstructor, cons
             bar.update(p);
             return !cancellationRequested();
           },
-          cancellationInterrupter());
+          cancellationInterrupter(), jobTeam());
     }
   } catch (const InsufficientMemory& e) {
     throw ofTheInputs(s, e);
   }
+  if (!result.levelSet) return result;  // another rank of the job holds the surface
   bar.finish();
   enterPhase("measuring");
   openvdb::FloatGrid& surface = *result.levelSet;
@@ -323,12 +325,16 @@ int runReconstruct(ReconstructSettings s) {
   const auto started = std::chrono::steady_clock::now();
   const ThreadLimit threads(s.threads);
   checkSettings(s);
-  ProgressBar bar(!s.quiet && !s.json);
+  // In an MPI job every rank reconstructs; the first one alone prints, and
+  // measures and writes what the ranks made together.
+  ProgressBar bar(!s.quiet && !s.json && leadsTheJob());
   Inputs inputs = loadInputs(s, bar);
   ScansReconstruction made = prepare(inputs, s, bar);
   const Reconstructor& reconstructor = *made.reconstructor;
   const Presentation shown = presentationOf(reconstructor, s);
+  if (s.linear && !leadsTheJob()) return kExitSuccess;  // the linear solution is not shared
   const ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
+  if (!leadsTheJob()) return kExitSuccess;
   made.letTheGridsGo();
   const Measures measures = measure(made, result, shown, inputs);
   const std::size_t triangles = writeOutputs(inputs, result, shown, s);

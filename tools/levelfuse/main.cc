@@ -2,6 +2,7 @@
 
 #include "Cancellation.h"
 #include "Commands.h"
+#include "Job.h"
 #include "Support.h"
 
 #include <levelfuse/Version.h>
@@ -23,9 +24,23 @@ namespace {
 /// "levelfuse <command>", for the messages of the running command.
 std::string gCommandName = "levelfuse";
 
+/// " (rank r of n)" in an MPI job of more than one rank, else nothing.
+std::string jobPlace() {
+  const levelfuse::SlabTeam* team = levelfuse::cli::jobTeam();
+  return team ? " (rank " + std::to_string(team->rank()) + " of " + std::to_string(team->size()) + ")" : "";
+}
+
 void reportOutOfMemory() {
-  std::cerr << gCommandName << ": error: out of memory while " << levelfuse::cli::currentPhase()
-            << "; nothing written (use a larger voxel size, fewer scans, or a machine with more memory)\n";
+  // One write per line, so that the lines of an MPI job's ranks do not interleave.
+  std::cerr << gCommandName + ": error: out of memory while " + levelfuse::cli::currentPhase() + jobPlace() +
+                   "; nothing written (use a larger voxel size, fewer scans, or a machine with more memory)\n";
+}
+
+/// Ends the process after a failure: in an MPI job, every rank with it.
+int failed(int exitCode) {
+  levelfuse::cli::abortJobIfShared(exitCode);
+  levelfuse::cli::leaveJob();
+  return exitCode;
 }
 
 /// Where an exception cannot be caught (a destructor that allocates while the
@@ -39,10 +54,11 @@ void reportOutOfMemory() {
     } catch (const std::bad_alloc&) {
       reportOutOfMemory();
     } catch (const std::exception& e) {
-      std::cerr << gCommandName << ": error: " << levelfuse::io::excerpt(e.what()) << "\n";
+      std::cerr << gCommandName + ": error: " + levelfuse::io::excerpt(e.what()) + jobPlace() + "\n";
     } catch (...) {
-      std::cerr << gCommandName << ": error: an unknown failure\n";
+      std::cerr << gCommandName + ": error: an unknown failure" + jobPlace() + "\n";
     }
+    levelfuse::cli::abortJobIfShared(levelfuse::cli::kExitFailure);
     std::_Exit(levelfuse::cli::kExitFailure);
   }
   std::abort();
@@ -50,9 +66,10 @@ void reportOutOfMemory() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int runCommand(int argc, char** argv) {
   using namespace levelfuse::cli;
-  std::set_terminate(onTerminate);
   CLI::App app{"levelfuse: surfaces from range maps with sparse-field level sets on OpenVDB"};
   app.require_subcommand(1);
   app.set_version_flag("--version",
@@ -68,13 +85,14 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    return leadsTheJob() ? app.exit(e) : kExitSuccess;
   } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
+    return leadsTheJob() ? app.exit(e) : kExitSuccess;
   } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
+    return leadsTheJob() ? app.exit(e) : kExitSuccess;
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    // Every rank of a job parses the same arguments: the first says what is wrong.
+    if (leadsTheJob()) app.exit(e);
     return kExitUsage;
   }
 
@@ -84,19 +102,32 @@ int main(int argc, char** argv) {
     if (!command.app->parsed()) continue;
     const std::string name = "levelfuse " + command.app->get_name();
     gCommandName = name;
+    // Under mpirun, reconstruct shares its work between the ranks; the other
+    // commands run on the first rank alone.
+    if (command.app->get_name() != "reconstruct" && !leadsTheJob()) return kExitSuccess;
     try {
       return command.run();
     } catch (const levelfuse::Interrupted&) {
-      std::cerr << name << ": interrupted while " << currentPhase() << "; nothing written\n";
-      return kExitCancelled;
+      std::cerr << name + ": interrupted while " + currentPhase() + jobPlace() + "; nothing written\n";
+      return failed(kExitCancelled);
     } catch (const std::bad_alloc&) {
       reportOutOfMemory();
-      return kExitFailure;
+      return failed(kExitFailure);
     } catch (const std::exception& e) {
       // Readers quote short excerpts; the cut is the last guard for a third party's message.
-      std::cerr << name << ": error: " << levelfuse::io::excerpt(e.what(), 2000) << "\n";
-      return kExitFailure;
+      std::cerr << name + ": error: " + levelfuse::io::excerpt(e.what(), 2000) + jobPlace() + "\n";
+      return failed(kExitFailure);
     }
   }
   return kExitUsage;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::set_terminate(onTerminate);
+  levelfuse::cli::joinJobIfLaunched(argc, argv);
+  const int exitCode = runCommand(argc, argv);
+  levelfuse::cli::leaveJob();
+  return exitCode;
 }

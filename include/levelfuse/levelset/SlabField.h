@@ -49,6 +49,9 @@ struct SlabBounds {
   openvdb::Int32 end = kUnbounded;
 };
 
+/// The same slab on a grid of half the voxel size (refineLevelSet): its bounds doubled.
+SlabBounds onFinerGrid(const SlabBounds& bounds);
+
 /// Leaves of a slab with their layers, packed as bytes for another process.
 using PackedLeaves = std::vector<std::uint8_t>;
 
@@ -62,6 +65,10 @@ class SlabField {
   /// its ghosts, plus one voxel. A slab the surface does not reach is empty.
   static SlabField fromLevelSet(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds,
                                 const SparseFieldOptions& options = {});
+
+  /// The slab `bounds` of `whole`, with its ghosts: the leaves, values and
+  /// layers are copied as they are.
+  static SlabField fromField(const SparseField& whole, const SlabBounds& bounds);
 
   SlabField(SlabField&&) noexcept;
   SlabField& operator=(SlabField&&) noexcept;
@@ -104,7 +111,7 @@ class SlabField {
   const openvdb::FloatGrid& grid() const;
   double voxelSize() const;
   const SparseFieldOptions& options() const;
-  /// Counts and bytes of the slab's leaves, ghosts included.
+  /// Counts of the slab's own leaves; the bytes hold its ghosts too.
   SparseFieldStats stats() const;
 
  private:

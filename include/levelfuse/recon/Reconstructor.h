@@ -186,6 +186,10 @@ FusionSettings fusionSettingsOf(const ReconstructionOptions& resolved);
 void requireAccumulationMemory(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved, int level);
 
 class Fusion;
+class SlabTeam;
+namespace detail {
+class EvolvingField;
+}
 
 class Reconstructor {
  public:
@@ -206,7 +210,16 @@ class Reconstructor {
   /// false, Interrupted if `interrupter` stops the initial model (the linear
   /// solution, before the first progress report), InsufficientMemory if the
   /// finest grid would not fit.
-  ReconstructionResult run(const ProgressCallback& progress = {}, const Interrupter& interrupter = {}) const;
+  ///
+  /// With a `team` of more than one process (levelset/SlabTeam.h, e.g. the
+  /// ranks of an MPI job, mpi/RankTeam.h), every process runs it alike on
+  /// the same scans and options; each evolves one slab of every grid, cut
+  /// along x where the coarsest grid's leaf nodes share out evenly. The
+  /// result is one process's, bit for bit, and only the team's first process
+  /// holds it (the level set, weight and colour are null on the others). The
+  /// scans, the data term and the initial model are every process's whole.
+  ReconstructionResult run(const ProgressCallback& progress = {}, const Interrupter& interrupter = {},
+                           const SlabTeam* team = nullptr) const;
 
   /// The linear solution (the zero set of g, Eq. 17) on the finest grid
   /// alone, no evolution: VRIP-style fusion. Throws InsufficientMemory, as
@@ -259,12 +272,12 @@ class Reconstructor {
   /// Evolves `field`, of voxel size h, under the data term and the prior
   /// until it converges, settles or reaches the iteration limit (section 6).
   template <typename Field>
-  LevelReport evolveLevel(SparseField& field, const Field& data, double h, ReconstructionProgress& state,
+  LevelReport evolveLevel(detail::EvolvingField& field, const Field& data, double h, ReconstructionProgress& state,
                           const std::function<void()>& report) const;
   /// Grid `level` of run(): `field` resampled from the grid before (if any)
   /// and evolved; on the finest grid, the result's level set and weight.
   /// The data term is the fusion's grids if it is given, else the maps'.
-  LevelReport reconstructLevel(int level, std::unique_ptr<SparseField>& field, const Fusion* fusion,
+  LevelReport reconstructLevel(int level, detail::EvolvingField& field, const Fusion* fusion,
                                ReconstructionProgress& state, const std::function<void()>& report,
                                const Interrupter& interrupter, ReconstructionResult& result) const;
   /// The run's parameters as the output grid's levelfuse_* metadata.

@@ -1,6 +1,6 @@
 // levelfuse: the collective operations of a sparse field shared by MPI ranks.
 
-#include <levelfuse/mpi/SlabTeam.h>
+#include <levelfuse/mpi/RankTeam.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -40,18 +40,24 @@ void waitAll(std::vector<MPI_Request>& requests) {
 
 }  // namespace
 
-SlabTeam::SlabTeam(MPI_Comm communicator) : mCommunicator(communicator) {
+RankTeam::RankTeam(MPI_Comm communicator) : mCommunicator(communicator) {
   MPI_Comm_rank(mCommunicator, &mRank);
   MPI_Comm_size(mCommunicator, &mSize);
 }
 
-double SlabTeam::largest(double value) const {
+double RankTeam::largest(double value) const {
   double out = value;
   MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, mCommunicator);
   return out;
 }
 
-StepTally SlabTeam::sum(const StepTally& tally) const {
+std::uint64_t RankTeam::total(std::uint64_t count) const {
+  std::uint64_t out = count;
+  MPI_Allreduce(&count, &out, 1, MPI_UINT64_T, MPI_SUM, mCommunicator);
+  return out;
+}
+
+StepTally RankTeam::sum(const StepTally& tally) const {
   std::vector<StepTally> all(static_cast<std::size_t>(mSize));
   MPI_Allgather(&tally, sizeof(StepTally), MPI_BYTE, all.data(), sizeof(StepTally), MPI_BYTE, mCommunicator);
   StepTally total;
@@ -59,11 +65,11 @@ StepTally SlabTeam::sum(const StepTally& tally) const {
   return total;
 }
 
-void SlabTeam::refreshGhosts(SlabField& slab) const {
+void RankTeam::refreshGhosts(SlabField& slab) const {
   const bool lowerOpen = slab.bounds().begin == -SlabBounds::kUnbounded;
   const bool higherOpen = slab.bounds().end == SlabBounds::kUnbounded;
   if (lowerOpen != (mRank == 0) || higherOpen != (mRank == mSize - 1))
-    throw std::logic_error("SlabTeam::refreshGhosts: rank " + std::to_string(mRank) + " of " +
+    throw std::logic_error("RankTeam::refreshGhosts: rank " + std::to_string(mRank) + " of " +
                            std::to_string(mSize) + " holds a slab [" + std::to_string(slab.bounds().begin) + ", " +
                            std::to_string(slab.bounds().end) +
                            ") that is not its place in the order along x (only the first rank's begins, and the "
@@ -100,7 +106,7 @@ void SlabTeam::refreshGhosts(SlabField& slab) const {
   slab.acceptGhosts(SlabSide::kHigher, fromHigher);
 }
 
-std::vector<PackedLeaves> SlabTeam::gather(const PackedLeaves& leaves, int root) const {
+std::vector<PackedLeaves> RankTeam::gather(const PackedLeaves& leaves, int root) const {
   std::uint64_t size = leaves.size();
   std::vector<std::uint64_t> sizes(static_cast<std::size_t>(mSize));
   MPI_Gather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, root, mCommunicator);

@@ -8,9 +8,10 @@
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/levelset/LevelSetFromFunction.h>
 #include <levelfuse/levelset/SlabField.h>
+#include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/SpeedTerms.h>
-#include <levelfuse/mpi/SlabTeam.h>
+#include <levelfuse/mpi/RankTeam.h>
 
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -34,20 +35,20 @@ std::vector<SlabBounds> slabsOf(const openvdb::FloatGrid& levelSet, int ranks) {
 
 template <typename Speed>
 void expectTeamFollowsOneProcess(const openvdb::FloatGrid& levelSet, const Speed& speed, int steps) {
-  const mpi::SlabTeam team;
+  const mpi::RankTeam team;
   const std::vector<SlabBounds> slabs = slabsOf(levelSet, team.size());
   SlabField slab = SlabField::fromLevelSet(levelSet, slabs[static_cast<std::size_t>(team.rank())]);
   SparseField whole = SparseField::fromLevelSet(levelSet);
   int sameReports = 0;
   for (int s = 1; s <= steps; ++s) {
     const StepResult a = whole.step(speed);
-    const StepResult b = mpi::step(slab, speed, team);
+    const StepResult b = stepSlab(slab, speed, team);
     sameReports += a.dt == b.dt && a.rmsChange == b.rmsChange && a.maxChange == b.maxChange &&
                    a.activeSetVoxels == b.activeSetVoxels && a.movedOut == b.movedOut && a.movedIn == b.movedIn;
   }
   EXPECT_EQ(sameReports, steps) << "rank " << team.rank() << ": steps whose report differs from one process's";
   EXPECT_GT(team.ghostBytesSent(), 0u) << "rank " << team.rank();
-  const std::vector<PackedLeaves> pieces = team.gather(slab.ownedLeaves());
+  const std::vector<PackedLeaves> pieces = team.gather(slab.ownedLeaves(), 0);
   if (team.rank() != 0) return;
   const SparseField parts = SlabField::assemble(pieces, levelSet);
   std::string why;
@@ -63,12 +64,12 @@ openvdb::FloatGrid::Ptr sample(const std::function<double(const Vec3d&)>& f, con
   return levelSetFromFunction(f, box, 1.0);
 }
 
-TEST(SlabTeam, ASphereUnderCurvatureFlowIsOneProcesssSphere) {
+TEST(RankTeam, ASphereUnderCurvatureFlowIsOneProcesssSphere) {
   const auto sphere = sample(shapes::Sphere{Vec3d(0.3, -0.2, 0.1), 17.0}, openvdb::BBoxd(Vec3d(-21), Vec3d(21)));
   expectTeamFollowsOneProcess(*sphere, MeanCurvatureFlow{1.0}, 40);
 }
 
-TEST(SlabTeam, SpheresMergingAcrossSlabsAreOneProcesssSpheres) {
+TEST(RankTeam, SpheresMergingAcrossSlabsAreOneProcesssSpheres) {
   const auto twoSpheres = sample(
       [](const Vec3d& p) {
         return std::min(shapes::Sphere{Vec3d(-9.6, 0.2, 0.1), 7.0}(p), shapes::Sphere{Vec3d(9.4, -0.1, 0.3), 7.0}(p));
@@ -77,7 +78,7 @@ TEST(SlabTeam, SpheresMergingAcrossSlabsAreOneProcesssSpheres) {
   expectTeamFollowsOneProcess(*twoSpheres, ConstantSpeed{ConstantForce{1.0}, 0.1}, 40);
 }
 
-TEST(SlabTeam, ATorusUnderAForceThatVariesIsOneProcesssTorus) {
+TEST(RankTeam, ATorusUnderAForceThatVariesIsOneProcesssTorus) {
   const auto torus = sample(shapes::Torus{Vec3d(0.2, 0.1, -0.2), 14.0, 2.6}, openvdb::BBoxd(Vec3d(-20), Vec3d(20)));
   const ExternalForceSpeed force{[](const Vec3d& x, const Vec3d& n) {
                                    return 0.6 * std::sin(0.3 * x.x()) + 0.4 * std::cos(0.2 * x.y() + 0.1 * x.z()) +
@@ -89,13 +90,3 @@ TEST(SlabTeam, ATorusUnderAForceThatVariesIsOneProcesssTorus) {
 
 }  // namespace
 }  // namespace levelfuse
-
-/// Every rank runs every test; the job fails if any rank fails.
-int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  ::testing::InitGoogleTest(&argc, argv);
-  int failed = RUN_ALL_TESTS();
-  MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Finalize();
-  return failed;
-}

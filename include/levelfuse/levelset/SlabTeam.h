@@ -1,0 +1,50 @@
+// levelfuse: the processes that share a sparse field, one slab each
+// (SlabField.h), and one step of the field across them.
+//
+// A team is whatever moves a slab's ghosts between neighbours and combines
+// numbers over all slabs: the MPI layer's mpi::RankTeam (mpi/RankTeam.h) for
+// the ranks of an MPI job. The library's pipeline (recon/Reconstructor.h)
+// steps its slab through this interface and so knows nothing of MPI.
+#pragma once
+
+#include <levelfuse/levelset/SlabField.h>
+#include <levelfuse/levelset/SpeedTerms.h>
+#include <levelfuse/levelset/StepTally.h>
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace levelfuse {
+
+class SlabTeam {
+ public:
+  virtual ~SlabTeam() = default;
+
+  /// This process's place along x (its slab's), from 0, and the team's size.
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  /// The largest of every process's `value`, on every process.
+  virtual double largest(double value) const = 0;
+  /// The sum of every process's `count`, on every process.
+  virtual std::uint64_t total(std::uint64_t count) const = 0;
+  /// The sum of every process's tally (exact: StepTally.h), on every process.
+  virtual StepTally sum(const StepTally& tally) const = 0;
+  /// Sends the slab's leaves beside each neighbour and takes theirs as its ghosts.
+  virtual void refreshGhosts(SlabField& slab) const = 0;
+  /// Every process's `leaves`, in rank order, at `root`; empty on the others.
+  virtual std::vector<PackedLeaves> gather(const PackedLeaves& leaves, int root) const = 0;
+};
+
+/// One step of the field the team shares; every process calls it with its
+/// own slab. Returns the whole field's report, the same on every process.
+template <typename Speed>
+StepResult stepSlab(SlabField& slab, const Speed& speed, const SlabTeam& team,
+                    double maxDt = std::numeric_limits<double>::infinity()) {
+  team.refreshGhosts(slab);
+  const double maxSpeed = team.largest(slab.computeRates(speed));
+  const double dt = slab.timeStep(maxSpeed, speed.curvatureWeight(), speedStiffness(speed), maxDt);
+  return team.sum(slab.applyRates(dt, maxSpeed)).result(slab.voxelSize());
+}
+
+}  // namespace levelfuse

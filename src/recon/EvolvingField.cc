@@ -1,0 +1,69 @@
+// levelfuse: the field of one grid of a reconstruction, whole or in slabs.
+
+#include "EvolvingField.h"
+
+#include <levelfuse/levelset/Refine.h>
+
+#include <map>
+
+namespace levelfuse::detail {
+
+namespace {
+
+/// The team's slabs of `whole`: leaf columns shared out by their leaf counts.
+SlabBounds slabOf(const SparseField& whole, const SlabTeam& team) {
+  std::map<openvdb::Int32, std::size_t> columns;
+  for (auto leaf = whole.grid().tree().cbeginLeaf(); leaf; ++leaf) ++columns[leaf->origin().x()];
+  return balancedSlabs({columns.begin(), columns.end()}, team.size()).at(static_cast<std::size_t>(team.rank()));
+}
+
+}  // namespace
+
+EvolvingField::EvolvingField(SparseField whole) : mWhole(std::make_unique<SparseField>(std::move(whole))) {}
+
+EvolvingField::EvolvingField(const SparseField& whole, const SlabTeam& team)
+    : mSlab(std::make_unique<SlabField>(SlabField::fromField(whole, slabOf(whole, team)))), mTeam(&team) {}
+
+EvolvingField::EvolvingField(EvolvingField&&) noexcept = default;
+EvolvingField& EvolvingField::operator=(EvolvingField&&) noexcept = default;
+EvolvingField::~EvolvingField() = default;
+
+const openvdb::FloatGrid& EvolvingField::grid() const { return mSlab ? mSlab->grid() : mWhole->grid(); }
+
+bool EvolvingField::owns(const openvdb::Coord& origin) const {
+  return !mSlab || (origin.x() >= mSlab->bounds().begin && origin.x() < mSlab->bounds().end);
+}
+
+double EvolvingField::largest(double value) const { return mTeam ? mTeam->largest(value) : value; }
+
+void EvolvingField::refine(const SparseFieldOptions& engine) {
+  if (!mSlab) {
+    mWhole = std::make_unique<SparseField>(SparseField::fromLevelSet(*refineLevelSet(*mWhole->toLevelSet(3.0)), engine));
+    return;
+  }
+  // The slab's level set is the whole field's where the finer slab and its
+  // ghosts read it once the ghosts are fresh (SlabField::toLevelSet).
+  mTeam->refreshGhosts(*mSlab);
+  const SlabBounds finer = onFinerGrid(mSlab->bounds());
+  const openvdb::FloatGrid::Ptr refined = refineLevelSet(*mSlab->toLevelSet(3.0));
+  mSlab.reset();
+  mSlab = std::make_unique<SlabField>(SlabField::fromLevelSet(*refined, finer, engine));
+}
+
+openvdb::FloatGrid::Ptr EvolvingField::levelSet(const std::string& name) const {
+  if (!mSlab) return mWhole->toLevelSet(3.0, name);
+  const std::vector<PackedLeaves> pieces = mTeam->gather(mSlab->ownedLeaves(), 0);
+  if (mTeam->rank() != 0) return nullptr;
+  return SlabField::assemble(pieces, mSlab->grid(), mSlab->options()).toLevelSet(3.0, name);
+}
+
+SparseFieldStats EvolvingField::stats() const {
+  if (!mSlab) return mWhole->stats();
+  SparseFieldStats s = mSlab->stats();
+  s.activeSetVoxels = mTeam->total(s.activeSetVoxels);
+  s.bandVoxels = mTeam->total(s.bandVoxels);
+  s.leafNodes = mTeam->total(s.leafNodes);
+  return s;
+}
+
+}  // namespace levelfuse::detail

@@ -1,0 +1,57 @@
+// levelfuse: the field a reconstruction evolves on one grid: the whole
+// field, or this process's slab of it when a team of processes shares the
+// evolution (levelset/SlabTeam.h). Private to the reconstruction.
+#pragma once
+
+#include <levelfuse/levelset/SlabTeam.h>
+#include <levelfuse/levelset/SparseField.h>
+
+#include <openvdb/openvdb.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace levelfuse::detail {
+
+class EvolvingField {
+ public:
+  /// The whole field, in this process.
+  explicit EvolvingField(SparseField whole);
+  /// This process's slab of `whole`, the coarsest grid's field, which every
+  /// process of `team` has made alike: the field is cut into as many slabs as
+  /// the team has processes, with about as many leaf nodes each. The cuts
+  /// stay where they are on the finer grids (refine).
+  EvolvingField(const SparseField& whole, const SlabTeam& team);
+
+  EvolvingField(EvolvingField&&) noexcept;
+  EvolvingField& operator=(EvolvingField&&) noexcept;
+  ~EvolvingField();
+
+  /// One step under `speed`: the whole field's report, on every process.
+  template <typename Speed>
+  StepResult step(const Speed& speed) {
+    return mSlab ? stepSlab(*mSlab, speed, *mTeam) : mWhole->step(speed);
+  }
+  /// The values: the whole field's, or the slab's with its ghosts.
+  const openvdb::FloatGrid& grid() const;
+  /// Whether this process answers for the leaf at `origin` (all, for the whole field).
+  bool owns(const openvdb::Coord& origin) const;
+  /// The largest of every process's `value`.
+  double largest(double value) const;
+  /// The field resampled to half the voxel size (refineLevelSet) and built
+  /// again with `engine`; a slab becomes the slab of the finer grid.
+  void refine(const SparseFieldOptions& engine);
+  /// The whole field as an OpenVDB level set (half-width 3, named `name`): on
+  /// a team, at its first process only (null on the others).
+  openvdb::FloatGrid::Ptr levelSet(const std::string& name) const;
+  /// The whole field's counts; the bytes are this process's.
+  SparseFieldStats stats() const;
+
+ private:
+  std::unique_ptr<SparseField> mWhole;
+  std::unique_ptr<SlabField> mSlab;
+  const SlabTeam* mTeam = nullptr;
+};
+
+}  // namespace levelfuse::detail

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# The converter under mpirun (tests/mpi/CMakeLists.txt): the same .vdb and
+# mesh, byte for byte, from 1, 2 and 4 ranks; a rank that fails (bad input, a
+# memory limit it cannot meet, killed mid-run) stops every rank, with a clear
+# message, a non-zero exit and no output, and never hangs.
+#   cli_mpi_test.sh <levelfuse> <mpiexec> <scratch folder>
+set -uo pipefail
+levelfuse=$1
+mpiexec=$2
+work=$3
+export OMPI_MCA_btl_vader_single_copy_mechanism=none
+run() { timeout 240 "$mpiexec" --oversubscribe --allow-run-as-root -np "$@"; }
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+"$levelfuse" synth --shape torus --noise 0.1 -o scans >/dev/null || fail "synth"
+
+# 1. One process, then 2 and 4 ranks: identical outputs.
+"$levelfuse" reconstruct scans/scans.json -o one.vdb --mesh one.ply -q || fail "one process"
+for ranks in 2 4; do
+  run "$ranks" "$levelfuse" reconstruct scans/scans.json -o "r$ranks.vdb" --mesh "r$ranks.ply" -q ||
+    fail "$ranks ranks exited with $?"
+  cmp one.vdb "r$ranks.vdb" || fail "$ranks ranks: the .vdb differs from one process's"
+  cmp one.ply "r$ranks.ply" || fail "$ranks ranks: the mesh differs from one process's"
+done
+
+# 2. Bad input: every rank fails alike; the job ends with the one-line error naming the file.
+echo '{"scans": [{"format": "nope"}]}' > bad.json
+run 2 "$levelfuse" reconstruct bad.json -o bad.vdb 2> bad.err
+code=$?
+[ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "bad input: exit code $code"
+grep -q "bad.json: scans\[0\]: unknown format 'nope'" bad.err || fail "bad input: no message naming the file"
+[ ! -e bad.vdb ] || fail "bad input: an output was written"
+
+# 3. One rank of two cannot have the memory its grids need: it says so, and the job stops.
+cat > limited.sh <<SCRIPT
+#!/usr/bin/env bash
+[ "\${OMPI_COMM_WORLD_RANK:-0}" = 1 ] && ulimit -v 1500000
+exec "$levelfuse" "\$@"
+SCRIPT
+chmod +x limited.sh
+run 2 ./limited.sh reconstruct scans/scans.json --voxel-size 0.0015 -o limited.vdb 2> limited.err
+code=$?
+[ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "memory limit: exit code $code"
+grep -q "rank 1 of 2" limited.err || fail "memory limit: no message from the rank that failed: $(cat limited.err)"
+[ ! -e limited.vdb ] || fail "memory limit: an output was written"
+
+# 4. One rank of four killed mid-run: every rank stops, nothing is written.
+run 4 "$levelfuse" reconstruct scans/scans.json --voxel-size 0.004 -o "$work/killed.vdb" -q 2> killed.err &
+job=$!
+trap 'pkill -9 -f -- "$work/killed.vdb"' EXIT
+ranks() {
+  for p in $(pgrep -f -- "$work/killed.vdb"); do
+    [ "$(cat "/proc/$p/comm" 2>/dev/null)" = levelfuse ] && echo "$p"
+  done
+}
+victim=""
+for _ in $(seq 100); do
+  sleep 0.2
+  [ "$(ranks | wc -l)" -eq 4 ] && victim=$(ranks | sed -n 3p) && break
+done
+[ -n "$victim" ] || fail "killed rank: the ranks did not start"
+sleep 1
+kill -9 "$victim"
+wait "$job"
+code=$?
+[ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "killed rank: exit code $code"
+[ -z "$(ranks)" ] || fail "killed rank: ranks still run"
+[ ! -e killed.vdb ] || fail "killed rank: an output was written"
+echo "ok"
