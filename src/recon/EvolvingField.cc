@@ -57,6 +57,8 @@ openvdb::FloatGrid::Ptr EvolvingField::levelSet(const std::string& name) const {
   return SlabField::assemble(pieces, mSlab->grid(), mSlab->options()).toLevelSet(3.0, name);
 }
 
+std::size_t EvolvingField::ownLeafNodes() const { return mSlab ? mSlab->stats().leafNodes : mWhole->stats().leafNodes; }
+
 SparseFieldStats EvolvingField::stats() const {
   if (!mSlab) return mWhole->stats();
   SparseFieldStats s = mSlab->stats();

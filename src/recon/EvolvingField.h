@@ -47,6 +47,8 @@ class EvolvingField {
   openvdb::FloatGrid::Ptr levelSet(const std::string& name) const;
   /// The whole field's counts; the bytes are this process's.
   SparseFieldStats stats() const;
+  /// The leaf nodes this process answers for: its slab's own, or the whole field's.
+  std::size_t ownLeafNodes() const;
 
  private:
   std::unique_ptr<SparseField> mWhole;

@@ -483,6 +483,7 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
   done.activeSetVoxels = stats.activeSetVoxels;
   done.bandVoxels = stats.bandVoxels;
   done.engineBytes = stats.memoryBytes;
+  done.ownLeafNodes = field.ownLeafNodes();
   done.voxelSize = h;
   done.seconds = std::chrono::duration<double>(Clock::now() - levelStart).count();
   return done;

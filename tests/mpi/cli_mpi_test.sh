@@ -18,10 +18,18 @@ rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 # 1. One process, then 2 and 4 ranks: identical outputs.
 "$levelfuse" reconstruct scans/scans.json -o one.vdb --mesh one.ply -q || fail "one process"
 for ranks in 2 4; do
-  run "$ranks" "$levelfuse" reconstruct scans/scans.json -o "r$ranks.vdb" --mesh "r$ranks.ply" -q ||
+  run "$ranks" "$levelfuse" reconstruct scans/scans.json -o "r$ranks.vdb" --mesh "r$ranks.ply" --json > "r$ranks.json" ||
     fail "$ranks ranks exited with $?"
   cmp one.vdb "r$ranks.vdb" || fail "$ranks ranks: the .vdb differs from one process's"
   cmp one.ply "r$ranks.ply" || fail "$ranks ranks: the mesh differs from one process's"
+  # The summary, printed once, says what each rank's share cost.
+  python3 - "r$ranks.json" "$ranks" <<'PY' || fail "$ranks ranks: the summary's ranks: $(cat "r$ranks.json")"
+import json, sys
+summary = json.load(open(sys.argv[1]))
+ranks = summary["ranks"]
+assert len(ranks) == int(sys.argv[2])
+assert all(r["leaf_nodes"] > 0 and r["peak_memory_bytes"] > 0 and r["seconds"] > 0 for r in ranks)
+PY
 done
 
 # 2. Bad input: every rank fails alike; the job ends with the one-line error naming the file.

@@ -70,4 +70,15 @@ void abortJobIfShared(int exitCode) {
 #endif
 }
 
+std::vector<RankFacts> gatherRankFacts(const RankFacts& facts) {
+#if defined(LEVELFUSE_HAVE_MPI)
+  if (const SlabTeam* team = jobTeam()) {
+    std::vector<RankFacts> all(team->rank() == 0 ? static_cast<std::size_t>(team->size()) : 0);
+    MPI_Gather(&facts, sizeof(RankFacts), MPI_BYTE, all.data(), sizeof(RankFacts), MPI_BYTE, 0, MPI_COMM_WORLD);
+    return all;
+  }
+#endif
+  return {facts};
+}
+
 }  // namespace levelfuse::cli

@@ -9,7 +9,8 @@
 
 #include <levelfuse/levelset/SlabTeam.h>
 
-#include <memory>
+#include <cstdint>
+#include <vector>
 
 namespace levelfuse::cli {
 
@@ -27,5 +28,16 @@ bool leadsTheJob();
 /// Ends every rank of the job with `exitCode` when this one failed; returns
 /// outside a job of more than one rank.
 void abortJobIfShared(int exitCode);
+
+/// What one rank's share of a reconstruction cost it.
+struct RankFacts {
+  double seconds = 0.0;           ///< from its start to the end of the evolution
+  std::uint64_t peakBytes = 0;    ///< its peak resident memory
+  std::uint64_t engineBytes = 0;  ///< its sparse field's, at the largest
+  std::uint64_t leafNodes = 0;    ///< its own leaf nodes of the finest grid
+};
+/// Every rank's facts, in rank order, at the first rank (empty on the
+/// others); outside a job, `facts` alone. Every rank of a job must call it.
+std::vector<RankFacts> gatherRankFacts(const RankFacts& facts);
 
 }  // namespace levelfuse::cli

@@ -228,6 +228,7 @@ struct Summary {
   bool trimmed = false;  ///< the mesh and preview left out what no scan observed
   std::size_t triangles = 0;
   double seconds = 0.0;
+  std::vector<RankFacts> ranks;  ///< in an MPI job, what each rank's share cost
 };
 
 void printJson(const Summary& r) {
@@ -271,6 +272,15 @@ void printJson(const Summary& r) {
                    {"outputs", {{"vdb", s.output}, {"mesh", s.mesh}, {"preview", s.preview}}},
                    {"triangles", r.triangles},
                    {"trimmed_unseen", r.trimmed}};
+  if (r.ranks.size() > 1) {
+    nlohmann::json ranks = nlohmann::json::array();
+    for (const RankFacts& f : r.ranks)
+      ranks.push_back({{"seconds", f.seconds},
+                       {"peak_memory_bytes", f.peakBytes},
+                       {"peak_engine_bytes", f.engineBytes},
+                       {"leaf_nodes", f.leafNodes}});
+    j["ranks"] = ranks;
+  }
   if (r.inputs.truth)
     j["truth"] = {{"shape", r.inputs.truth->name()},
                   {"rms_error", r.measures.truthRms},
@@ -298,8 +308,15 @@ void printText(const Summary& r) {
               << withCommas(l.activeSetVoxels) << " voxels in the active set, " << fixed(l.seconds, 3) << " s\n";
   std::cout << "  surface: " << withCommas(r.result.levelSet->activeVoxelCount())
             << " narrow-band voxels; memory: engine " << mebibytes(r.result.peakEngineBytes) << ", process peak "
-            << mebibytes(peakResidentBytes()) << "\n"
-            << "  fit to the points"
+            << mebibytes(peakResidentBytes()) << (r.ranks.size() > 1 ? " (rank 0)" : "") << "\n";
+  if (r.ranks.size() > 1) {
+    std::cout << "  " << r.ranks.size() << " MPI ranks, one slab of every grid each:\n";
+    for (std::size_t k = 0; k < r.ranks.size(); ++k)
+      std::cout << "    rank " << k << ": " << withCommas(r.ranks[k].leafNodes) << " leaf nodes of the finest grid, engine "
+                << mebibytes(r.ranks[k].engineBytes) << ", process peak " << mebibytes(r.ranks[k].peakBytes) << ", "
+                << fixed(r.ranks[k].seconds, 3) << " s to the end of the evolution\n";
+  }
+  std::cout << "  fit to the points"
             << (m.fitSample > 1 ? " (a sample of " + withCommas(fit.readings) + ": one reading in " +
                                       std::to_string(m.fitSample) + " along each row and column of each scan)"
                                 : std::string())
@@ -334,12 +351,17 @@ int runReconstruct(ReconstructSettings s) {
   const Presentation shown = presentationOf(reconstructor, s);
   if (s.linear && !leadsTheJob()) return kExitSuccess;  // the linear solution is not shared
   const ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
+  std::vector<RankFacts> ranks;
+  if (!s.linear)
+    ranks = gatherRankFacts(RankFacts{std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
+                                      peakResidentBytes(), result.peakEngineBytes,
+                                      result.levels.empty() ? 0 : result.levels.back().ownLeafNodes});
   if (!leadsTheJob()) return kExitSuccess;
   made.letTheGridsGo();
   const Measures measures = measure(made, result, shown, inputs);
   const std::size_t triangles = writeOutputs(inputs, result, shown, s);
   const Summary summary{s, reconstructor, result, inputs, measures, shown.trim, triangles,
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()};
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), ranks};
   if (s.json) printJson(summary);
   else if (!s.quiet) printText(summary);
   return kExitSuccess;

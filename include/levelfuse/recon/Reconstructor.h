@@ -152,7 +152,10 @@ struct LevelReport {
   double seconds = 0.0;
   std::size_t activeSetVoxels = 0;  ///< the active set L0 at the end of the grid
   std::size_t bandVoxels = 0;       ///< every layer, L0 included: the narrow band
-  std::size_t engineBytes = 0;  ///< the sparse field's memory at the end of the grid
+  std::size_t engineBytes = 0;  ///< the sparse field's memory at the end of the grid (this process's)
+  /// Leaf nodes of the field at the end of the grid: on a team (run with a
+  /// SlabTeam), this process's slab's own.
+  std::size_t ownLeafNodes = 0;
 };
 
 struct ReconstructionResult {
