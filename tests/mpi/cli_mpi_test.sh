@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The converter under mpirun (tests/mpi/CMakeLists.txt): the same .vdb and
-# mesh, byte for byte, from 1, 2 and 4 ranks; a rank that fails (bad input, a
+# mesh, byte for byte, from 1, 2 and 4 ranks (a synthetic torus, and the
+# Stanford bunny when ../shared is beside the repository); a rank that fails (bad input, a
 # memory limit it cannot meet, killed mid-run) stops every rank, with a clear
 # message, a non-zero exit and no output, and never hangs.
 #   cli_mpi_test.sh <levelfuse> <mpiexec> <scratch folder>
@@ -8,6 +9,7 @@ set -uo pipefail
 levelfuse=$1
 mpiexec=$2
 work=$3
+here=$(cd "$(dirname "$0")" && pwd)
 export OMPI_MCA_btl_vader_single_copy_mechanism=none
 run() { timeout 240 "$mpiexec" --oversubscribe --allow-run-as-root -np "$@"; }
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -31,6 +33,18 @@ assert len(ranks) == int(sys.argv[2])
 assert all(r["leaf_nodes"] > 0 and r["peak_memory_bytes"] > 0 and r["seconds"] > 0 for r in ranks)
 PY
 done
+
+# The Stanford bunny's ten scans at its own resolution (0.5 mm), when the shared data are beside the repository.
+bunny="$here/../../../shared/data/stanford/bunny/bun.conf"
+if [ -f "$bunny" ]; then
+  "$levelfuse" reconstruct "$bunny" -o bunny1.vdb -q || fail "bunny, one process"
+  for ranks in 2 4; do
+    run "$ranks" "$levelfuse" reconstruct "$bunny" -o "bunny$ranks.vdb" -q || fail "bunny, $ranks ranks"
+    cmp bunny1.vdb "bunny$ranks.vdb" || fail "bunny, $ranks ranks: the .vdb differs from one process's"
+  done
+else
+  echo "the bunny's scans are not at $bunny: its part of the test is left out"
+fi
 
 # 2. Bad input: every rank fails alike; the job ends with the one-line error naming the file.
 echo '{"scans": [{"format": "nope"}]}' > bad.json
