@@ -30,7 +30,8 @@ import json, sys
 summary = json.load(open(sys.argv[1]))
 ranks = summary["ranks"]
 assert len(ranks) == int(sys.argv[2])
-assert all(r["leaf_nodes"] > 0 and r["peak_memory_bytes"] > 0 and r["seconds"] > 0 for r in ranks)
+assert all(r["leaf_nodes"] > 0 and r["peak_memory_bytes"] > 0 and r["seconds"] > 0 and r["ghost_bytes_sent"] > 0
+           for r in ranks)
 PY
 done
 

@@ -70,6 +70,13 @@ void abortJobIfShared(int exitCode) {
 #endif
 }
 
+std::uint64_t ghostBytesSent() {
+#if defined(LEVELFUSE_HAVE_MPI)
+  if (gTeam) return gTeam->ghostBytesSent();
+#endif
+  return 0;
+}
+
 std::vector<RankFacts> gatherRankFacts(const RankFacts& facts) {
 #if defined(LEVELFUSE_HAVE_MPI)
   if (const SlabTeam* team = jobTeam()) {

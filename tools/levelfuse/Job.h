@@ -35,7 +35,10 @@ struct RankFacts {
   std::uint64_t peakBytes = 0;    ///< its peak resident memory
   std::uint64_t engineBytes = 0;  ///< its sparse field's, at the largest
   std::uint64_t leafNodes = 0;    ///< its own leaf nodes of the finest grid
+  std::uint64_t ghostBytes = 0;   ///< the ghosts it sent its neighbours, every grid and iteration
 };
+/// The bytes of ghosts this rank has sent its neighbours so far (0 outside a job).
+std::uint64_t ghostBytesSent();
 /// Every rank's facts, in rank order, at the first rank (empty on the
 /// others); outside a job, `facts` alone. Every rank of a job must call it.
 std::vector<RankFacts> gatherRankFacts(const RankFacts& facts);

@@ -278,7 +278,8 @@ void printJson(const Summary& r) {
       ranks.push_back({{"seconds", f.seconds},
                        {"peak_memory_bytes", f.peakBytes},
                        {"peak_engine_bytes", f.engineBytes},
-                       {"leaf_nodes", f.leafNodes}});
+                       {"leaf_nodes", f.leafNodes},
+                       {"ghost_bytes_sent", f.ghostBytes}});
     j["ranks"] = ranks;
   }
   if (r.inputs.truth)
@@ -310,11 +311,16 @@ void printText(const Summary& r) {
             << " narrow-band voxels; memory: engine " << mebibytes(r.result.peakEngineBytes) << ", process peak "
             << mebibytes(peakResidentBytes()) << (r.ranks.size() > 1 ? " (rank 0)" : "") << "\n";
   if (r.ranks.size() > 1) {
+    std::uint64_t iterations = 0;
+    for (const LevelReport& l : r.result.levels) iterations += static_cast<std::uint64_t>(l.iterations);
+    iterations = std::max<std::uint64_t>(iterations, 1);
     std::cout << "  " << r.ranks.size() << " MPI ranks, one slab of every grid each:\n";
     for (std::size_t k = 0; k < r.ranks.size(); ++k)
       std::cout << "    rank " << k << ": " << withCommas(r.ranks[k].leafNodes) << " leaf nodes of the finest grid, engine "
                 << mebibytes(r.ranks[k].engineBytes) << ", process peak " << mebibytes(r.ranks[k].peakBytes) << ", "
-                << fixed(r.ranks[k].seconds, 3) << " s to the end of the evolution\n";
+                << fixed(r.ranks[k].seconds, 3) << " s to the end of the evolution, "
+                << mebibytes(r.ranks[k].ghostBytes) << " of ghosts sent (" << mebibytes(r.ranks[k].ghostBytes / iterations)
+                << " an iteration)\n";
   }
   std::cout << "  fit to the points"
             << (m.fitSample > 1 ? " (a sample of " + withCommas(fit.readings) + ": one reading in " +
@@ -355,7 +361,8 @@ int runReconstruct(ReconstructSettings s) {
   if (!s.linear)
     ranks = gatherRankFacts(RankFacts{std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
                                       peakResidentBytes(), result.peakEngineBytes,
-                                      result.levels.empty() ? 0 : result.levels.back().ownLeafNodes});
+                                      result.levels.empty() ? 0 : result.levels.back().ownLeafNodes,
+                                      ghostBytesSent()});
   if (!leadsTheJob()) return kExitSuccess;
   made.letTheGridsGo();
   const Measures measures = measure(made, result, shown, inputs);
