@@ -256,10 +256,13 @@ PackedLeaves SlabField::ownedLeaves() const {
   return out;
 }
 
-SparseField SlabField::assemble(const std::vector<PackedLeaves>& slabs, const openvdb::FloatGrid& levelSet,
+SparseField SlabField::assemble(std::vector<PackedLeaves> slabs, const openvdb::FloatGrid& levelSet,
                                 const SparseFieldOptions& options) {
   auto state = emptyState(options, levelSet);
-  for (const PackedLeaves& slab : slabs) insertLeaves(*state, slab);
+  for (PackedLeaves& slab : slabs) {
+    insertLeaves(*state, slab);
+    PackedLeaves().swap(slab);
+  }
   // The band is whole again, so the flood fill finds the side of every voxel
   // and tile beyond it.
   openvdb::tools::signedFloodFill(state->tree());

@@ -50,17 +50,34 @@ void EvolvingField::refine(const SparseFieldOptions& engine) {
   mSlab = std::make_unique<SlabField>(SlabField::fromLevelSet(*refined, finer, engine));
 }
 
-openvdb::FloatGrid::Ptr EvolvingField::levelSet(const std::string& name) const {
-  if (!mSlab) return mWhole->toLevelSet(3.0, name);
-  const std::vector<PackedLeaves> pieces = mTeam->gather(mSlab->ownedLeaves(), 0);
+openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name) {
+  mReleasedStats = stats();
+  mReleasedOwnLeaves = ownLeafNodes();
+  if (!mSlab) {
+    openvdb::FloatGrid::Ptr levelSet = mWhole->toLevelSet(3.0, name);
+    mWhole.reset();
+    return levelSet;
+  }
+  PackedLeaves own = mSlab->ownedLeaves();
+  openvdb::FloatGrid::Ptr like = openvdb::FloatGrid::create();
+  like->setTransform(mSlab->grid().transform().copy());
+  like->setName(mSlab->grid().getName());
+  const SparseFieldOptions options = mSlab->options();
+  mSlab.reset();
+  std::vector<PackedLeaves> pieces = mTeam->gather(own, 0);
+  PackedLeaves().swap(own);
   if (mTeam->rank() != 0) return nullptr;
-  return SlabField::assemble(pieces, mSlab->grid(), mSlab->options()).toLevelSet(3.0, name);
+  return SlabField::assemble(std::move(pieces), *like, options).toLevelSet(3.0, name);
 }
 
-std::size_t EvolvingField::ownLeafNodes() const { return mSlab ? mSlab->stats().leafNodes : mWhole->stats().leafNodes; }
+std::size_t EvolvingField::ownLeafNodes() const {
+  if (mSlab) return mSlab->stats().leafNodes;
+  return mWhole ? mWhole->stats().leafNodes : mReleasedOwnLeaves;
+}
 
 SparseFieldStats EvolvingField::stats() const {
-  if (!mSlab) return mWhole->stats();
+  if (mWhole) return mWhole->stats();
+  if (!mSlab) return mReleasedStats;
   SparseFieldStats s = mSlab->stats();
   s.activeSetVoxels = mTeam->total(s.activeSetVoxels);
   s.bandVoxels = mTeam->total(s.bandVoxels);

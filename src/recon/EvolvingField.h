@@ -43,8 +43,10 @@ class EvolvingField {
   /// again with `engine`; a slab becomes the slab of the finer grid.
   void refine(const SparseFieldOptions& engine);
   /// The whole field as an OpenVDB level set (half-width 3, named `name`): on
-  /// a team, at its first process only (null on the others).
-  openvdb::FloatGrid::Ptr levelSet(const std::string& name) const;
+  /// a team, at its first process only (null on the others). The field is
+  /// let go, its counts kept: the outputs made from the level set need the
+  /// memory (on a team, the first process gathers every slab's leaves).
+  openvdb::FloatGrid::Ptr release(const std::string& name);
   /// The whole field's counts; the bytes are this process's.
   SparseFieldStats stats() const;
   /// The leaf nodes this process answers for: its slab's own, or the whole field's.
@@ -54,6 +56,9 @@ class EvolvingField {
   std::unique_ptr<SparseField> mWhole;
   std::unique_ptr<SlabField> mSlab;
   const SlabTeam* mTeam = nullptr;
+  // What stats() and ownLeafNodes() said when the field was let go.
+  SparseFieldStats mReleasedStats;
+  std::size_t mReleasedOwnLeaves = 0;
 };
 
 }  // namespace levelfuse::detail

@@ -469,7 +469,7 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
     state.stage = ReconstructionProgress::Stage::kEvolving;
     const LevelReport evolved = evolveLevel(field, data, h, state, report);
     if (finestGrid) {
-      result.levelSet = field.levelSet(mOptions.name);
+      result.levelSet = field.release(mOptions.name);
       if (result.levelSet) result.weight = levelfuse::surfaceWeight(*result.levelSet, data, interrupter);
     }
     return evolved;

@@ -101,9 +101,10 @@ class SlabField {
 
   /// The slab's own leaves, packed, for assembling the whole field.
   PackedLeaves ownedLeaves() const;
-  /// The whole sparse field from every slab's ownedLeaves (in any order).
-  /// `levelSet` gives the transform and name, as it did to fromLevelSet.
-  static SparseField assemble(const std::vector<PackedLeaves>& slabs, const openvdb::FloatGrid& levelSet,
+  /// The whole sparse field from every slab's ownedLeaves (in any order),
+  /// each let go once its leaves are in. `levelSet` gives the transform and
+  /// name, as it did to fromLevelSet.
+  static SparseField assemble(std::vector<PackedLeaves> slabs, const openvdb::FloatGrid& levelSet,
                               const SparseFieldOptions& options = {});
 
   const SlabBounds& bounds() const { return mBounds; }
