@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -80,8 +81,8 @@ void insertLeaves(SparseFieldState& state, const PackedLeaves& packed) {
     std::memcpy(&detail::maskWord(band, 0), p, kMaskWords * sizeof(std::uint64_t));
     p += kMaskWords * sizeof(std::uint64_t);
     leaf->setValueMask(band);
-    const std::int32_t r = state.table.find(leaf->origin()) >= 0 ? state.table.find(leaf->origin())
-                                                                 : state.table.add(leaf);
+    std::int32_t r = state.table.find(leaf->origin());
+    if (r < 0) r = state.table.add(leaf);
     state.fitRecordArrays();
     LeafRecord& record = state.table[static_cast<std::size_t>(r)];
     for (int i = 0; i <= layers; ++i) {
@@ -140,9 +141,7 @@ openvdb::Int32 ownColumn(const SlabBounds& b, SlabSide side) {
 openvdb::Int32 ghostColumn(const SlabBounds& b, SlabSide side) {
   return side == SlabSide::kLower ? b.begin - kLeafWidth : b.end;
 }
-bool hasNeighbour(const SlabBounds& b, SlabSide side) {
-  return side == SlabSide::kLower ? b.begin != -SlabBounds::kUnbounded : b.end != SlabBounds::kUnbounded;
-}
+bool hasNeighbour(const SlabBounds& b, SlabSide side) { return side == SlabSide::kLower ? b.hasLower() : b.hasHigher(); }
 
 void requireBounds(const SlabBounds& b) {
   const bool aligned = (!hasNeighbour(b, SlabSide::kLower) || b.begin % kLeafWidth == 0) &&
@@ -272,25 +271,19 @@ SparseField SlabField::assemble(std::vector<PackedLeaves> slabs, const openvdb::
 const openvdb::FloatGrid& SlabField::grid() const { return *mState->grid; }
 double SlabField::voxelSize() const { return mState->dx; }
 const SparseFieldOptions& SlabField::options() const { return mState->options; }
-SparseFieldStats SlabField::stats() const {
-  SparseFieldStats s = detail::statsOf(*mState);
-  // Counts of the slab's own leaves; the bytes hold the ghosts too.
-  s.activeSetVoxels = s.bandVoxels = s.leafNodes = 0;
-  for (std::size_t r = 0; r < mState->table.size(); ++r) {
-    const LeafRecord& record = mState->table[r];
-    if (!mState->owns(record)) continue;
-    s.activeSetVoxels += record.layer[0].countOn();
-    s.bandVoxels += record.leaf->onVoxelCount();
-    ++s.leafNodes;
-  }
-  return s;
-}
+SparseFieldStats SlabField::stats() const { return detail::statsOf(*mState); }
 
 SlabBounds onFinerGrid(const SlabBounds& bounds) {
   SlabBounds finer = bounds;
-  if (finer.begin != -SlabBounds::kUnbounded) finer.begin *= 2;
-  if (finer.end != SlabBounds::kUnbounded) finer.end *= 2;
+  if (finer.hasLower()) finer.begin *= 2;
+  if (finer.hasHigher()) finer.end *= 2;
   return finer;
+}
+
+std::vector<std::pair<openvdb::Int32, std::size_t>> leafColumns(const openvdb::FloatTree& tree) {
+  std::map<openvdb::Int32, std::size_t> counts;
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) ++counts[leaf->origin().x()];
+  return {counts.begin(), counts.end()};
 }
 
 std::vector<SlabBounds> balancedSlabs(const std::vector<std::pair<openvdb::Int32, std::size_t>>& columns, int count,

@@ -274,7 +274,7 @@ SparseFieldStats detail::statsOf(const SparseFieldState& state) {
   SparseFieldStats s;
   const detail::LeafTable& table = state.table;
   for (std::size_t r = 0; r < table.size(); ++r) {
-    if (!table[r].live()) continue;
+    if (!state.owns(table[r])) continue;
     s.activeSetVoxels += table[r].layer[0].countOn();
     s.bandVoxels += table[r].leaf->onVoxelCount();
     ++s.leafNodes;

@@ -49,33 +49,12 @@ float fromNearestInner(const FaceNeighbourhood& inner, unsigned offset, bool ins
   return inside ? layerValue(inner.nearest(offset, true), true, dx) : layerValue(inner.nearest(offset, false), false, dx);
 }
 
-/// The voxels of a leaf on its face f.
-LeafMask faceVoxels(int f) {
-  using namespace bits;
-  LeafMask m;
-  for (int x = 0; x < 8; ++x) {
-    std::uint64_t w = 0;
-    switch (f) {
-      case kFaceXm: w = x == 0 ? ~0ULL : 0; break;
-      case kFaceXp: w = x == 7 ? ~0ULL : 0; break;
-      case kFaceYm: w = kY0; break;
-      case kFaceYp: w = kY7; break;
-      case kFaceZm: w = kZ0; break;
-      default: w = kZ7; break;
-    }
-    maskWord(m, x) = w;
-  }
-  return m;
-}
-
 /// True if the voxels of `ring` on face f lie inside. The layers reach a
 /// missing neighbour leaf only where the active set keeps off the face, so no
 /// sign changes across the face's voxels: they all lie on one side, which is
 /// the side of the whole leaf beyond (no voxel there is in the layers yet).
 bool faceInside(const LeafRecord& record, const LeafMask& ring, int f) {
-  static const LeafMask kFaces[kFaceCount] = {faceVoxels(0), faceVoxels(1), faceVoxels(2),
-                                              faceVoxels(3), faceVoxels(4), faceVoxels(5)};
-  const openvdb::Index first = (ring & kFaces[f]).findFirstOn();
+  const openvdb::Index first = (ring & faceVoxels(f)).findFirstOn();
   return first < FloatLeaf::SIZE && record.values[first] < 0.0f;
 }
 

@@ -66,8 +66,8 @@ StepTally RankTeam::sum(const StepTally& tally) const {
 }
 
 void RankTeam::refreshGhosts(SlabField& slab) const {
-  const bool lowerOpen = slab.bounds().begin == -SlabBounds::kUnbounded;
-  const bool higherOpen = slab.bounds().end == SlabBounds::kUnbounded;
+  const bool lowerOpen = !slab.bounds().hasLower();
+  const bool higherOpen = !slab.bounds().hasHigher();
   if (lowerOpen != (mRank == 0) || higherOpen != (mRank == mSize - 1))
     throw std::logic_error("RankTeam::refreshGhosts: rank " + std::to_string(mRank) + " of " +
                            std::to_string(mSize) + " holds a slab [" + std::to_string(slab.bounds().begin) + ", " +

@@ -4,17 +4,14 @@
 
 #include <levelfuse/levelset/Refine.h>
 
-#include <map>
 
 namespace levelfuse::detail {
 
 namespace {
 
-/// The team's slabs of `whole`: leaf columns shared out by their leaf counts.
+/// This process's slab of `whole`: leaf columns shared out by their leaf counts.
 SlabBounds slabOf(const SparseField& whole, const SlabTeam& team) {
-  std::map<openvdb::Int32, std::size_t> columns;
-  for (auto leaf = whole.grid().tree().cbeginLeaf(); leaf; ++leaf) ++columns[leaf->origin().x()];
-  return balancedSlabs({columns.begin(), columns.end()}, team.size()).at(static_cast<std::size_t>(team.rank()));
+  return balancedSlabs(leafColumns(whole.grid().tree()), team.size()).at(static_cast<std::size_t>(team.rank()));
 }
 
 }  // namespace
@@ -31,7 +28,7 @@ EvolvingField::~EvolvingField() = default;
 const openvdb::FloatGrid& EvolvingField::grid() const { return mSlab ? mSlab->grid() : mWhole->grid(); }
 
 bool EvolvingField::owns(const openvdb::Coord& origin) const {
-  return !mSlab || (origin.x() >= mSlab->bounds().begin && origin.x() < mSlab->bounds().end);
+  return !mSlab || mSlab->bounds().contains(origin.x());
 }
 
 double EvolvingField::largest(double value) const { return mTeam ? mTeam->largest(value) : value; }

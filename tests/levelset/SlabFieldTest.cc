@@ -74,10 +74,7 @@ void expectSameField(const SparseField& whole, const SparseField& parts, const s
   std::string why;
   EXPECT_TRUE(test::identical(whole.grid(), parts.grid(), &why)) << when << ": " << why;
   EXPECT_TRUE(whole.grid().tree().hasSameTopology(parts.grid().tree())) << when;
-  std::size_t differ = 0;
-  for (auto it = whole.grid().tree().cbeginValueOn(); it; ++it)
-    if (whole.layerOf(it.getCoord()) != parts.layerOf(it.getCoord())) ++differ;
-  EXPECT_EQ(differ, 0u) << when << ": band voxels in different layers";
+  EXPECT_EQ(test::voxelsInOtherLayers(whole, parts), 0u) << when << ": band voxels in different layers";
 }
 
 void expectSameStep(const StepResult& a, const StepResult& b, int step) {
@@ -239,8 +236,8 @@ TEST(SlabField, ASlabsLevelSetKnowsTheSideOfTheCellsBesideItsLeaves) {
   std::size_t cells = 0, wrong = 0;
   for (const SlabField& slab : slabs) {
     const openvdb::FloatGrid::Ptr piece = slab.toLevelSet(3.0);
-    const openvdb::Int32 lo = slab.bounds().begin == -SlabBounds::kUnbounded ? -1000 : slab.bounds().begin - 8;
-    const openvdb::Int32 hi = slab.bounds().end == SlabBounds::kUnbounded ? 1000 : slab.bounds().end + 8;
+    const openvdb::Int32 lo = slab.bounds().hasLower() ? slab.bounds().begin - 8 : -1000;
+    const openvdb::Int32 hi = slab.bounds().hasHigher() ? slab.bounds().end + 8 : 1000;
     for (auto leaf = piece->tree().cbeginLeaf(); leaf; ++leaf)
       for (int d = 0; d < 27; ++d) {
         const openvdb::Coord cell = leaf->origin().offsetBy((d / 9 - 1) * 8, (d / 3 % 3 - 1) * 8, (d % 3 - 1) * 8);

@@ -18,7 +18,6 @@
 
 #include <cmath>
 #include <functional>
-#include <map>
 #include <string>
 
 namespace levelfuse {
@@ -26,17 +25,10 @@ namespace {
 
 using openvdb::Vec3d;
 
-/// The slabs of the team's ranks: as many leaf nodes in each as may be.
-std::vector<SlabBounds> slabsOf(const openvdb::FloatGrid& levelSet, int ranks) {
-  std::map<openvdb::Int32, std::size_t> counts;
-  for (auto leaf = levelSet.tree().cbeginLeaf(); leaf; ++leaf) ++counts[leaf->origin().x()];
-  return balancedSlabs({counts.begin(), counts.end()}, ranks);
-}
-
 template <typename Speed>
 void expectTeamFollowsOneProcess(const openvdb::FloatGrid& levelSet, const Speed& speed, int steps) {
   const mpi::RankTeam team;
-  const std::vector<SlabBounds> slabs = slabsOf(levelSet, team.size());
+  const std::vector<SlabBounds> slabs = balancedSlabs(leafColumns(levelSet.tree()), team.size());
   SlabField slab = SlabField::fromLevelSet(levelSet, slabs[static_cast<std::size_t>(team.rank())]);
   SparseField whole = SparseField::fromLevelSet(levelSet);
   int sameReports = 0;
@@ -53,10 +45,7 @@ void expectTeamFollowsOneProcess(const openvdb::FloatGrid& levelSet, const Speed
   const SparseField parts = SlabField::assemble(pieces, levelSet);
   std::string why;
   EXPECT_TRUE(test::identical(whole.grid(), parts.grid(), &why)) << why;
-  std::size_t differ = 0;
-  for (auto it = whole.grid().tree().cbeginValueOn(); it; ++it)
-    differ += whole.layerOf(it.getCoord()) != parts.layerOf(it.getCoord());
-  EXPECT_EQ(differ, 0u) << "band voxels in different layers";
+  EXPECT_EQ(test::voxelsInOtherLayers(whole, parts), 0u) << "band voxels in different layers";
   EXPECT_TRUE(test::identical(*whole.toLevelSet(3.0), *parts.toLevelSet(3.0), &why)) << why;
 }
 

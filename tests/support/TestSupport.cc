@@ -55,6 +55,13 @@ std::vector<openvdb::Vec3d> pointsOnSphere(const openvdb::Vec3d& centre, double 
   return points;
 }
 
+std::size_t voxelsInOtherLayers(const SparseField& a, const SparseField& b) {
+  std::size_t differ = 0;
+  for (auto it = a.grid().tree().cbeginValueOn(); it; ++it)
+    differ += a.layerOf(it.getCoord()) != b.layerOf(it.getCoord());
+  return differ;
+}
+
 bool identical(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b, std::string* why) {
   const auto fail = [&](const std::string& s) {
     if (why) *why = s;

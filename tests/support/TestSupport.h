@@ -22,6 +22,9 @@ std::vector<openvdb::Vec3d> pointsOnSphere(const openvdb::Vec3d& centre, double 
 /// and the same tiles; otherwise `why` says where they first differ.
 bool identical(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b, std::string* why = nullptr);
 
+/// How many of `a`'s band voxels `b` puts in another layer (SparseField::layerOf).
+std::size_t voxelsInOtherLayers(const SparseField& a, const SparseField& b);
+
 /// Mean and rms deviation of the zero crossings' distances from `centre`.
 struct RadiusFit {
   double mean = 0.0;

@@ -1,5 +1,5 @@
 // levelfuse: one slab of a sparse field cut along x, for processes that share
-// a field's evolution (the MPI ranks of mpi/SlabRun.h).
+// a field's evolution (SlabTeam.h; the MPI ranks of mpi/RankTeam.h).
 //
 // The field is cut along x at leaf-node boundaries into slabs. A slab keeps
 // the leaves it owns and, as ghosts, its neighbours' leaves in the one column
@@ -47,7 +47,17 @@ struct SlabBounds {
   static constexpr openvdb::Int32 kUnbounded = std::numeric_limits<openvdb::Int32>::max();
   openvdb::Int32 begin = -kUnbounded;
   openvdb::Int32 end = kUnbounded;
+
+  /// Whether a slab lies below (at lower x), and above, this one.
+  bool hasLower() const { return begin != -kUnbounded; }
+  bool hasHigher() const { return end != kUnbounded; }
+  /// Whether x (a voxel or leaf origin) lies in the slab.
+  bool contains(openvdb::Int32 x) const { return x >= begin && x < end; }
 };
+
+/// Leaf nodes per column of leaf nodes of `tree`: the x origin of each column
+/// that has any, and how many it has (balancedSlabs' input).
+std::vector<std::pair<openvdb::Int32, std::size_t>> leafColumns(const openvdb::FloatTree& tree);
 
 /// The same slab on a grid of half the voxel size (refineLevelSet): its bounds doubled.
 SlabBounds onFinerGrid(const SlabBounds& bounds);

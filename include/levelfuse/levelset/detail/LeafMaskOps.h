@@ -6,6 +6,7 @@
 
 #include <openvdb/util/NodeMasks.h>
 
+#include <array>
 #include <cstdint>
 
 namespace levelfuse::detail {
@@ -56,22 +57,36 @@ inline LeafMask dilateFaces(const LeafMask& self, const LeafMask* const face[kFa
   return out;
 }
 
+/// The voxels of a leaf on its face f.
+inline const LeafMask& faceVoxels(int f) {
+  using namespace bits;
+  static const auto kFaces = [] {
+    std::array<LeafMask, kFaceCount> faces;
+    for (int face = 0; face < kFaceCount; ++face)
+      for (int x = 0; x < 8; ++x) {
+        std::uint64_t w = 0;
+        switch (face) {
+          case kFaceXm: w = x == 0 ? ~0ULL : 0; break;
+          case kFaceXp: w = x == 7 ? ~0ULL : 0; break;
+          case kFaceYm: w = kY0; break;
+          case kFaceYp: w = kY7; break;
+          case kFaceZm: w = kZ0; break;
+          default: w = kZ7; break;
+        }
+        maskWord(faces[face], x) = w;
+      }
+    return faces;
+  }();
+  return kFaces[f];
+}
+
 /// True if any voxel of `m` lies on face f of the leaf.
 inline bool touchesFace(const LeafMask& m, int f) {
-  using namespace bits;
-  switch (f) {
-    case kFaceXm: return maskWord(m, 0) != 0;
-    case kFaceXp: return maskWord(m, 7) != 0;
-    default: break;
-  }
+  const std::uint64_t* a = maskWords(m);
+  const std::uint64_t* b = maskWords(faceVoxels(f));
   std::uint64_t any = 0;
-  for (int x = 0; x < 8; ++x) any |= maskWord(m, x);
-  switch (f) {
-    case kFaceYm: return (any & kY0) != 0;
-    case kFaceYp: return (any & kY7) != 0;
-    case kFaceZm: return (any & kZ0) != 0;
-    default: return (any & kZ7) != 0;
-  }
+  for (int x = 0; x < 8; ++x) any |= a[x] & b[x];
+  return any != 0;
 }
 
 /// Calls f(offset) for every voxel of `m`, in increasing offset order.

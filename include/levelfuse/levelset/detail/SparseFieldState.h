@@ -156,7 +156,8 @@ std::unique_ptr<SparseFieldState> stateFromLevelSet(const openvdb::FloatGrid& le
 /// The state's values as a standard OpenVDB level set (SparseField::toLevelSet).
 openvdb::FloatGrid::Ptr levelSetOf(const SparseFieldState& state, double halfWidth, const std::string& name);
 
-/// Counts and bytes of the state's leaves (SparseField::stats).
+/// Counts of the leaves the state answers for (all, unless it is a slab) and
+/// the bytes of all it holds (SparseField::stats).
 SparseFieldStats statsOf(const SparseFieldState& state);
 
 // ---- phases shared by construction and step (SparseFieldLayers.cc) ----
