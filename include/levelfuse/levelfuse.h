@@ -46,6 +46,7 @@
 #include <levelfuse/levelset/DenseFieldStep.h>
 #include <levelfuse/levelset/Invariants.h>
 #include <levelfuse/levelset/LevelSetFromFunction.h>
+#include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/levelset/Refine.h>

@@ -1,5 +1,6 @@
 // levelfuse: slabs of a sparse field: construction, ghosts, assembly.
 
+#include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/levelset/detail/SparseFieldState.h>
 
@@ -105,32 +106,6 @@ std::unique_ptr<SparseFieldState> emptyState(const SparseFieldOptions& options, 
   state->grid->setGridClass(openvdb::GRID_LEVEL_SET);
   state->grid->setName(like.getName());
   return state;
-}
-
-/// Sets every leaf-sized cell beside a leaf of `grid` (face, edge or corner)
-/// that holds no leaf to an inactive tile of the side of the leaf voxel
-/// nearest it. Those voxels lie beyond the band or at its edge, and a voxel
-/// beyond the band lies on the side of its neighbours, so every leaf beside a
-/// cell agrees. A slab's flood fill could not see the band beyond its ghosts.
-void setTilesBesideLeaves(openvdb::FloatGrid& grid) {
-  openvdb::FloatTree& tree = grid.tree();
-  const float width = tree.background();
-  std::vector<std::pair<openvdb::Coord, bool>> cells;
-  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          if (dx == 0 && dy == 0 && dz == 0) continue;
-          const openvdb::Coord cell = leaf->origin().offsetBy(dx * kLeafWidth, dy * kLeafWidth, dz * kLeafWidth);
-          if (tree.probeConstLeaf(cell)) continue;
-          const auto near = [](int d) { return d > 0 ? kLeafWidth - 1 : 0; };
-          const openvdb::Coord voxel = leaf->origin().offsetBy(near(dx), near(dy), near(dz));
-          cells.emplace_back(cell, leaf->getValue(voxel) < 0.0f);
-        }
-  std::stable_sort(cells.begin(), cells.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (std::size_t i = 0; i < cells.size(); ++i)
-    if (i == 0 || cells[i].first != cells[i - 1].first)
-      tree.addTile(1, cells[i].first, cells[i].second ? -width : width, false);
 }
 
 /// x origin of the column of leaves a slab shares with its `side` neighbour
@@ -280,9 +255,11 @@ SlabBounds onFinerGrid(const SlabBounds& bounds) {
   return finer;
 }
 
-std::vector<std::pair<openvdb::Int32, std::size_t>> leafColumns(const openvdb::FloatTree& tree) {
+std::vector<std::pair<openvdb::Int32, std::size_t>> leafColumns(const openvdb::FloatTree& tree,
+                                                                 const SlabBounds& within) {
   std::map<openvdb::Int32, std::size_t> counts;
-  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) ++counts[leaf->origin().x()];
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
+    if (within.contains(leaf->origin().x())) ++counts[leaf->origin().x()];
   return {counts.begin(), counts.end()};
 }
 

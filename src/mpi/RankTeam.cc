@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace levelfuse::mpi {
 
@@ -106,27 +107,47 @@ void RankTeam::refreshGhosts(SlabField& slab) const {
   slab.acceptGhosts(SlabSide::kHigher, fromHigher);
 }
 
-std::vector<PackedLeaves> RankTeam::gather(const PackedLeaves& leaves, int root) const {
+void RankTeam::gatherEach(PackedLeaves leaves, int root, const std::function<void(PackedLeaves)>& take) const {
   std::uint64_t size = leaves.size();
   std::vector<std::uint64_t> sizes(static_cast<std::size_t>(mSize));
   MPI_Gather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, root, mCommunicator);
   std::vector<MPI_Request> requests;
-  std::vector<PackedLeaves> all;
-  if (mRank == root) {
-    all.resize(static_cast<std::size_t>(mSize));
-    for (int r = 0; r < mSize; ++r) {
-      if (r == root) {
-        all[static_cast<std::size_t>(r)] = leaves;
-        continue;
-      }
-      all[static_cast<std::size_t>(r)].resize(sizes[static_cast<std::size_t>(r)]);
-      postReceive(all[static_cast<std::size_t>(r)], r, mCommunicator, requests);
-    }
-  } else {
+  if (mRank != root) {
     postSend(leaves, root, mCommunicator, requests);
+    waitAll(requests);
+    return;
+  }
+  for (int r = 0; r < mSize; ++r) {
+    if (r == root) {
+      take(std::move(leaves));
+      continue;
+    }
+    PackedLeaves piece(sizes[static_cast<std::size_t>(r)]);
+    postReceive(piece, r, mCommunicator, requests);
+    waitAll(requests);
+    take(std::move(piece));
+  }
+}
+
+std::vector<PackedLeaves> RankTeam::exchange(std::vector<PackedLeaves> toEach) const {
+  const std::size_t ranks = static_cast<std::size_t>(mSize);
+  if (toEach.size() != ranks)
+    throw std::invalid_argument("RankTeam::exchange: " + std::to_string(toEach.size()) + " parcels for " +
+                                std::to_string(mSize) + " ranks (one each, this rank's included)");
+  std::vector<std::uint64_t> sizesTo(ranks), sizesFrom(ranks);
+  for (std::size_t r = 0; r < ranks; ++r) sizesTo[r] = toEach[r].size();
+  MPI_Alltoall(sizesTo.data(), 1, MPI_UINT64_T, sizesFrom.data(), 1, MPI_UINT64_T, mCommunicator);
+  std::vector<PackedLeaves> fromEach(ranks);
+  std::vector<MPI_Request> requests;
+  for (std::size_t r = 0; r < ranks; ++r) {
+    if (static_cast<int>(r) == mRank) continue;
+    fromEach[r].resize(sizesFrom[r]);
+    postReceive(fromEach[r], static_cast<int>(r), mCommunicator, requests);
+    postSend(toEach[r], static_cast<int>(r), mCommunicator, requests);
   }
   waitAll(requests);
-  return all;
+  fromEach[static_cast<std::size_t>(mRank)] = std::move(toEach[static_cast<std::size_t>(mRank)]);
+  return fromEach;
 }
 
 }  // namespace levelfuse::mpi

@@ -2,6 +2,7 @@
 
 #include "EvolvingField.h"
 
+#include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/levelset/Refine.h>
 
 
@@ -38,13 +39,10 @@ void EvolvingField::refine(const SparseFieldOptions& engine) {
     mWhole = std::make_unique<SparseField>(SparseField::fromLevelSet(*refineLevelSet(*mWhole->toLevelSet(3.0)), engine));
     return;
   }
-  // The slab's level set is the whole field's where the finer slab and its
-  // ghosts read it once the ghosts are fresh (SlabField::toLevelSet).
-  mTeam->refreshGhosts(*mSlab);
-  const SlabBounds finer = onFinerGrid(mSlab->bounds());
-  const openvdb::FloatGrid::Ptr refined = refineLevelSet(*mSlab->toLevelSet(3.0));
+  // The finer grid is cut afresh where its leaf nodes share out evenly.
+  SlabField coarse = std::move(*mSlab);
   mSlab.reset();
-  mSlab = std::make_unique<SlabField>(SlabField::fromLevelSet(*refined, finer, engine));
+  mSlab = std::make_unique<SlabField>(refineAcrossTeam(std::move(coarse), *mTeam, engine));
 }
 
 openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name) {
@@ -55,16 +53,19 @@ openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name) {
     mWhole.reset();
     return levelSet;
   }
-  PackedLeaves own = mSlab->ownedLeaves();
-  openvdb::FloatGrid::Ptr like = openvdb::FloatGrid::create();
-  like->setTransform(mSlab->grid().transform().copy());
-  like->setName(mSlab->grid().getName());
-  const SparseFieldOptions options = mSlab->options();
+  // Each process makes its slab's leaves of the level set (the whole
+  // field's there once the ghosts are fresh); the first puts them together
+  // as they arrive, one process's at a time.
+  mTeam->refreshGhosts(*mSlab);
+  openvdb::FloatGrid::Ptr piece = mSlab->toLevelSet(3.0, name);
+  PackedLeaves own = packLevelSetLeaves(*piece, mSlab->bounds());
+  const openvdb::FloatGrid::Ptr whole = piece->copyWithNewTree();
+  piece.reset();
   mSlab.reset();
-  std::vector<PackedLeaves> pieces = mTeam->gather(own, 0);
-  PackedLeaves().swap(own);
+  mTeam->gatherEach(std::move(own), 0, [&](PackedLeaves leaves) { addLevelSetLeaves(*whole, leaves); });
   if (mTeam->rank() != 0) return nullptr;
-  return SlabField::assemble(std::move(pieces), *like, options).toLevelSet(3.0, name);
+  closeAssembledLevelSet(*whole);
+  return whole;
 }
 
 std::size_t EvolvingField::ownLeafNodes() const {

@@ -20,8 +20,8 @@ class EvolvingField {
   explicit EvolvingField(SparseField whole);
   /// This process's slab of `whole`, the coarsest grid's field, which every
   /// process of `team` has made alike: the field is cut into as many slabs as
-  /// the team has processes, with about as many leaf nodes each. The cuts
-  /// stay where they are on the finer grids (refine).
+  /// the team has processes, with about as many leaf nodes each. Each finer
+  /// grid is cut afresh (refine).
   EvolvingField(const SparseField& whole, const SlabTeam& team);
 
   EvolvingField(EvolvingField&&) noexcept;
@@ -40,12 +40,16 @@ class EvolvingField {
   /// The largest of every process's `value`.
   double largest(double value) const;
   /// The field resampled to half the voxel size (refineLevelSet) and built
-  /// again with `engine`; a slab becomes the slab of the finer grid.
+  /// again with `engine`; on a team, the finer grid is cut afresh where its
+  /// leaf nodes share out evenly, and this process takes its new slab
+  /// (refineAcrossTeam).
   void refine(const SparseFieldOptions& engine);
   /// The whole field as an OpenVDB level set (half-width 3, named `name`): on
   /// a team, at its first process only (null on the others). The field is
   /// let go, its counts kept: the outputs made from the level set need the
-  /// memory (on a team, the first process gathers every slab's leaves).
+  /// memory. On a team, each process makes its slab's leaves of the level set
+  /// and the first puts them together (LevelSetPieces.h): it never holds the
+  /// whole field.
   openvdb::FloatGrid::Ptr release(const std::string& name);
   /// The whole field's counts; the bytes are this process's.
   SparseFieldStats stats() const;

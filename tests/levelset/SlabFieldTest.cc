@@ -3,12 +3,15 @@
 // process here, as MPI ranks run them (mpi/).
 
 #include "support/TestSupport.h"
+#include "support/ThreadTeam.h"
 
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/levelset/LevelSetFromFunction.h>
+#include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/levelset/Refine.h>
 #include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/levelset/SlabFieldStep.h>
+#include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/SpeedTerms.h>
 
@@ -18,6 +21,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -118,6 +122,14 @@ openvdb::FloatGrid::Ptr sample(const std::function<double(const Vec3d&)>& f, con
   return levelSetFromFunction(f, box, 1.0);
 }
 
+/// A force that varies over space and with the normal, sampled at subcell positions.
+ExternalForceSpeed varyingForce() {
+  return ExternalForceSpeed{[](const Vec3d& x, const Vec3d& n) {
+                              return 0.5 * std::sin(0.4 * x.x()) + 0.3 * std::cos(0.3 * x.y()) + 0.1 * n.x();
+                            },
+                            0.5, ForceSampling::kSubcell};
+}
+
 TEST(SlabField, ACurvatureFlowCutInTwoIsTheWholeFlow) {
   // The cut at x = 0 passes through the sphere's middle.
   const auto sphere = sample(shapes::Sphere{Vec3d(0.3, -0.2, 0.1), 14.0}, openvdb::BBoxd(Vec3d(-18), Vec3d(18)));
@@ -173,10 +185,7 @@ TEST(SlabField, SlabsRefinedOneByOneAreTheRefinedWhole) {
   // refined to half the voxel size on its own and becomes the slab of the
   // finer grid twice as many voxels wide.
   const auto torus = sample(shapes::Torus{Vec3d(0.2, 0.1, -0.2), 12.0, 3.1}, openvdb::BBoxd(Vec3d(-18), Vec3d(18)));
-  const ExternalForceSpeed force{[](const Vec3d& x, const Vec3d& n) {
-                                   return 0.5 * std::sin(0.4 * x.x()) + 0.3 * std::cos(0.3 * x.y()) + 0.1 * n.x();
-                                 },
-                                 0.5, ForceSampling::kSubcell};
+  const ExternalForceSpeed force = varyingForce();
   SparseField whole = SparseField::fromLevelSet(*torus);
   std::vector<SlabField> slabs = cut(*torus, {-8, 0, 16});
   for (int s = 0; s < 15; ++s) {
@@ -224,6 +233,48 @@ TEST(SlabField, SlabsCopiedFromAFieldRefineAsTheWhole) {
   }
 }
 
+TEST(SlabField, ATeamRefinesItsSlabsAndCutsTheFinerGridAfresh) {
+  // Three ranks whose coarse slabs share the torus out unevenly (the first
+  // two hold a column of leaf nodes each, the last the other two):
+  // refineAcrossTeam cuts the finer grid where its leaf nodes share out
+  // evenly, each rank hands its refined leaves to their new owners, and the
+  // slabs follow the whole refined field.
+  const auto torus = sample(shapes::Torus{Vec3d(0.2, 0.1, -0.2), 12.0, 3.1}, openvdb::BBoxd(Vec3d(-18), Vec3d(18)));
+  const ExternalForceSpeed force = varyingForce();
+  SparseField whole = SparseField::fromLevelSet(*torus);
+  for (int s = 0; s < 8; ++s) whole.step(force);
+  const openvdb::FloatGrid::Ptr fineLevelSet = refineLevelSet(*whole.toLevelSet(3.0));
+  SparseField wholeFine = SparseField::fromLevelSet(*fineLevelSet);
+  std::vector<StepResult> wholeSteps;
+  for (int s = 0; s < 8; ++s) wholeSteps.push_back(wholeFine.step(force));
+
+  const std::vector<openvdb::Int32> coarseCuts = {-8, 0};
+  std::vector<std::size_t> fineLeaves(3);
+  std::vector<std::vector<StepResult>> teamSteps(3);
+  std::optional<SparseField> assembledFine;
+  test::runOnThreadTeam(3, [&](const SlabTeam& team) {
+    const std::size_t r = static_cast<std::size_t>(team.rank());
+    SlabBounds bounds;
+    if (r > 0) bounds.begin = coarseCuts[r - 1];
+    if (r < 2) bounds.end = coarseCuts[r];
+    SlabField slab = SlabField::fromLevelSet(*torus, bounds);
+    for (int s = 0; s < 8; ++s) stepSlab(slab, force, team);
+    slab = refineAcrossTeam(std::move(slab), team, {});
+    for (int s = 0; s < 8; ++s) teamSteps[r].push_back(stepSlab(slab, force, team));
+    fineLeaves[r] = slab.stats().leafNodes;
+    std::vector<PackedLeaves> pieces = team.gather(slab.ownedLeaves(), 0);
+    if (r == 0) assembledFine = SlabField::assemble(std::move(pieces), *fineLevelSet);
+  });
+  for (std::size_t r = 0; r < 3; ++r)
+    for (std::size_t s = 0; s < wholeSteps.size(); ++s) expectSameStep(wholeSteps[s], teamSteps[r][s], static_cast<int>(s));
+  ASSERT_TRUE(assembledFine);
+  expectSameField(wholeFine, *assembledFine, "refined across the team and stepped");
+  const std::size_t leaves = fineLeaves[0] + fineLeaves[1] + fineLeaves[2];
+  EXPECT_EQ(leaves, wholeFine.stats().leafNodes);
+  for (std::size_t r = 0; r < 3; ++r) EXPECT_LT(fineLeaves[r], leaves / 2) << "rank " << r << " of an even share";
+  for (std::size_t r = 0; r < 3; ++r) EXPECT_GT(fineLeaves[r], leaves / 5) << "rank " << r << " of an even share";
+}
+
 TEST(SlabField, ASlabsLevelSetKnowsTheSideOfTheCellsBesideItsLeaves) {
   // A slab's own flood fill cannot see the band beyond its ghosts; the side
   // of every cell beside its leaves (where refinement samples) is the whole
@@ -249,6 +300,55 @@ TEST(SlabField, ASlabsLevelSetKnowsTheSideOfTheCellsBesideItsLeaves) {
   }
   EXPECT_GT(cells, 1000u);
   EXPECT_EQ(wrong, 0u) << "of " << cells << " cells beside the slabs' leaves";
+}
+
+TEST(SlabField, TheSlabsLevelSetPiecesAssembleIntoTheWholesLevelSet) {
+  // The output of a shared evolution: each slab packs its own leaves of its
+  // level set, one process puts them together. Shapes whose insides span
+  // several slabs, cut through internal nodes and along their faces (x = 0,
+  // 128), after steps that moved the surface across the cuts.
+  const ExternalForceSpeed force{[](const Vec3d& x, const Vec3d&) { return 0.6 + 0.4 * std::sin(0.3 * x.y()); }, 0.3,
+                                 ForceSampling::kSubcell};
+  const auto shapes = {sample(shapes::Torus{Vec3d(0.2, 0.1, -0.2), 12.0, 3.1}, openvdb::BBoxd(Vec3d(-18), Vec3d(18))),
+                       sample(shapes::Sphere{Vec3d(60.3, -20.2, 5.1), 71.0}, openvdb::BBoxd(Vec3d(-15, -95, -70), Vec3d(135, 55, 80)))};
+  for (const auto& shape : shapes) {
+    SparseField whole = SparseField::fromLevelSet(*shape);
+    std::vector<SlabField> slabs = cut(*shape, {-8, 0, 16, 128});
+    for (int s = 0; s < 6; ++s) {
+      whole.step(force);
+      stepSlabs(slabs, force);
+    }
+    refreshGhosts(slabs);
+    std::vector<PackedLeaves> pieces;
+    for (const SlabField& slab : slabs) pieces.push_back(packLevelSetLeaves(*slab.toLevelSet(3.0, "s"), slab.bounds()));
+    // The pieces in reverse order: the order must not matter.
+    std::reverse(pieces.begin(), pieces.end());
+    const openvdb::FloatGrid::Ptr wholeSet = whole.toLevelSet(3.0, "s");
+    const openvdb::FloatGrid::Ptr assembledSet = assembleLevelSet(pieces, *slabs.front().toLevelSet(3.0, "s"));
+    std::string why;
+    EXPECT_TRUE(test::identical(*wholeSet, *assembledSet, &why)) << why;
+    EXPECT_TRUE(test::sameTreeBytes(*wholeSet, *assembledSet)) << "the trees' tiles or nodes differ";
+    EXPECT_EQ(assembledSet->getGridClass(), openvdb::GRID_LEVEL_SET);
+    EXPECT_EQ(assembledSet->getName(), "s");
+    EXPECT_EQ(assembledSet->background(), wholeSet->background());
+    EXPECT_GT(wholeSet->tree().leafCount(), 50u);
+  }
+}
+
+TEST(SlabField, LevelSetPiecesAreChecked) {
+  const auto sphere = sample(shapes::Sphere{Vec3d(0.0), 6.0}, openvdb::BBoxd(Vec3d(-9), Vec3d(9)));
+  const PackedLeaves all = packLevelSetLeaves(*sphere, SlabBounds{});
+  ASSERT_FALSE(all.empty());
+  // A leaf two pieces hold, and a piece cut short.
+  EXPECT_THROW(assembleLevelSet({all, all}, *sphere), std::invalid_argument);
+  PackedLeaves truncated = all;
+  truncated.pop_back();
+  EXPECT_THROW(assembleLevelSet({truncated}, *sphere), std::invalid_argument);
+  // A slab's piece holds only the leaves whose origin lies in it.
+  SlabBounds upper;
+  upper.begin = 0;
+  EXPECT_LT(packLevelSetLeaves(*sphere, upper).size(), all.size());
+  EXPECT_GT(packLevelSetLeaves(*sphere, upper).size(), 0u);
 }
 
 TEST(SlabField, BalancedSlabsShareTheLeaves) {

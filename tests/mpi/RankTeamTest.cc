@@ -7,6 +7,7 @@
 
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/levelset/LevelSetFromFunction.h>
+#include <levelfuse/levelset/Refine.h>
 #include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/levelset/SparseField.h>
@@ -75,6 +76,52 @@ TEST(RankTeam, ATorusUnderAForceThatVariesIsOneProcesssTorus) {
                                  },
                                  0.8, ForceSampling::kSubcell};
   expectTeamFollowsOneProcess(*torus, force, 40);
+}
+
+TEST(RankTeam, EveryRankGetsWhatEachSentIt) {
+  // Parcels of different sizes, one empty, and one to itself.
+  const mpi::RankTeam team;
+  std::vector<PackedLeaves> toEach;
+  for (int r = 0; r < team.size(); ++r)
+    toEach.push_back(PackedLeaves(static_cast<std::size_t>(1000 * team.rank() + r), static_cast<std::uint8_t>(r + 7 * team.rank())));
+  const std::vector<PackedLeaves> fromEach = team.exchange(toEach);
+  ASSERT_EQ(fromEach.size(), static_cast<std::size_t>(team.size()));
+  for (int from = 0; from < team.size(); ++from) {
+    const PackedLeaves& got = fromEach[static_cast<std::size_t>(from)];
+    EXPECT_EQ(got, PackedLeaves(static_cast<std::size_t>(1000 * from + team.rank()), static_cast<std::uint8_t>(team.rank() + 7 * from)))
+        << "from rank " << from << " at rank " << team.rank();
+  }
+  EXPECT_THROW(team.exchange({}), std::invalid_argument);
+}
+
+TEST(RankTeam, TheRanksRefineAndCutTheFinerGridAsOneProcessRefines) {
+  // The coarse slabs are the first cut; the finer grid is cut afresh.
+  const mpi::RankTeam team;
+  const auto torus = sample(shapes::Torus{Vec3d(0.2, 0.1, -0.2), 14.0, 2.6}, openvdb::BBoxd(Vec3d(-20), Vec3d(20)));
+  const ExternalForceSpeed force{[](const Vec3d& x, const Vec3d&) { return 0.6 * std::sin(0.3 * x.x()); }, 0.8,
+                                 ForceSampling::kSubcell};
+  SparseField whole = SparseField::fromLevelSet(*torus);
+  SlabField slab =
+      SlabField::fromLevelSet(*torus, balancedSlabs(leafColumns(torus->tree()), team.size())[static_cast<std::size_t>(team.rank())]);
+  for (int s = 0; s < 10; ++s) {
+    whole.step(force);
+    stepSlab(slab, force, team);
+  }
+  const openvdb::FloatGrid::Ptr fine = refineLevelSet(*whole.toLevelSet(3.0));
+  SparseField wholeFine = SparseField::fromLevelSet(*fine);
+  slab = refineAcrossTeam(std::move(slab), team, {});
+  for (int s = 0; s < 10; ++s) {
+    const StepResult a = wholeFine.step(force);
+    const StepResult b = stepSlab(slab, force, team);
+    EXPECT_TRUE(a.dt == b.dt && a.rmsChange == b.rmsChange && a.activeSetVoxels == b.activeSetVoxels)
+        << "step " << s << " at rank " << team.rank();
+  }
+  const std::vector<PackedLeaves> pieces = team.gather(slab.ownedLeaves(), 0);
+  if (team.rank() != 0) return;
+  const SparseField parts = SlabField::assemble(pieces, *fine);
+  std::string why;
+  EXPECT_TRUE(test::identical(wholeFine.grid(), parts.grid(), &why)) << why;
+  EXPECT_EQ(test::voxelsInOtherLayers(wholeFine, parts), 0u) << "band voxels in different layers";
 }
 
 }  // namespace

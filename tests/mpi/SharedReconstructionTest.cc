@@ -1,12 +1,11 @@
 // A reconstruction whose evolution the ranks of an MPI job share, one slab
 // of every grid each, gives one process's result bit for bit, at rank 0.
 
+#include "support/NoisyTorus.h"
 #include "support/TestSupport.h"
 
-#include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/mpi/RankTeam.h>
 #include <levelfuse/recon/Reconstructor.h>
-#include <levelfuse/scan/Synth.h>
 
 #include <gtest/gtest.h>
 
@@ -16,28 +15,12 @@
 namespace levelfuse {
 namespace {
 
-using openvdb::Vec3d;
-
-/// Six noisy views of a torus, with outliers: the data term pulls, the prior smooths.
-std::vector<RangeMap> noisyTorus() {
-  const shapes::Torus torus{Vec3d(0.013, -0.021, 0.007), 0.8, 0.3};
-  std::vector<RangeMap> maps;
-  std::uint64_t seed = 1;
-  for (const synth::View& view : synth::sixAxisViews(Vec3d(0.0), 2.4, 120)) {
-    synth::Noise noise;
-    noise.gaussianSigma = 0.01;
-    noise.seed = seed++;
-    maps.push_back(synth::renderDistanceFunction(torus, view, noise, 0.01));
-  }
-  return maps;
-}
-
 void expectSharedRunIsOneProcesssRun(DataTermSource source) {
   ReconstructionOptions options;
   options.voxelSize = 0.02;
   options.levels = 3;
   options.dataTerm = source;
-  const Reconstructor reconstructor(noisyTorus(), options);
+  const Reconstructor reconstructor(test::noisyTorusScans(), options);
   const mpi::RankTeam team;
   const ReconstructionResult alone = reconstructor.run();
   const ReconstructionResult shared = reconstructor.run({}, {}, &team);

@@ -90,6 +90,17 @@ bool identical(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b, std::st
   return true;
 }
 
+namespace {
+std::string treeBytes(const openvdb::FloatGrid& grid) {
+  std::ostringstream out(std::ios_base::binary);
+  grid.tree().writeTopology(out);
+  grid.tree().writeBuffers(out);
+  return out.str();
+}
+}  // namespace
+
+bool sameTreeBytes(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) { return treeBytes(a) == treeBytes(b); }
+
 RadiusFit fitRadius(const openvdb::FloatGrid& grid, const openvdb::Vec3d& centre) {
   const std::vector<openvdb::Vec3d> points = zeroCrossings(grid);
   RadiusFit fit;

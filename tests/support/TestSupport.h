@@ -21,6 +21,9 @@ std::vector<openvdb::Vec3d> pointsOnSphere(const openvdb::Vec3d& centre, double 
 /// True if the two grids have the same topology, the same values bit for bit,
 /// and the same tiles; otherwise `why` says where they first differ.
 bool identical(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b, std::string* why = nullptr);
+/// True if OpenVDB writes the two trees (topology and values) as the same
+/// bytes: internal nodes and tiles alike, as a .vdb file of them would be.
+bool sameTreeBytes(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b);
 
 /// How many of `a`'s band voxels `b` puts in another layer (SparseField::layerOf).
 std::size_t voxelsInOtherLayers(const SparseField& a, const SparseField& b);

@@ -55,9 +55,11 @@ struct SlabBounds {
   bool contains(openvdb::Int32 x) const { return x >= begin && x < end; }
 };
 
-/// Leaf nodes per column of leaf nodes of `tree`: the x origin of each column
-/// that has any, and how many it has (balancedSlabs' input).
-std::vector<std::pair<openvdb::Int32, std::size_t>> leafColumns(const openvdb::FloatTree& tree);
+/// Leaf nodes per column of leaf nodes of `tree` within `within` (all, by
+/// default): the x origin of each column that has any, and how many it has
+/// (balancedSlabs' input).
+std::vector<std::pair<openvdb::Int32, std::size_t>> leafColumns(const openvdb::FloatTree& tree,
+                                                                 const SlabBounds& within = {});
 
 /// The same slab on a grid of half the voxel size (refineLevelSet): its bounds doubled.
 SlabBounds onFinerGrid(const SlabBounds& bounds);

@@ -12,7 +12,9 @@
 #include <levelfuse/levelset/StepTally.h>
 
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace levelfuse {
@@ -32,9 +34,34 @@ class SlabTeam {
   virtual StepTally sum(const StepTally& tally) const = 0;
   /// Sends the slab's leaves beside each neighbour and takes theirs as its ghosts.
   virtual void refreshGhosts(SlabField& slab) const = 0;
+  /// Every process's `leaves` at `root`, handed to `take` one process's at a
+  /// time, in rank order: the root holds one process's leaves at once, not
+  /// every one's. `take` is called on the root only.
+  virtual void gatherEach(PackedLeaves leaves, int root, const std::function<void(PackedLeaves)>& take) const = 0;
   /// Every process's `leaves`, in rank order, at `root`; empty on the others.
-  virtual std::vector<PackedLeaves> gather(const PackedLeaves& leaves, int root) const = 0;
+  std::vector<PackedLeaves> gather(PackedLeaves leaves, int root) const {
+    std::vector<PackedLeaves> all;
+    gatherEach(std::move(leaves), root, [&](PackedLeaves piece) { all.push_back(std::move(piece)); });
+    return all;
+  }
+  /// Sends `toEach[r]` to process r (one entry per process, this one's
+  /// included) and returns what every process sent to this one, in rank order.
+  virtual std::vector<PackedLeaves> exchange(std::vector<PackedLeaves> toEach) const = 0;
 };
+
+/// Every process's leaf columns (leafColumns of its own leaves) summed over
+/// the team, in order of x: the whole field's, on every process.
+std::vector<std::pair<openvdb::Int32, std::size_t>> teamLeafColumns(
+    const std::vector<std::pair<openvdb::Int32, std::size_t>>& own, const SlabTeam& team);
+
+/// The team's field on the grid of half the voxel size, this process's slab
+/// of it: every process calls it with its own slab. Each slab's level set is
+/// refined (refineLevelSet) with fresh ghosts; the finer grid is cut afresh
+/// where the refined level set's leaf nodes share out evenly (balancedSlabs
+/// of teamLeafColumns), and each process hands the leaves of its refined
+/// level set to the processes whose new slabs read them (levelSetReach). The
+/// slabs are those of the whole field refined and cut there, bit for bit.
+SlabField refineAcrossTeam(SlabField slab, const SlabTeam& team, const SparseFieldOptions& engine);
 
 /// One step of the field the team shares; every process calls it with its
 /// own slab. Returns the whole field's report, the same on every process.

@@ -32,7 +32,10 @@ class RankTeam : public SlabTeam {
   StepTally sum(const StepTally& tally) const override;
   /// The slab must be this rank's (its bounds open at the first and last rank only).
   void refreshGhosts(SlabField& slab) const override;
-  std::vector<PackedLeaves> gather(const PackedLeaves& leaves, int root) const override;
+  /// The root receives from one rank at a time; the others wait for it to take theirs.
+  void gatherEach(PackedLeaves leaves, int root, const std::function<void(PackedLeaves)>& take) const override;
+  /// Sizes by MPI_Alltoall, then the bytes by non-blocking point to point.
+  std::vector<PackedLeaves> exchange(std::vector<PackedLeaves> toEach) const override;
   /// Bytes of ghosts this rank has sent so far.
   std::uint64_t ghostBytesSent() const { return mGhostBytesSent; }
 

@@ -1,0 +1,60 @@
+// levelfuse: a level set made in pieces along x and put together again.
+//
+// The processes that share an evolution slab by slab (SlabField.h) each make
+// the output level set's leaf nodes of their own slab (SlabField::toLevelSet
+// with fresh ghosts is the whole field's there); one process puts them
+// together. Only the leaves travel: the tiles between them follow from the
+// leaves by flood fill, as OpenVDB's level sets are built, so the assembled
+// level set is the one the whole field makes, bit for bit (tested).
+#pragma once
+
+#include <levelfuse/levelset/SlabField.h>
+
+#include <openvdb/openvdb.h>
+
+#include <vector>
+
+namespace levelfuse {
+
+/// The x range of the level set that SlabField::fromLevelSet reads for the
+/// slab `slab`: its own leaves, its ghosts and, for the voxels beside the
+/// ghosts, one more column of leaf nodes beyond each neighbour.
+SlabBounds levelSetReach(const SlabBounds& slab);
+
+/// The x that lie in both (an empty range, begin >= end, if none do).
+SlabBounds overlapOf(const SlabBounds& a, const SlabBounds& b);
+
+/// The leaf nodes of `levelSet` whose origin x lies in `bounds`, their values
+/// and active voxels, packed as bytes for another process.
+PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds);
+
+/// The level set of the leaves of every piece (packLevelSetLeaves of slabs
+/// that together cover x; any order), each piece let go once its leaves are
+/// in. It takes `like`'s transform, name, class, metadata and background; its
+/// tiles are flood filled from the leaves, and it is pruned as a level set.
+/// Throws std::invalid_argument for a piece that is no whole number of
+/// leaves, or a leaf that two pieces hold.
+openvdb::FloatGrid::Ptr assembleLevelSet(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like);
+
+/// The same, one piece at a time, as the pieces arrive: each piece's leaves
+/// added to `levelSet` (an empty tree of the level set's settings, e.g.
+/// copyWithNewTree of one slab's level set) and, once all are in, its tiles
+/// flood filled and the level set pruned.
+void addLevelSetLeaves(openvdb::FloatGrid& levelSet, const PackedLeaves& piece);
+void closeAssembledLevelSet(openvdb::FloatGrid& levelSet);
+
+/// The level set of one slab put together from pieces: the leaves of every
+/// piece, as assembleLevelSet puts them in, when together they cover only the
+/// slab's reach (levelSetReach), the rest held by other processes. A flood
+/// fill cannot see the band beyond the pieces, so the tiles beside the leaves
+/// are set as setTilesBesideLeaves does, which is all the slab reads.
+openvdb::FloatGrid::Ptr assembleSlabLevelSet(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like);
+
+/// Sets every leaf-sized cell beside a leaf of `grid` (face, edge or corner)
+/// that holds no leaf to an inactive tile of the side of the leaf voxel
+/// nearest it. Those voxels lie beyond the band or at its edge, and a voxel
+/// beyond the band lies on the side of its neighbours, so every leaf beside a
+/// cell agrees. A slab's flood fill could not see the band beyond its ghosts.
+void setTilesBesideLeaves(openvdb::FloatGrid& grid);
+
+}  // namespace levelfuse

@@ -1,0 +1,134 @@
+// levelfuse: a level set's leaves packed by slab, and put together again.
+
+#include <levelfuse/levelset/LevelSetPieces.h>
+#include <levelfuse/levelset/detail/LeafMaskOps.h>
+
+#include <openvdb/tools/Prune.h>
+#include <openvdb/tools/SignedFloodFill.h>
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace levelfuse {
+
+namespace {
+
+using Leaf = openvdb::FloatTree::LeafNodeType;
+constexpr openvdb::Int32 kLeafWidth = static_cast<openvdb::Int32>(Leaf::DIM);
+constexpr std::size_t kMaskBytes = Leaf::SIZE / 8;
+/// Bytes of one packed leaf: origin, active voxels, values.
+constexpr std::size_t kLeafBytes = 3 * sizeof(openvdb::Int32) + kMaskBytes + Leaf::SIZE * sizeof(float);
+
+void append(PackedLeaves& out, const void* data, std::size_t bytes) {
+  const auto* p = static_cast<const std::uint8_t*>(data);
+  out.insert(out.end(), p, p + bytes);
+}
+
+}  // namespace
+
+void addLevelSetLeaves(openvdb::FloatGrid& levelSet, const PackedLeaves& piece) {
+  openvdb::FloatTree& tree = levelSet.tree();
+  if (piece.size() % kLeafBytes != 0)
+    throw std::invalid_argument("addLevelSetLeaves: " + std::to_string(piece.size()) +
+                                " bytes of packed leaves are no whole number of leaves (" +
+                                std::to_string(kLeafBytes) + " bytes each)");
+  for (std::size_t at = 0; at < piece.size(); at += kLeafBytes) {
+    const std::uint8_t* p = piece.data() + at;
+    openvdb::Int32 origin[3];
+    std::memcpy(origin, p, sizeof(origin));
+    const openvdb::Coord ijk(origin[0], origin[1], origin[2]);
+    if (tree.probeConstLeaf(ijk))
+      throw std::invalid_argument("addLevelSetLeaves: two pieces hold the leaf at " + ijk.asVec3i().str());
+    Leaf* leaf = tree.touchLeaf(ijk);
+    if (leaf->origin() != ijk)
+      throw std::invalid_argument("addLevelSetLeaves: " + ijk.asVec3i().str() + " is no leaf node's origin");
+    detail::LeafMask active;
+    std::memcpy(&detail::maskWord(active, 0), p + sizeof(origin), kMaskBytes);
+    leaf->setValueMask(active);
+    std::memcpy(leaf->buffer().data(), p + sizeof(origin) + kMaskBytes, Leaf::SIZE * sizeof(float));
+  }
+}
+
+void closeAssembledLevelSet(openvdb::FloatGrid& levelSet) {
+  openvdb::tools::signedFloodFill(levelSet.tree());
+  openvdb::tools::pruneLevelSet(levelSet.tree());
+}
+
+SlabBounds levelSetReach(const SlabBounds& slab) {
+  SlabBounds reach = slab;
+  if (slab.hasLower()) reach.begin -= 2 * kLeafWidth;
+  if (slab.hasHigher()) reach.end += 2 * kLeafWidth;
+  return reach;
+}
+
+SlabBounds overlapOf(const SlabBounds& a, const SlabBounds& b) {
+  SlabBounds both;
+  both.begin = std::max(a.begin, b.begin);
+  both.end = std::min(a.end, b.end);
+  return both;
+}
+
+PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds) {
+  PackedLeaves out;
+  for (auto leaf = levelSet.tree().cbeginLeaf(); leaf; ++leaf) {
+    const openvdb::Coord& o = leaf->origin();
+    if (!bounds.contains(o.x())) continue;
+    const openvdb::Int32 origin[3] = {o.x(), o.y(), o.z()};
+    append(out, origin, sizeof(origin));
+    append(out, detail::maskWords(leaf->getValueMask()), kMaskBytes);
+    append(out, leaf->buffer().data(), Leaf::SIZE * sizeof(float));
+  }
+  return out;
+}
+
+namespace {
+
+/// An empty grid like `like` with the leaves of every piece, each let go once in.
+openvdb::FloatGrid::Ptr leavesOf(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like) {
+  openvdb::FloatGrid::Ptr out = like.copyWithNewTree();
+  for (PackedLeaves& piece : pieces) {
+    addLevelSetLeaves(*out, piece);
+    PackedLeaves().swap(piece);
+  }
+  return out;
+}
+
+}  // namespace
+
+openvdb::FloatGrid::Ptr assembleLevelSet(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like) {
+  openvdb::FloatGrid::Ptr out = leavesOf(std::move(pieces), like);
+  closeAssembledLevelSet(*out);
+  return out;
+}
+
+openvdb::FloatGrid::Ptr assembleSlabLevelSet(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like) {
+  openvdb::FloatGrid::Ptr out = leavesOf(std::move(pieces), like);
+  setTilesBesideLeaves(*out);
+  return out;
+}
+
+void setTilesBesideLeaves(openvdb::FloatGrid& grid) {
+  openvdb::FloatTree& tree = grid.tree();
+  const float width = tree.background();
+  std::vector<std::pair<openvdb::Coord, bool>> cells;
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          const openvdb::Coord cell = leaf->origin().offsetBy(dx * kLeafWidth, dy * kLeafWidth, dz * kLeafWidth);
+          if (tree.probeConstLeaf(cell)) continue;
+          const auto near = [](int d) { return d > 0 ? kLeafWidth - 1 : 0; };
+          const openvdb::Coord voxel = leaf->origin().offsetBy(near(dx), near(dy), near(dz));
+          cells.emplace_back(cell, leaf->getValue(voxel) < 0.0f);
+        }
+  std::stable_sort(cells.begin(), cells.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    if (i == 0 || cells[i].first != cells[i - 1].first)
+      tree.addTile(1, cells[i].first, cells[i].second ? -width : width, false);
+}
+
+}  // namespace levelfuse

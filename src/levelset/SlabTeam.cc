@@ -1,0 +1,73 @@
+// levelfuse: what a team of processes does together with the slabs of one
+// field beyond a step: the field's leaf columns, and refinement with new cuts.
+
+#include <levelfuse/levelset/LevelSetPieces.h>
+#include <levelfuse/levelset/Refine.h>
+#include <levelfuse/levelset/SlabTeam.h>
+
+#include <cstring>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+namespace levelfuse {
+
+namespace {
+
+using Column = std::pair<openvdb::Int32, std::size_t>;
+
+struct PackedColumn {
+  openvdb::Int32 x;
+  std::uint64_t leaves;
+};
+
+PackedLeaves packColumns(const std::vector<Column>& columns) {
+  PackedLeaves out(columns.size() * sizeof(PackedColumn));
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    const PackedColumn c{columns[i].first, columns[i].second};
+    std::memcpy(out.data() + i * sizeof(PackedColumn), &c, sizeof(c));
+  }
+  return out;
+}
+
+/// Adds the columns of `packed` to `counts`.
+void addColumns(const PackedLeaves& packed, std::map<openvdb::Int32, std::size_t>& counts) {
+  if (packed.size() % sizeof(PackedColumn) != 0)
+    throw std::invalid_argument("teamLeafColumns: " + std::to_string(packed.size()) +
+                                " bytes are no whole number of leaf columns");
+  for (std::size_t at = 0; at < packed.size(); at += sizeof(PackedColumn)) {
+    PackedColumn c;
+    std::memcpy(&c, packed.data() + at, sizeof(c));
+    counts[c.x] += c.leaves;
+  }
+}
+
+}  // namespace
+
+std::vector<Column> teamLeafColumns(const std::vector<Column>& own, const SlabTeam& team) {
+  std::vector<PackedLeaves> toEach(static_cast<std::size_t>(team.size()), packColumns(own));
+  std::map<openvdb::Int32, std::size_t> counts;
+  for (const PackedLeaves& packed : team.exchange(std::move(toEach))) addColumns(packed, counts);
+  return {counts.begin(), counts.end()};
+}
+
+SlabField refineAcrossTeam(SlabField slab, const SlabTeam& team, const SparseFieldOptions& engine) {
+  // This process's share of the refined field: the whole field's where the
+  // finer slab lies, once the ghosts are fresh (SlabField::toLevelSet).
+  const SlabBounds own = onFinerGrid(slab.bounds());
+  openvdb::FloatGrid::Ptr refined = [&] {
+    SlabField coarse = std::move(slab);  // let go once its level set is refined
+    team.refreshGhosts(coarse);
+    return refineLevelSet(*coarse.toLevelSet(3.0));
+  }();
+  const std::vector<SlabBounds> cuts =
+      balancedSlabs(teamLeafColumns(leafColumns(refined->tree(), own), team), team.size());
+  std::vector<PackedLeaves> toEach;
+  for (const SlabBounds& cut : cuts) toEach.push_back(packLevelSetLeaves(*refined, overlapOf(own, levelSetReach(cut))));
+  const openvdb::FloatGrid::Ptr like = refined->copyWithNewTree();
+  refined.reset();
+  const openvdb::FloatGrid::Ptr mine = assembleSlabLevelSet(team.exchange(std::move(toEach)), *like);
+  return SlabField::fromLevelSet(*mine, cuts.at(static_cast<std::size_t>(team.rank())), engine);
+}
+
+}  // namespace levelfuse

@@ -1,0 +1,90 @@
+// A reconstruction whose evolution a team shares, one slab of every grid
+// each, gives one process's result bit for bit: the team here is threads of
+// one process (support/ThreadTeam.h), so the path runs under the sanitizers
+// too; tests/mpi runs it on the ranks of an MPI job.
+
+#include "support/NoisyTorus.h"
+#include "support/TestSupport.h"
+#include "support/ThreadTeam.h"
+
+#include <levelfuse/recon/Reconstructor.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+namespace levelfuse {
+namespace {
+
+void expectTeamRunIsOneProcesssRun(DataTermSource source, int ranks) {
+  ReconstructionOptions options;
+  options.voxelSize = 0.02;
+  options.levels = 3;
+  options.dataTerm = source;
+  const Reconstructor reconstructor(test::noisyTorusScans(), options);
+  const ReconstructionResult alone = reconstructor.run();
+  std::vector<ReconstructionResult> shared(static_cast<std::size_t>(ranks));
+  test::runOnThreadTeam(ranks, [&](const SlabTeam& team) {
+    shared[static_cast<std::size_t>(team.rank())] = reconstructor.run({}, {}, &team);
+  });
+  for (int r = 0; r < ranks; ++r) {
+    const ReconstructionResult& mine = shared[static_cast<std::size_t>(r)];
+    ASSERT_EQ(alone.levels.size(), mine.levels.size());
+    for (std::size_t l = 0; l < alone.levels.size(); ++l) {
+      EXPECT_EQ(alone.levels[l].iterations, mine.levels[l].iterations) << "grid " << l << ", rank " << r;
+      EXPECT_EQ(alone.levels[l].activeSetVoxels, mine.levels[l].activeSetVoxels) << "grid " << l << ", rank " << r;
+      EXPECT_EQ(alone.levels[l].bandVoxels, mine.levels[l].bandVoxels) << "grid " << l << ", rank " << r;
+    }
+    if (r > 0) {
+      EXPECT_FALSE(mine.levelSet) << "only the first rank holds the result";
+    }
+  }
+  // Every grid is cut afresh: the ranks' shares of the finest grid's leaf
+  // nodes are about even (whole columns of leaves, cut before the grid evolved).
+  std::size_t leaves = 0, most = 0;
+  for (const ReconstructionResult& mine : shared) {
+    leaves += mine.levels.back().ownLeafNodes;
+    most = std::max(most, mine.levels.back().ownLeafNodes);
+  }
+  EXPECT_EQ(leaves, alone.levels.back().ownLeafNodes);
+  EXPECT_LT(static_cast<double>(most), 1.4 * static_cast<double>(leaves) / ranks);
+  const ReconstructionResult& first = shared.front();
+  ASSERT_TRUE(first.levelSet && first.weight);
+  std::string why;
+  EXPECT_TRUE(test::identical(*alone.levelSet, *first.levelSet, &why)) << why;
+  EXPECT_TRUE(test::sameTreeBytes(*alone.levelSet, *first.levelSet)) << "the trees' tiles or nodes differ";
+  EXPECT_TRUE(test::identical(*alone.weight, *first.weight, &why)) << why;
+  EXPECT_GT(alone.levels.back().iterations, 4);
+}
+
+TEST(TeamReconstruction, TwoRanksWithTheDataTermFromTheMapsGiveOneProcesssSurface) {
+  expectTeamRunIsOneProcesssRun(DataTermSource::kPerMap, 2);
+}
+
+TEST(TeamReconstruction, ThreeRanksWithTheDataTermFromGridsGiveOneProcesssSurface) {
+  expectTeamRunIsOneProcesssRun(DataTermSource::kGrids, 3);
+}
+
+TEST(TeamReconstruction, ARankThatFailsStopsTheOthers) {
+  // The team's other ranks stop at their next collective, not hang.
+  const Reconstructor reconstructor(test::noisyTorusScans(), [] {
+    ReconstructionOptions o;
+    o.voxelSize = 0.04;
+    o.levels = 2;
+    return o;
+  }());
+  EXPECT_THROW(test::runOnThreadTeam(3,
+                                     [&](const SlabTeam& team) {
+                                       reconstructor.run(
+                                           [&](const ReconstructionProgress& p) {
+                                             return !(team.rank() == 1 && p.iteration == 3);
+                                           },
+                                           {}, &team);
+                                     }),
+               ReconstructionCancelled);
+}
+
+}  // namespace
+}  // namespace levelfuse
