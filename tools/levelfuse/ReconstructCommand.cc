@@ -192,9 +192,17 @@ openvdb::GridCPtrVec gridsWritten(const ReconstructionResult& result) {
   return grids;
 }
 
-/// Writes the outputs, committed together once all are written; returns the mesh's triangles.
-std::size_t writeOutputs(const Inputs& in, const ReconstructionResult& result, const Presentation& shown,
-                         const ReconstructSettings& s) {
+/// Writes the .vdb output (the level set, its weight and colour) into `outputs`.
+void writeGrids(io::OutputSet& outputs, const ReconstructionResult& result, const ReconstructSettings& s) {
+  if (s.output.empty()) return;
+  enterPhase("writing");
+  io::writeVdb(outputs, s.output, gridsWritten(result));
+}
+
+/// Writes the mesh and the preview into `outputs`, then commits them all
+/// together; returns the mesh's triangles.
+std::size_t writeShownOutputs(io::OutputSet& outputs, const Inputs& in, const ReconstructionResult& result,
+                              const Presentation& shown, const ReconstructSettings& s) {
   const openvdb::FloatGrid& surface = *result.levelSet;
   std::optional<TriangleMesh> mesh;
   if (!s.mesh.empty()) {
@@ -210,8 +218,6 @@ std::size_t writeOutputs(const Inputs& in, const ReconstructionResult& result, c
                          shown.trim ? result.weight : nullptr);
   preview.colour = result.colour;
   enterPhase("writing");
-  io::OutputSet outputs;
-  if (!s.output.empty()) io::writeVdb(outputs, s.output, gridsWritten(result));
   if (mesh) io::writeMesh(outputs, s.mesh, *mesh);
   if (!s.preview.empty()) io::writePreviewPng(outputs, surface, s.preview, preview);
   commitOutputs(outputs);
@@ -356,7 +362,7 @@ int runReconstruct(ReconstructSettings s) {
   const Reconstructor& reconstructor = *made.reconstructor;
   const Presentation shown = presentationOf(reconstructor, s);
   if (s.linear && !leadsTheJob()) return kExitSuccess;  // the linear solution is not shared
-  const ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
+  ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
   std::vector<RankFacts> ranks;
   if (!s.linear)
     ranks = gatherRankFacts(RankFacts{std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
@@ -365,8 +371,13 @@ int runReconstruct(ReconstructSettings s) {
                                       ghostBytesSent()});
   if (!leadsTheJob()) return kExitSuccess;
   made.letTheGridsGo();
+  // The grids are written first: past them, only trimming reads the weight,
+  // and the fit and the mesh each need memory of the surface's size.
+  io::OutputSet outputs;
+  writeGrids(outputs, result, s);
+  if (!shown.trim) result.weight.reset();
   const Measures measures = measure(made, result, shown, inputs);
-  const std::size_t triangles = writeOutputs(inputs, result, shown, s);
+  const std::size_t triangles = writeShownOutputs(outputs, inputs, result, shown, s);
   const Summary summary{s, reconstructor, result, inputs, measures, shown.trim, triangles,
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), ranks};
   if (s.json) printJson(summary);
