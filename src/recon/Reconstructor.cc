@@ -4,6 +4,7 @@
 
 #include <levelfuse/Version.h>
 #include <levelfuse/io/MemoryBudget.h>
+#include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
@@ -250,16 +251,25 @@ SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fu
                              f.dataWindow().reach(), band, mOptions.engine, interrupter);
 }
 
-void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels) const {
+void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels, const SlabTeam* team) const {
   // The surface's area, and so the active set, grows four times with each grid.
   const double finestActive = static_cast<double>(coarsestActiveVoxels) * std::pow(4.0, *mOptions.levels - 1);
-  const double bytes = kPeakBytesPerActiveVoxel * finestActive;
+  const int processes = team ? team->size() : 1;
+  double perVoxel = kPeakBytesPerActiveVoxel;
+  if (processes > 1) {
+    perVoxel = kPeakBytesPerActiveVoxel * kSlabShareMargin / processes;
+    if (team->rank() == 0) perVoxel = std::max(perVoxel, kOutputBytesPerActiveVoxel);
+  }
+  const double bytes = perVoxel * finestActive;
   const double budget = static_cast<double>(io::memoryBudget());
+  const std::string share =
+      processes > 1 ? ", this process's share of " + std::to_string(processes) + (team->rank() == 0 ? ", and the whole output" : "")
+                    : "";
   requireMemory(bytes,
                 "a voxel size of " + shortNumber(*mOptions.voxelSize) + " (about " + shortNumber(finestActive / 1e6) +
-                    " million voxels on the surface)",
-                "choose a voxel size of at least " +
-                    shortNumber(*mOptions.voxelSize * std::sqrt(1.1 * bytes / budget)) + " or allow more memory");
+                    " million voxels on the surface" + share + ")",
+                "choose a voxel size of at least " + shortNumber(*mOptions.voxelSize * std::sqrt(1.1 * bytes / budget)) +
+                    " or allow more memory" + (processes > 1 && team->rank() > 0 ? " or more processes" : ""));
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
@@ -410,7 +420,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   // A team's processes each keep their slab of the initial model, not the whole.
   detail::EvolvingField field = [&] {
     SparseField initial = initialModel(interrupter, fusion, carvedWith);
-    requireFinestGridMemory(initial.stats().activeSetVoxels);
+    requireFinestGridMemory(initial.stats().activeSetVoxels, team);
     if (team && team->size() > 1) return detail::EvolvingField(initial, *team);
     return detail::EvolvingField(std::move(initial));
   }();

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The converter under mpirun (tests/mpi/CMakeLists.txt): the same .vdb and
 # mesh, byte for byte, from 1, 2 and 4 ranks (a synthetic torus, and the
-# Stanford bunny when ../shared is beside the repository); a rank that fails (bad input, a
-# memory limit it cannot meet, killed mid-run) stops every rank, with a clear
-# message, a non-zero exit and no output, and never hangs.
+# Stanford bunny when ../shared is beside the repository); a job too large for
+# one process's memory budget runs on four ranks within it; a rank that fails
+# (bad input, a memory limit it cannot meet, killed mid-run) stops every rank,
+# with a clear message, a non-zero exit and no output, and never hangs.
 #   cli_mpi_test.sh <levelfuse> <mpiexec> <scratch folder>
 set -uo pipefail
 levelfuse=$1
@@ -68,7 +69,17 @@ code=$?
 grep -q "rank 1 of 2" limited.err || fail "memory limit: no message from the rank that failed: $(cat limited.err)"
 [ ! -e limited.vdb ] || fail "memory limit: an output was written"
 
-# 4. One rank of four killed mid-run: every rank stops, nothing is written.
+# 4. A job too large for one process's memory budget (--max-memory) runs on four ranks, each
+#    within it: every rank asks only for its share of the finest grid.
+"$levelfuse" reconstruct scans/scans.json --voxel-size 0.01 --max-memory 0.05 -o budget1.vdb -q 2> budget1.err &&
+  fail "memory budget: one process took a job larger than its budget"
+grep -q "needs about .* more than the 51.2 MiB levelfuse may use" budget1.err ||
+  fail "memory budget: one process's refusal: $(cat budget1.err)"
+run 4 "$levelfuse" reconstruct scans/scans.json --voxel-size 0.01 --max-memory 0.05 -o budget4.vdb -q ||
+  fail "memory budget: four ranks, each within the budget, exited with $?"
+[ -s budget4.vdb ] || fail "memory budget: four ranks wrote no .vdb"
+
+# 5. One rank of four killed mid-run: every rank stops, nothing is written.
 run 4 "$levelfuse" reconstruct scans/scans.json --voxel-size 0.004 -o "$work/killed.vdb" -q 2> killed.err &
 job=$!
 trap 'pkill -9 -f -- "$work/killed.vdb"' EXIT

@@ -3,6 +3,7 @@
 // one process (support/ThreadTeam.h), so the path runs under the sanitizers
 // too; tests/mpi runs it on the ranks of an MPI job.
 
+#include "support/MemoryBudgetScope.h"
 #include "support/NoisyTorus.h"
 #include "support/TestSupport.h"
 #include "support/ThreadTeam.h"
@@ -12,6 +13,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -84,6 +87,51 @@ TEST(TeamReconstruction, ARankThatFailsStopsTheOthers) {
                                            {}, &team);
                                      }),
                ReconstructionCancelled);
+}
+
+/// The memory a refusal (InsufficientMemory) of `run` says is needed, in bytes; 0 if it runs.
+double neededBytes(const std::function<void()>& run) {
+  try {
+    run();
+  } catch (const InsufficientMemory& e) {
+    std::smatch m;
+    const std::string what = e.what();
+    if (!std::regex_search(what, m, std::regex("needs about ([0-9.]+) (bytes|KiB|MiB|GiB)"))) return -1.0;
+    const double units[] = {1.0, 1024.0, 1024.0 * 1024.0, 1024.0 * 1024.0 * 1024.0};
+    const std::string unit = m[2];
+    const int k = unit == "bytes" ? 0 : unit == "KiB" ? 1 : unit == "MiB" ? 2 : 3;
+    return std::stod(m[1]) * units[k];
+  }
+  return 0.0;
+}
+
+TEST(TeamReconstruction, EachRankAsksForItsShareOfTheFinestGridsMemory) {
+  // Four ranks each need their slab's share of the finest grid (with a
+  // margin for cuts at whole columns), and the first the whole output.
+  ReconstructionOptions options;
+  options.voxelSize = 0.02;
+  options.levels = 3;
+  const Reconstructor reconstructor(test::noisyTorusScans(), options);
+  double whole = 0.0;
+  std::vector<double> shares(4);
+  {
+    const test::MemoryBudgetScope tiny(2 * 1024 * 1024);  // above the initial model's needs
+    whole = neededBytes([&] { reconstructor.run(); });
+    test::runOnThreadTeam(4, [&](const SlabTeam& team) {
+      shares[static_cast<std::size_t>(team.rank())] = neededBytes([&] { reconstructor.run({}, {}, &team); });
+    });
+  }
+  ASSERT_GT(whole, 1e6) << "one process's refusal names the finest grid's memory";
+  EXPECT_NEAR(shares[0] / whole, kOutputBytesPerActiveVoxel / kPeakBytesPerActiveVoxel, 0.01);
+  for (std::size_t r = 1; r < 4; ++r) EXPECT_NEAR(shares[r] / whole, kSlabShareMargin / 4.0, 0.01) << "rank " << r;
+  // Within a budget of half the whole, one process refuses and the team runs.
+  const test::MemoryBudgetScope half(static_cast<std::uint64_t>(0.5 * whole));
+  EXPECT_THROW(reconstructor.run(), InsufficientMemory);
+  std::vector<bool> made(4);
+  test::runOnThreadTeam(4, [&](const SlabTeam& team) {
+    made[static_cast<std::size_t>(team.rank())] = static_cast<bool>(reconstructor.run({}, {}, &team).levelSet);
+  });
+  EXPECT_TRUE(made[0]);
 }
 
 }  // namespace

@@ -141,6 +141,15 @@ inline constexpr double kSmallestVoxelSize = 1.5e-5;
 /// refined from and the snapshot that measures drift. Measured on the bunny
 /// from 0.5 mm to 0.0625 mm voxels (docs/BENCHMARKS.md): 416 to 500 bytes.
 inline constexpr double kPeakBytesPerActiveVoxel = 450.0;
+/// The same for one process of a team of n that shares the evolution
+/// (Reconstructor::run with a SlabTeam): its slab of every grid, a share of
+/// kPeakBytesPerActiveVoxel / n with a margin for cuts at whole columns of
+/// leaf nodes (kSlabShareMargin), and at the first process, once its slab
+/// has gone, the whole output: the level set and its weight grid, half-width
+/// 3 (kOutputBytesPerActiveVoxel; 239 MB each for the bunny at 0.125 mm,
+/// 3.2 million voxels on the surface, docs/BENCHMARKS.md).
+inline constexpr double kSlabShareMargin = 1.15;
+inline constexpr double kOutputBytesPerActiveVoxel = 150.0;
 
 /// What one grid of the reconstruction did.
 struct LevelReport {
@@ -289,8 +298,9 @@ class Reconstructor {
   /// would not fit (accumulationCost), saying which voxel size would.
   void requireAccumulationMemory(int level) const;
   /// Throws InsufficientMemory if the finest grid of a surface with this many
-  /// active voxels on the coarsest grid would not fit.
-  void requireFinestGridMemory(std::size_t coarsestActiveVoxels) const;
+  /// active voxels on the coarsest grid would not fit: the whole of it, or
+  /// this process's share on a `team`.
+  void requireFinestGridMemory(std::size_t coarsestActiveVoxels, const SlabTeam* team = nullptr) const;
 
   std::shared_ptr<const std::vector<RangeMap>> mMaps;
   const Fusion* mFusion = nullptr;  ///< the data term's source, if it was built on one
