@@ -84,30 +84,26 @@ PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBo
   return out;
 }
 
-namespace {
-
-/// An empty grid like `like` with the leaves of every piece, each let go once in.
-openvdb::FloatGrid::Ptr leavesOf(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like) {
+openvdb::FloatGrid::Ptr assembleLevelSet(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like) {
   openvdb::FloatGrid::Ptr out = like.copyWithNewTree();
   for (PackedLeaves& piece : pieces) {
     addLevelSetLeaves(*out, piece);
     PackedLeaves().swap(piece);
   }
-  return out;
-}
-
-}  // namespace
-
-openvdb::FloatGrid::Ptr assembleLevelSet(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like) {
-  openvdb::FloatGrid::Ptr out = leavesOf(std::move(pieces), like);
   closeAssembledLevelSet(*out);
   return out;
 }
 
-openvdb::FloatGrid::Ptr assembleSlabLevelSet(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like) {
-  openvdb::FloatGrid::Ptr out = leavesOf(std::move(pieces), like);
-  setTilesBesideLeaves(*out);
-  return out;
+void moveLevelSetLeaves(openvdb::FloatGrid& from, const SlabBounds& bounds, openvdb::FloatGrid& to) {
+  std::vector<openvdb::Coord> origins;
+  for (auto leaf = from.tree().cbeginLeaf(); leaf; ++leaf)
+    if (bounds.contains(leaf->origin().x())) origins.push_back(leaf->origin());
+  for (const openvdb::Coord& origin : origins) {
+    if (to.tree().probeConstLeaf(origin))
+      throw std::invalid_argument("moveLevelSetLeaves: the leaf at " + origin.asVec3i().str() + " is there already");
+    Leaf* leaf = from.tree().stealNode<Leaf>(origin, from.background(), false);
+    to.tree().addLeaf(leaf);
+  }
 }
 
 void setTilesBesideLeaves(openvdb::FloatGrid& grid) {

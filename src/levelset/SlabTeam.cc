@@ -62,12 +62,20 @@ SlabField refineAcrossTeam(SlabField slab, const SlabTeam& team, const SparseFie
   }();
   const std::vector<SlabBounds> cuts =
       balancedSlabs(teamLeafColumns(leafColumns(refined->tree(), own), team), team.size());
-  std::vector<PackedLeaves> toEach;
-  for (const SlabBounds& cut : cuts) toEach.push_back(packLevelSetLeaves(*refined, overlapOf(own, levelSetReach(cut))));
-  const openvdb::FloatGrid::Ptr like = refined->copyWithNewTree();
+  // The leaves for this process's own new slab are moved, not copied.
+  const std::size_t me = static_cast<std::size_t>(team.rank());
+  std::vector<PackedLeaves> toEach(cuts.size());
+  for (std::size_t r = 0; r < cuts.size(); ++r)
+    if (r != me) toEach[r] = packLevelSetLeaves(*refined, overlapOf(own, levelSetReach(cuts[r])));
+  const openvdb::FloatGrid::Ptr mine = refined->copyWithNewTree();
+  moveLevelSetLeaves(*refined, overlapOf(own, levelSetReach(cuts[me])), *mine);
   refined.reset();
-  const openvdb::FloatGrid::Ptr mine = assembleSlabLevelSet(team.exchange(std::move(toEach)), *like);
-  return SlabField::fromLevelSet(*mine, cuts.at(static_cast<std::size_t>(team.rank())), engine);
+  for (PackedLeaves& piece : team.exchange(std::move(toEach))) {
+    addLevelSetLeaves(*mine, piece);
+    PackedLeaves().swap(piece);
+  }
+  setTilesBesideLeaves(*mine);
+  return SlabField::fromLevelSet(*mine, cuts[me], engine);
 }
 
 }  // namespace levelfuse

@@ -56,14 +56,18 @@ openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name) {
   // Each process makes its slab's leaves of the level set (the whole
   // field's there once the ghosts are fresh); the first puts them together
   // as they arrive, one process's at a time.
+  // The first process moves its own leaves in rather than copying them.
   mTeam->refreshGhosts(*mSlab);
   openvdb::FloatGrid::Ptr piece = mSlab->toLevelSet(3.0, name);
-  PackedLeaves own = packLevelSetLeaves(*piece, mSlab->bounds());
   const openvdb::FloatGrid::Ptr whole = piece->copyWithNewTree();
+  const bool first = mTeam->rank() == 0;
+  PackedLeaves own;
+  if (first) moveLevelSetLeaves(*piece, mSlab->bounds(), *whole);
+  else own = packLevelSetLeaves(*piece, mSlab->bounds());
   piece.reset();
   mSlab.reset();
   mTeam->gatherEach(std::move(own), 0, [&](PackedLeaves leaves) { addLevelSetLeaves(*whole, leaves); });
-  if (mTeam->rank() != 0) return nullptr;
+  if (!first) return nullptr;
   closeAssembledLevelSet(*whole);
   return whole;
 }

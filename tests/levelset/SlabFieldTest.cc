@@ -349,6 +349,15 @@ TEST(SlabField, LevelSetPiecesAreChecked) {
   upper.begin = 0;
   EXPECT_LT(packLevelSetLeaves(*sphere, upper).size(), all.size());
   EXPECT_GT(packLevelSetLeaves(*sphere, upper).size(), 0u);
+  // Moved leaves leave their grid and cannot be moved in twice.
+  const openvdb::FloatGrid::Ptr from = sphere->deepCopy();
+  const openvdb::FloatGrid::Ptr to = sphere->copyWithNewTree();
+  moveLevelSetLeaves(*from, upper, *to);
+  EXPECT_EQ(from->tree().leafCount() + to->tree().leafCount(), sphere->tree().leafCount());
+  EXPECT_EQ(packLevelSetLeaves(*to, SlabBounds{}), packLevelSetLeaves(*sphere, upper));
+  EXPECT_TRUE(packLevelSetLeaves(*from, upper).empty());
+  const openvdb::FloatGrid::Ptr again = sphere->deepCopy();
+  EXPECT_THROW(moveLevelSetLeaves(*again, upper, *to), std::invalid_argument);
 }
 
 TEST(SlabField, BalancedSlabsShareTheLeaves) {

@@ -43,18 +43,18 @@ openvdb::FloatGrid::Ptr assembleLevelSet(std::vector<PackedLeaves> pieces, const
 void addLevelSetLeaves(openvdb::FloatGrid& levelSet, const PackedLeaves& piece);
 void closeAssembledLevelSet(openvdb::FloatGrid& levelSet);
 
-/// The level set of one slab put together from pieces: the leaves of every
-/// piece, as assembleLevelSet puts them in, when together they cover only the
-/// slab's reach (levelSetReach), the rest held by other processes. A flood
-/// fill cannot see the band beyond the pieces, so the tiles beside the leaves
-/// are set as setTilesBesideLeaves does, which is all the slab reads.
-openvdb::FloatGrid::Ptr assembleSlabLevelSet(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like);
+/// Moves the leaf nodes of `from` whose origin x lies in `bounds` into `to`
+/// (an empty tree, or one holding none of them): this process's own piece,
+/// which needs no copy. `from` keeps inactive tiles in their place.
+void moveLevelSetLeaves(openvdb::FloatGrid& from, const SlabBounds& bounds, openvdb::FloatGrid& to);
 
 /// Sets every leaf-sized cell beside a leaf of `grid` (face, edge or corner)
 /// that holds no leaf to an inactive tile of the side of the leaf voxel
 /// nearest it. Those voxels lie beyond the band or at its edge, and a voxel
 /// beyond the band lies on the side of its neighbours, so every leaf beside a
-/// cell agrees. A slab's flood fill could not see the band beyond its ghosts.
+/// cell agrees. A slab's flood fill could not see the band beyond its ghosts;
+/// the level set of a slab put together from pieces that cover only its reach
+/// (levelSetReach) takes its tiles so too, which is all the slab reads.
 void setTilesBesideLeaves(openvdb::FloatGrid& grid);
 
 }  // namespace levelfuse
