@@ -145,11 +145,14 @@ inline constexpr double kPeakBytesPerActiveVoxel = 450.0;
 /// (Reconstructor::run with a SlabTeam): its slab of every grid, a share of
 /// kPeakBytesPerActiveVoxel / n with a margin for cuts at whole columns of
 /// leaf nodes (kSlabShareMargin), and at the first process, once its slab
-/// has gone, the whole output: the level set and its weight grid, half-width
-/// 3 (kOutputBytesPerActiveVoxel; 239 MB each for the bunny at 0.125 mm,
-/// 3.2 million voxels on the surface, docs/BENCHMARKS.md).
+/// has gone, the whole output (kOutputBytesPerActiveVoxel): the level set,
+/// half-width 3, and beside it its weight grid or what the converter measures
+/// and meshes it with, each of the surface's size (239 MB for the level set of
+/// the bunny at 0.125 mm; rank 0 of the converter with a mesh peaked at 1.03
+/// GiB, 298 bytes a voxel of the 3.69 million this estimate foresaw,
+/// docs/BENCHMARKS.md).
 inline constexpr double kSlabShareMargin = 1.15;
-inline constexpr double kOutputBytesPerActiveVoxel = 150.0;
+inline constexpr double kOutputBytesPerActiveVoxel = 300.0;
 
 /// What one grid of the reconstruction did.
 struct LevelReport {
