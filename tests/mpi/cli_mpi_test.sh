@@ -4,7 +4,8 @@
 # Stanford bunny when ../shared is beside the repository); a job too large for
 # one process's memory budget runs on four ranks within it; a rank that fails
 # (bad input, a memory limit it cannot meet, killed mid-run) stops every rank,
-# with a clear message, a non-zero exit and no output, and never hangs.
+# with a clear message, a non-zero exit and no output, and never hangs; so
+# does Ctrl-C.
 #   cli_mpi_test.sh <levelfuse> <mpiexec> <scratch folder>
 set -uo pipefail
 levelfuse=$1
@@ -101,4 +102,23 @@ code=$?
 [ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "killed rank: exit code $code"
 [ -z "$(ranks)" ] || fail "killed rank: ranks still run"
 [ ! -e killed.vdb ] || fail "killed rank: an output was written"
+
+# 6. Ctrl-C: mpirun passes SIGINT to every rank, and each says it was interrupted, writing nothing.
+run 4 "$levelfuse" reconstruct scans/scans.json --voxel-size 0.004 -o "$work/interrupted.vdb" -q 2> interrupted.err &
+job=$!
+started=""
+for _ in $(seq 100); do
+  sleep 0.2
+  [ "$(pgrep -f -- "$work/interrupted.vdb" | wc -l)" -ge 4 ] && started=yes && break
+done
+[ -n "$started" ] || fail "Ctrl-C: the ranks did not start"
+sleep 1
+for p in $(pgrep -f -- "$work/interrupted.vdb"); do  # mpirun itself, as a terminal's Ctrl-C reaches it
+  case "$(cat "/proc/$p/comm" 2>/dev/null)" in mpiexec | mpirun | orterun) kill -INT "$p" ;; esac
+done
+wait "$job"
+code=$?
+[ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "Ctrl-C: exit code $code"
+grep -q "interrupted while .* of 4); nothing written" interrupted.err || fail "Ctrl-C: $(cat interrupted.err)"
+[ ! -e interrupted.vdb ] || fail "Ctrl-C: an output was written"
 echo "ok"
