@@ -249,6 +249,7 @@ TEST(SlabField, ATeamRefinesItsSlabsAndCutsTheFinerGridAfresh) {
   for (int s = 0; s < 8; ++s) wholeSteps.push_back(wholeFine.step(force));
 
   const std::vector<openvdb::Int32> coarseCuts = {-8, 0};
+  const std::vector<openvdb::FloatGrid::Ptr> torusCopies = {torus->deepCopy(), torus->deepCopy(), torus->deepCopy()};
   std::vector<std::size_t> fineLeaves(3);
   std::vector<std::vector<StepResult>> teamSteps(3);
   std::optional<SparseField> assembledFine;
@@ -257,7 +258,9 @@ TEST(SlabField, ATeamRefinesItsSlabsAndCutsTheFinerGridAfresh) {
     SlabBounds bounds;
     if (r > 0) bounds.begin = coarseCuts[r - 1];
     if (r < 2) bounds.end = coarseCuts[r];
-    SlabField slab = SlabField::fromLevelSet(*torus, bounds);
+    // Each rank reads its own copy, as a process would: OpenVDB registers
+    // the accessors of a tree in the tree.
+    SlabField slab = SlabField::fromLevelSet(*torusCopies[r], bounds);
     for (int s = 0; s < 8; ++s) stepSlab(slab, force, team);
     slab = refineAcrossTeam(std::move(slab), team, {});
     for (int s = 0; s < 8; ++s) teamSteps[r].push_back(stepSlab(slab, force, team));

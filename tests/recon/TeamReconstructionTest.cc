@@ -1,6 +1,6 @@
 // A reconstruction whose evolution a team shares, one slab of every grid
 // each, gives one process's result bit for bit: the team here is threads of
-// one process (support/ThreadTeam.h), so the path runs under the sanitizers
+// one process (support/ThreadTeam.h), so the path runs under AddressSanitizer
 // too; tests/mpi runs it on the ranks of an MPI job.
 
 #include "support/MemoryBudgetScope.h"

@@ -2,6 +2,8 @@
 
 #include "support/ThreadTeam.h"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <condition_variable>
 #include <cstring>
@@ -142,8 +144,13 @@ void runOnThreadTeam(int size, const std::function<void(const SlabTeam&)>& body)
   for (int r = 0; r < size; ++r)
     ranks.emplace_back([&, r] {
       try {
-        const ThreadTeam team(board, r);
-        body(team);
+        // Each rank's parallel work stays on its own arena, as a process's
+        // would: no rank runs another's tasks.
+        tbb::task_arena own;
+        own.execute([&] {
+          const ThreadTeam team(board, r);
+          body(team);
+        });
       } catch (...) {
         {
           std::lock_guard<std::mutex> lock(failed);

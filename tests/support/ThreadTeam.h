@@ -1,6 +1,6 @@
 // A team of slabs (levelset/SlabTeam.h) run as threads of one process, one
 // rank each: the team's code paths (stepSlab, refineAcrossTeam, the
-// reconstruction on a team) tested without MPI, and under the sanitizers,
+// reconstruction on a team) tested without MPI, and under AddressSanitizer,
 // which the MPI build leaves out. Every collective is an exchange of parcels
 // between all ranks at a barrier.
 #pragma once
