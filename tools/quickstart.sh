@@ -69,9 +69,6 @@ case "$mode" in
     echo "== running the benchmarks (this takes a while)"
     ITK_GLOBAL_DEFAULT_THREADER=Platform "$build/benchmarks/levelset_benchmarks" \
       --benchmark_format=json --benchmark_out="$root/out/levelset_benchmarks.json" --benchmark_out_format=json
-    # One process per benchmark, so that each reports its own peak memory.
-    # Open3D's OpenMP threads wait passively: spinning on a shared machine makes its many small
-    # parallel loops 15x slower (docs/BENCHMARKS.md, depth video).
     # The reconstruction shared by MPI ranks: one job per benchmark and rank count, each rank's peak its own.
     for name in $("$build/benchmarks/mpi_benchmarks" --benchmark_list_tests); do
       for ranks in 1 2 4; do
@@ -80,6 +77,9 @@ case "$mode" in
           --benchmark_out="$root/out/mpi_benchmarks-${name//\//_}-np$ranks.json" --benchmark_out_format=json
       done
     done
+    # One process per benchmark, so that each reports its own peak memory.
+    # Open3D's OpenMP threads wait passively: spinning on a shared machine makes its many small
+    # parallel loops 15x slower (docs/BENCHMARKS.md, depth video).
     for program in scan_benchmarks recon_benchmarks depth_benchmarks scene_benchmarks python_benchmarks; do
       for name in $("$build/benchmarks/$program" --benchmark_list_tests); do
         OMP_WAIT_POLICY=passive "$build/benchmarks/$program" --benchmark_filter="^$name\$" --benchmark_format=json \
