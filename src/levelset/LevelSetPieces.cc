@@ -17,15 +17,9 @@ namespace levelfuse {
 namespace {
 
 using Leaf = openvdb::FloatTree::LeafNodeType;
-constexpr openvdb::Int32 kLeafWidth = static_cast<openvdb::Int32>(Leaf::DIM);
 constexpr std::size_t kMaskBytes = Leaf::SIZE / 8;
 /// Bytes of one packed leaf: origin, active voxels, values.
 constexpr std::size_t kLeafBytes = 3 * sizeof(openvdb::Int32) + kMaskBytes + Leaf::SIZE * sizeof(float);
-
-void append(PackedLeaves& out, const void* data, std::size_t bytes) {
-  const auto* p = static_cast<const std::uint8_t*>(data);
-  out.insert(out.end(), p, p + bytes);
-}
 
 }  // namespace
 
@@ -59,8 +53,8 @@ void closeAssembledLevelSet(openvdb::FloatGrid& levelSet) {
 
 SlabBounds levelSetReach(const SlabBounds& slab) {
   SlabBounds reach = slab;
-  if (slab.hasLower()) reach.begin -= 2 * kLeafWidth;
-  if (slab.hasHigher()) reach.end += 2 * kLeafWidth;
+  if (slab.hasLower()) reach.begin -= 2 * kLeafNodeWidth;
+  if (slab.hasHigher()) reach.end += 2 * kLeafNodeWidth;
   return reach;
 }
 
@@ -77,9 +71,9 @@ PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBo
     const openvdb::Coord& o = leaf->origin();
     if (!bounds.contains(o.x())) continue;
     const openvdb::Int32 origin[3] = {o.x(), o.y(), o.z()};
-    append(out, origin, sizeof(origin));
-    append(out, detail::maskWords(leaf->getValueMask()), kMaskBytes);
-    append(out, leaf->buffer().data(), Leaf::SIZE * sizeof(float));
+    detail::appendBytes(out, origin, sizeof(origin));
+    detail::appendBytes(out, detail::maskWords(leaf->getValueMask()), kMaskBytes);
+    detail::appendBytes(out, leaf->buffer().data(), Leaf::SIZE * sizeof(float));
   }
   return out;
 }
@@ -115,9 +109,10 @@ void setTilesBesideLeaves(openvdb::FloatGrid& grid) {
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
           if (dx == 0 && dy == 0 && dz == 0) continue;
-          const openvdb::Coord cell = leaf->origin().offsetBy(dx * kLeafWidth, dy * kLeafWidth, dz * kLeafWidth);
+          const openvdb::Int32 w = kLeafNodeWidth;
+          const openvdb::Coord cell = leaf->origin().offsetBy(dx * w, dy * w, dz * w);
           if (tree.probeConstLeaf(cell)) continue;
-          const auto near = [](int d) { return d > 0 ? kLeafWidth - 1 : 0; };
+          const auto near = [](int d) { return d > 0 ? kLeafNodeWidth - 1 : 0; };
           const openvdb::Coord voxel = leaf->origin().offsetBy(near(dx), near(dy), near(dz));
           cells.emplace_back(cell, leaf->getValue(voxel) < 0.0f);
         }

@@ -21,7 +21,6 @@ using detail::XRange;
 
 namespace {
 
-constexpr openvdb::Int32 kLeafWidth = static_cast<openvdb::Int32>(FloatLeaf::DIM);
 constexpr std::size_t kMaskWords = FloatLeaf::SIZE / 64;
 
 /// Bytes of one packed leaf: origin, values, band (value mask), layers L0..LN.
@@ -30,18 +29,13 @@ std::size_t packedLeafBytes(int layers) {
          (static_cast<std::size_t>(layers) + 2) * kMaskWords * sizeof(std::uint64_t);
 }
 
-void append(PackedLeaves& out, const void* data, std::size_t bytes) {
-  const auto* p = static_cast<const std::uint8_t*>(data);
-  out.insert(out.end(), p, p + bytes);
-}
-
 void appendLeaf(PackedLeaves& out, const LeafRecord& record, int layers) {
   const openvdb::Int32 origin[3] = {record.origin.x(), record.origin.y(), record.origin.z()};
-  append(out, origin, sizeof(origin));
-  append(out, record.values, FloatLeaf::SIZE * sizeof(float));
-  append(out, detail::maskWords(record.leaf->getValueMask()), kMaskWords * sizeof(std::uint64_t));
+  detail::appendBytes(out, origin, sizeof(origin));
+  detail::appendBytes(out, record.values, FloatLeaf::SIZE * sizeof(float));
+  detail::appendBytes(out, detail::maskWords(record.leaf->getValueMask()), kMaskWords * sizeof(std::uint64_t));
   for (int i = 0; i <= layers; ++i)
-    append(out, detail::maskWords(record.layer[i]), kMaskWords * sizeof(std::uint64_t));
+    detail::appendBytes(out, detail::maskWords(record.layer[i]), kMaskWords * sizeof(std::uint64_t));
 }
 
 void requireWholeLeaves(const PackedLeaves& packed, int layers) {
@@ -111,19 +105,21 @@ std::unique_ptr<SparseFieldState> emptyState(const SparseFieldOptions& options, 
 /// x origin of the column of leaves a slab shares with its `side` neighbour
 /// (its own, for ghostsFor) or keeps as ghosts from it.
 openvdb::Int32 ownColumn(const SlabBounds& b, SlabSide side) {
-  return side == SlabSide::kLower ? b.begin : b.end - kLeafWidth;
+  return side == SlabSide::kLower ? b.begin : b.end - kLeafNodeWidth;
 }
 openvdb::Int32 ghostColumn(const SlabBounds& b, SlabSide side) {
-  return side == SlabSide::kLower ? b.begin - kLeafWidth : b.end;
+  return side == SlabSide::kLower ? b.begin - kLeafNodeWidth : b.end;
 }
-bool hasNeighbour(const SlabBounds& b, SlabSide side) { return side == SlabSide::kLower ? b.hasLower() : b.hasHigher(); }
+bool hasNeighbour(const SlabBounds& b, SlabSide side) {
+  return side == SlabSide::kLower ? b.hasLower() : b.hasHigher();
+}
 
 void requireBounds(const SlabBounds& b) {
-  const bool aligned = (!hasNeighbour(b, SlabSide::kLower) || b.begin % kLeafWidth == 0) &&
-                       (!hasNeighbour(b, SlabSide::kHigher) || b.end % kLeafWidth == 0);
+  const bool aligned = (!hasNeighbour(b, SlabSide::kLower) || b.begin % kLeafNodeWidth == 0) &&
+                       (!hasNeighbour(b, SlabSide::kHigher) || b.end % kLeafNodeWidth == 0);
   if (!aligned || b.begin >= b.end)
     throw std::invalid_argument("SlabField: a slab must own x in [begin, end) with begin < end, both multiples of " +
-                                std::to_string(kLeafWidth) + " voxels (got [" + std::to_string(b.begin) + ", " +
+                                std::to_string(kLeafNodeWidth) + " voxels (got [" + std::to_string(b.begin) + ", " +
                                 std::to_string(b.end) + "))");
 }
 
@@ -138,7 +134,7 @@ std::pair<XRange, XRange> ownedAndDomain(const SlabBounds& bounds) {
   }
   if (hasNeighbour(bounds, SlabSide::kHigher)) {
     owned.end = bounds.end;
-    domain.end = ghostColumn(bounds, SlabSide::kHigher) + kLeafWidth;
+    domain.end = ghostColumn(bounds, SlabSide::kHigher) + kLeafNodeWidth;
   }
   return {owned, domain};
 }
@@ -270,9 +266,9 @@ std::vector<SlabBounds> balancedSlabs(const std::vector<std::pair<openvdb::Int32
     if (c.second > 0) sorted.push_back(c);
   std::sort(sorted.begin(), sorted.end());
   const std::size_t slabs = static_cast<std::size_t>(std::max(count, 1));
-  if (leafWidth <= 0 || leafWidth % kLeafWidth != 0)
+  if (leafWidth <= 0 || leafWidth % kLeafNodeWidth != 0)
     throw std::invalid_argument("balancedSlabs: columns must be a whole number of leaf nodes wide (" +
-                                std::to_string(kLeafWidth) + " voxels), not " + std::to_string(leafWidth));
+                                std::to_string(kLeafNodeWidth) + " voxels), not " + std::to_string(leafWidth));
   for (const auto& c : sorted)
     if (c.first % leafWidth != 0)
       throw std::invalid_argument("balancedSlabs: a column's origin x = " + std::to_string(c.first) +

@@ -16,16 +16,17 @@ namespace {
 
 using Column = std::pair<openvdb::Int32, std::size_t>;
 
+/// A column as it travels: two 64-bit fields, no padding.
 struct PackedColumn {
-  openvdb::Int32 x;
+  std::int64_t x;
   std::uint64_t leaves;
 };
 
 PackedLeaves packColumns(const std::vector<Column>& columns) {
-  PackedLeaves out(columns.size() * sizeof(PackedColumn));
-  for (std::size_t i = 0; i < columns.size(); ++i) {
-    const PackedColumn c{columns[i].first, columns[i].second};
-    std::memcpy(out.data() + i * sizeof(PackedColumn), &c, sizeof(c));
+  PackedLeaves out;
+  for (const Column& column : columns) {
+    const PackedColumn c{column.first, column.second};
+    detail::appendBytes(out, &c, sizeof(c));
   }
   return out;
 }
@@ -38,7 +39,7 @@ void addColumns(const PackedLeaves& packed, std::map<openvdb::Int32, std::size_t
   for (std::size_t at = 0; at < packed.size(); at += sizeof(PackedColumn)) {
     PackedColumn c;
     std::memcpy(&c, packed.data() + at, sizeof(c));
-    counts[c.x] += c.leaves;
+    counts[static_cast<openvdb::Int32>(c.x)] += c.leaves;
   }
 }
 

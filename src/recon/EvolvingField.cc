@@ -40,9 +40,7 @@ void EvolvingField::refine(const SparseFieldOptions& engine) {
     return;
   }
   // The finer grid is cut afresh where its leaf nodes share out evenly.
-  SlabField coarse = std::move(*mSlab);
-  mSlab.reset();
-  mSlab = std::make_unique<SlabField>(refineAcrossTeam(std::move(coarse), *mTeam, engine));
+  mSlab = std::make_unique<SlabField>(refineAcrossTeam(std::move(*mSlab), *mTeam, engine));
 }
 
 openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name) {
@@ -54,9 +52,8 @@ openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name) {
     return levelSet;
   }
   // Each process makes its slab's leaves of the level set (the whole
-  // field's there once the ghosts are fresh); the first puts them together
-  // as they arrive, one process's at a time.
-  // The first process moves its own leaves in rather than copying them.
+  // field's there once the ghosts are fresh); the first moves its own in and
+  // adds the others' as they arrive, one process's at a time.
   mTeam->refreshGhosts(*mSlab);
   openvdb::FloatGrid::Ptr piece = mSlab->toLevelSet(3.0, name);
   const openvdb::FloatGrid::Ptr whole = piece->copyWithNewTree();

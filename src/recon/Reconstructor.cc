@@ -255,21 +255,22 @@ void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels, co
   // The surface's area, and so the active set, grows four times with each grid.
   const double finestActive = static_cast<double>(coarsestActiveVoxels) * std::pow(4.0, *mOptions.levels - 1);
   const int processes = team ? team->size() : 1;
+  const bool shared = processes > 1;
+  const bool assembles = shared && team->rank() == 0;  // the first process makes the whole output
   double perVoxel = kPeakBytesPerActiveVoxel;
-  if (processes > 1) {
-    perVoxel = kPeakBytesPerActiveVoxel * kSlabShareMargin / processes;
-    if (team->rank() == 0) perVoxel = std::max(perVoxel, kOutputBytesPerActiveVoxel);
-  }
+  if (shared) perVoxel = kPeakBytesPerActiveVoxel * kSlabShareMargin / processes;
+  if (assembles) perVoxel = std::max(perVoxel, kOutputBytesPerActiveVoxel);
   const double bytes = perVoxel * finestActive;
   const double budget = static_cast<double>(io::memoryBudget());
-  const std::string share =
-      processes > 1 ? ", this process's share of " + std::to_string(processes) + (team->rank() == 0 ? ", and the whole output" : "")
-                    : "";
+  std::string share;
+  if (shared) share = ", this process's share of " + std::to_string(processes);
+  if (assembles) share += ", and the whole output";
   requireMemory(bytes,
                 "a voxel size of " + shortNumber(*mOptions.voxelSize) + " (about " + shortNumber(finestActive / 1e6) +
                     " million voxels on the surface" + share + ")",
-                "choose a voxel size of at least " + shortNumber(*mOptions.voxelSize * std::sqrt(1.1 * bytes / budget)) +
-                    " or allow more memory" + (processes > 1 && team->rank() > 0 ? " or more processes" : ""));
+                "choose a voxel size of at least " +
+                    shortNumber(*mOptions.voxelSize * std::sqrt(1.1 * bytes / budget)) + " or allow more memory" +
+                    (shared && !assembles ? " or more processes" : ""));
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {

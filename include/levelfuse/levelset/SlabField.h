@@ -67,6 +67,17 @@ SlabBounds onFinerGrid(const SlabBounds& bounds);
 /// Leaves of a slab with their layers, packed as bytes for another process.
 using PackedLeaves = std::vector<std::uint8_t>;
 
+/// Width of a leaf node (voxels): slabs are cut at its multiples.
+inline constexpr openvdb::Int32 kLeafNodeWidth = static_cast<openvdb::Int32>(openvdb::FloatTree::LeafNodeType::DIM);
+
+namespace detail {
+/// Appends the `bytes` bytes at `data` to `out`: how every packing of leaves writes.
+inline void appendBytes(PackedLeaves& out, const void* data, std::size_t bytes) {
+  const auto* p = static_cast<const std::uint8_t*>(data);
+  out.insert(out.end(), p, p + bytes);
+}
+}  // namespace detail
+
 /// The neighbour a slab exchanges ghosts with: lower x or higher x.
 enum class SlabSide { kLower, kHigher };
 
@@ -139,6 +150,6 @@ class SlabField {
 /// in any order; a coarser grid's columns may stand for the field's own.
 /// Throws std::invalid_argument if there are fewer columns than slabs.
 std::vector<SlabBounds> balancedSlabs(const std::vector<std::pair<openvdb::Int32, std::size_t>>& columns,
-                                      int count, openvdb::Int32 leafWidth = 8);
+                                      int count, openvdb::Int32 leafWidth = kLeafNodeWidth);
 
 }  // namespace levelfuse
