@@ -7,6 +7,7 @@
 #include <openvdb/tools/SignedFloodFill.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -65,6 +66,13 @@ SlabBounds overlapOf(const SlabBounds& a, const SlabBounds& b) {
   return both;
 }
 
+openvdb::CoordBBox slabBox(const SlabBounds& slab) {
+  // Far beyond any grid's voxels, yet the box's extent fits an Int32.
+  constexpr openvdb::Int32 far = 1 << 29;
+  return openvdb::CoordBBox(openvdb::Coord(std::max(slab.begin, -far), -far, -far),
+                            openvdb::Coord(std::min(slab.end, far) - 1, far, far));
+}
+
 PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds) {
   PackedLeaves out;
   for (auto leaf = levelSet.tree().cbeginLeaf(); leaf; ++leaf) {
@@ -86,6 +94,33 @@ openvdb::FloatGrid::Ptr assembleLevelSet(std::vector<PackedLeaves> pieces, const
   }
   closeAssembledLevelSet(*out);
   return out;
+}
+
+void closeLevelSetPiece(openvdb::FloatGrid& piece) {
+  openvdb::FloatTree& tree = piece.tree();
+  std::vector<openvdb::Coord> origins;
+  origins.reserve(tree.leafCount());
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) origins.push_back(leaf->origin());
+  std::sort(origins.begin(), origins.end());  // by x, then y, then z: each column's leaves in a run, upwards
+  const openvdb::Int32 w = kLeafNodeWidth;
+  const float inside = -std::abs(tree.background());
+  for (std::size_t i = 0; i + 1 < origins.size(); ++i) {
+    const openvdb::Coord& below = origins[i];
+    const openvdb::Coord& above = origins[i + 1];
+    const bool sameColumn = below.x() == above.x() && below.y() == above.y();
+    if (!sameColumn || above.z() == below.z() + w) continue;
+    // The cells between two leaves of a column take the side of the voxels facing them.
+    if (tree.probeConstLeaf(below)->getValue(below.offsetBy(0, 0, w - 1)) >= 0.0f) continue;
+    tree.fill(openvdb::CoordBBox(below.offsetBy(0, 0, w), above.offsetBy(w - 1, w - 1, -1)), inside, false);
+  }
+  openvdb::tools::pruneLevelSet(tree);
+}
+
+void describeLevelSetPiece(openvdb::FloatGrid& piece, int index, int count, const SlabBounds& bounds) {
+  piece.insertMeta("levelfuse_piece", openvdb::Int32Metadata(index));
+  piece.insertMeta("levelfuse_pieces", openvdb::Int32Metadata(count));
+  if (bounds.hasLower()) piece.insertMeta("levelfuse_piece_begin_x", openvdb::Int32Metadata(bounds.begin));
+  if (bounds.hasHigher()) piece.insertMeta("levelfuse_piece_end_x", openvdb::Int32Metadata(bounds.end));
 }
 
 void moveLevelSetLeaves(openvdb::FloatGrid& from, const SlabBounds& bounds, openvdb::FloatGrid& to) {

@@ -16,6 +16,9 @@
 #include <levelfuse/levelset/SpeedTerms.h>
 
 #include <gtest/gtest.h>
+#include <openvdb/tools/Composite.h>
+#include <openvdb/tools/LevelSetSphere.h>
+#include <openvdb/tools/Prune.h>
 
 #include <algorithm>
 #include <cmath>
@@ -336,6 +339,39 @@ TEST(SlabField, TheSlabsLevelSetPiecesAssembleIntoTheWholesLevelSet) {
     EXPECT_EQ(assembledSet->background(), wholeSet->background());
     EXPECT_GT(wholeSet->tree().leafCount(), 50u);
   }
+}
+
+TEST(SlabField, EachSlabsPieceIsTheWholeLevelSetWithinIt) {
+  // A piece kept apart: a slab's own leaves, closed alone, are the whole
+  // level set clipped to the slab, tiles and nodes alike; the pieces' union
+  // is the whole. A sphere wide enough to hold whole 128-wide internal nodes
+  // inside (tiles one level up), and a torus, whose hole a column of leaves
+  // crosses twice; cuts through internal nodes and along their faces.
+  const auto shapes = {openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(150.0f, openvdb::Vec3f(20.5f, -3.2f, 7.7f), 1.0f, 3.0f),
+                       sample(shapes::Torus{Vec3d(0.2, 0.1, -0.2), 12.0, 3.1}, openvdb::BBoxd(Vec3d(-18), Vec3d(18)))};
+  const std::vector<openvdb::Int32> cuts{-SlabBounds::kUnbounded, -8, 0, 16, 128, SlabBounds::kUnbounded};
+  for (const openvdb::FloatGrid::Ptr& shape : shapes) {
+    openvdb::FloatGrid::Ptr united;
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+      const SlabBounds slab{cuts[k], cuts[k + 1]};
+      const openvdb::FloatGrid::Ptr piece = shape->copyWithNewTree();
+      addLevelSetLeaves(*piece, packLevelSetLeaves(*shape, slab));
+      closeLevelSetPiece(*piece);
+      const openvdb::FloatGrid::Ptr clipped = shape->deepCopy();
+      clipped->tree().clip(slabBox(slab));
+      openvdb::tools::pruneLevelSet(clipped->tree());
+      std::string why;
+      EXPECT_TRUE(test::identical(*clipped, *piece, &why)) << "slab " << k << ": " << why;
+      EXPECT_TRUE(test::sameTreeBytes(*clipped, *piece)) << "slab " << k << ": the trees' tiles or nodes differ";
+      if (!united) united = piece->deepCopy();
+      else openvdb::tools::csgUnion(united->tree(), piece->deepCopy()->tree());
+    }
+    std::string why;
+    EXPECT_TRUE(test::identical(*shape, *united, &why)) << why;
+  }
+  std::size_t wideTiles = 0;  // the sphere's tiles of whole 128-wide nodes
+  for (auto tile = shapes.begin()->get()->tree().cbeginValueOff(); tile; ++tile) wideTiles += tile.getLevel() == 2;
+  EXPECT_GT(wideTiles, 0u);
 }
 
 TEST(SlabField, LevelSetPiecesAreChecked) {

@@ -24,6 +24,10 @@ SlabBounds levelSetReach(const SlabBounds& slab);
 /// The x that lie in both (an empty range, begin >= end, if none do).
 SlabBounds overlapOf(const SlabBounds& a, const SlabBounds& b);
 
+/// The box of index space a slab covers: its x range, and y and z as far as
+/// a grid reaches.
+openvdb::CoordBBox slabBox(const SlabBounds& slab);
+
 /// The leaf nodes of `levelSet` whose origin x lies in `bounds`, their values
 /// and active voxels, packed as bytes for another process.
 PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds);
@@ -42,6 +46,23 @@ openvdb::FloatGrid::Ptr assembleLevelSet(std::vector<PackedLeaves> pieces, const
 /// flood filled and the level set pruned.
 void addLevelSetLeaves(openvdb::FloatGrid& levelSet, const PackedLeaves& piece);
 void closeAssembledLevelSet(openvdb::FloatGrid& levelSet);
+
+/// Makes `piece`, which holds the leaf nodes of a level set whose origin x
+/// lies in one slab and nothing else, that level set within the slab: its
+/// tiles inside the surface are set, as inactive tiles of -background, and
+/// it is pruned as a level set. A slab holds whole columns of leaf nodes
+/// along z, so the side of every cell is its own to know: a cell without a
+/// leaf lies inside if the nearest leaf below it in its column faces it with
+/// inside voxels, and outside if none lies below (a line along z that meets
+/// no band never crosses the surface). The pieces of every slab together
+/// (their CSG union) are the whole level set, tested against it clipped.
+void closeLevelSetPiece(openvdb::FloatGrid& piece);
+
+/// Says in `piece`'s metadata which piece it is: levelfuse_piece (0 to
+/// count - 1, along x), levelfuse_pieces (count), and the x range of index
+/// space it holds, levelfuse_piece_begin_x and levelfuse_piece_end_x (the
+/// end excluded; each left out where the piece reaches to infinity).
+void describeLevelSetPiece(openvdb::FloatGrid& piece, int index, int count, const SlabBounds& bounds);
 
 /// Moves the leaf nodes of `from` whose origin x lies in `bounds` into `to`
 /// (an empty tree, or one holding none of them): this process's own piece,
