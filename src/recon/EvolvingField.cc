@@ -43,7 +43,7 @@ void EvolvingField::refine(const SparseFieldOptions& engine) {
   mSlab = std::make_unique<SlabField>(refineAcrossTeam(std::move(*mSlab), *mTeam, engine));
 }
 
-openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name) {
+openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name, bool inPieces) {
   mReleasedStats = stats();
   mReleasedOwnLeaves = ownLeafNodes();
   if (!mSlab) {
@@ -56,6 +56,11 @@ openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name) {
   // adds the others' as they arrive, one process's at a time.
   mTeam->refreshGhosts(*mSlab);
   openvdb::FloatGrid::Ptr piece = mSlab->toLevelSet(3.0, name);
+  mReleasedBounds = mSlab->bounds();
+  if (inPieces) {
+    mSlab.reset();
+    return piece;
+  }
   const openvdb::FloatGrid::Ptr whole = piece->copyWithNewTree();
   const bool first = mTeam->rank() == 0;
   PackedLeaves own;
@@ -67,6 +72,22 @@ openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name) {
   if (!first) return nullptr;
   closeAssembledLevelSet(*whole);
   return whole;
+}
+
+void EvolvingField::keepOwnPiece(openvdb::FloatGrid::Ptr& levelSet, openvdb::FloatGrid::Ptr& weight,
+                                 openvdb::Vec3fGrid::Ptr& colour) const {
+  if (!mTeam) {
+    describeLevelSetPiece(*levelSet, 0, 1, SlabBounds{});
+    return;
+  }
+  const openvdb::FloatGrid::Ptr piece = levelSet->copyWithNewTree();
+  moveLevelSetLeaves(*levelSet, mReleasedBounds, *piece);
+  levelSet.reset();
+  closeLevelSetPiece(*piece);
+  describeLevelSetPiece(*piece, mTeam->rank(), mTeam->size(), mReleasedBounds);
+  levelSet = piece;
+  if (weight) weight->tree().clip(slabBox(mReleasedBounds));
+  if (colour) colour->tree().clip(slabBox(mReleasedBounds));
 }
 
 std::size_t EvolvingField::ownLeafNodes() const {

@@ -49,8 +49,17 @@ class EvolvingField {
   /// let go, its counts kept: the outputs made from the level set need the
   /// memory. On a team, each process makes its slab's leaves of the level set
   /// and the first puts them together (LevelSetPieces.h): it never holds the
-  /// whole field.
-  openvdb::FloatGrid::Ptr release(const std::string& name);
+  /// whole field. With `inPieces`, every process of a team returns its
+  /// slab's level set instead, its neighbours' leaves beside its own (the
+  /// voxels that normals at the slab's edge read), for the grids made from it;
+  /// keepOwnPiece then cuts them down to the process's piece.
+  openvdb::FloatGrid::Ptr release(const std::string& name, bool inPieces = false);
+  /// After release(name, true): `levelSet` becomes this process's piece of
+  /// the whole level set (closeLevelSetPiece, described by
+  /// describeLevelSetPiece), and `weight` and `colour` (either may be null)
+  /// keep that piece's voxels alone. For the whole field, the one piece of one.
+  void keepOwnPiece(openvdb::FloatGrid::Ptr& levelSet, openvdb::FloatGrid::Ptr& weight,
+                    openvdb::Vec3fGrid::Ptr& colour) const;
   /// The whole field's counts; the bytes are this process's.
   SparseFieldStats stats() const;
   /// The leaf nodes this process answers for: its slab's own, or the whole field's.
@@ -63,6 +72,7 @@ class EvolvingField {
   // What stats() and ownLeafNodes() said when the field was let go.
   SparseFieldStats mReleasedStats;
   std::size_t mReleasedOwnLeaves = 0;
+  SlabBounds mReleasedBounds;  // the slab's, when it was let go
 };
 
 }  // namespace levelfuse::detail

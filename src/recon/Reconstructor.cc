@@ -256,7 +256,8 @@ void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels, co
   const double finestActive = static_cast<double>(coarsestActiveVoxels) * std::pow(4.0, *mOptions.levels - 1);
   const int processes = team ? team->size() : 1;
   const bool shared = processes > 1;
-  const bool assembles = shared && team->rank() == 0;  // the first process makes the whole output
+  // The first process makes the whole output, unless each keeps its piece.
+  const bool assembles = shared && team->rank() == 0 && !mOptions.keepPieces;
   double perVoxel = kPeakBytesPerActiveVoxel;
   if (shared) perVoxel = kPeakBytesPerActiveVoxel * kSlabShareMargin / processes;
   if (assembles) perVoxel = std::max(perVoxel, kOutputBytesPerActiveVoxel);
@@ -435,6 +436,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   if (result.levelSet) {
     describeRun(*result.levelSet, iterations);
     result.colour = surfaceColour(*result.levelSet, interrupter);
+    if (mOptions.keepPieces) field.keepOwnPiece(result.levelSet, result.weight, result.colour);
   }
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   state.stage = ReconstructionProgress::Stage::kDone;
@@ -480,7 +482,8 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
     state.stage = ReconstructionProgress::Stage::kEvolving;
     const LevelReport evolved = evolveLevel(field, data, h, state, report);
     if (finestGrid) {
-      result.levelSet = field.release(mOptions.name);
+      // Pieces stay their slab's level set, ghosts and all, until the colour is made (run).
+      result.levelSet = field.release(mOptions.name, mOptions.keepPieces);
       if (result.levelSet) result.weight = levelfuse::surfaceWeight(*result.levelSet, data, interrupter);
     }
     return evolved;

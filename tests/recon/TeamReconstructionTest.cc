@@ -11,6 +11,7 @@
 #include <levelfuse/recon/Reconstructor.h>
 
 #include <gtest/gtest.h>
+#include <openvdb/tools/Composite.h>
 
 #include <algorithm>
 #include <functional>
@@ -89,6 +90,51 @@ TEST(TeamReconstruction, ARankThatFailsStopsTheOthers) {
                ReconstructionCancelled);
 }
 
+TEST(TeamReconstruction, RanksThatKeepTheirPiecesHoldTheWholeSurfaceBetweenThem) {
+  // Each of 3 ranks keeps its slab's piece of the level set, with the weight
+  // of that piece: each piece is one process's surface within the slab, and
+  // their union is the whole of it.
+  ReconstructionOptions options;
+  options.voxelSize = 0.02;
+  options.levels = 3;
+  const Reconstructor reconstructor(test::noisyTorusScans(), options);
+  const ReconstructionResult alone = reconstructor.run();
+  options.keepPieces = true;
+  const Reconstructor inPieces(test::noisyTorusScans(), options);
+  std::vector<ReconstructionResult> shared(3);
+  test::runOnThreadTeam(3, [&](const SlabTeam& team) {
+    shared[static_cast<std::size_t>(team.rank())] = inPieces.run({}, {}, &team);
+  });
+  openvdb::FloatGrid::Ptr united;
+  openvdb::Index64 weighedVoxels = 0;
+  for (int r = 0; r < 3; ++r) {
+    const ReconstructionResult& mine = shared[static_cast<std::size_t>(r)];
+    ASSERT_TRUE(mine.levelSet && mine.weight) << "rank " << r;
+    EXPECT_EQ(mine.levelSet->metaValue<openvdb::Int32>("levelfuse_piece"), r);
+    EXPECT_EQ(mine.levelSet->metaValue<openvdb::Int32>("levelfuse_pieces"), 3);
+    EXPECT_EQ(mine.levelSet->getGridClass(), openvdb::GRID_LEVEL_SET);
+    EXPECT_EQ(mine.levelSet->metaValue<openvdb::Int32>("levelfuse_iterations"),
+              alone.levelSet->metaValue<openvdb::Int32>("levelfuse_iterations"));
+    EXPECT_GT(mine.levelSet->activeVoxelCount(), alone.levelSet->activeVoxelCount() / 6) << "rank " << r;
+    // The weight of the piece's voxels, as one process weighs them.
+    EXPECT_EQ(mine.weight->activeVoxelCount(), mine.levelSet->activeVoxelCount()) << "rank " << r;
+    const openvdb::FloatGrid::ConstAccessor whole = alone.weight->getConstAccessor();
+    std::size_t differ = 0;
+    for (auto w = mine.weight->cbeginValueOn(); w; ++w) differ += *w != whole.getValue(w.getCoord());
+    EXPECT_EQ(differ, 0u) << "rank " << r;
+    weighedVoxels += mine.weight->activeVoxelCount();
+    if (!united) united = mine.levelSet->deepCopy();
+    else openvdb::tools::csgUnion(united->tree(), mine.levelSet->deepCopy()->tree());
+  }
+  EXPECT_EQ(weighedVoxels, alone.weight->activeVoxelCount());
+  EXPECT_FALSE(shared.front().levelSet->getMetadata<openvdb::Int32Metadata>("levelfuse_piece_begin_x"));
+  EXPECT_FALSE(shared.back().levelSet->getMetadata<openvdb::Int32Metadata>("levelfuse_piece_end_x"));
+  EXPECT_EQ(shared[0].levelSet->metaValue<openvdb::Int32>("levelfuse_piece_end_x"),
+            shared[1].levelSet->metaValue<openvdb::Int32>("levelfuse_piece_begin_x"));
+  std::string why;
+  EXPECT_TRUE(test::identical(*alone.levelSet, *united, &why)) << why;
+}
+
 /// The memory a refusal (InsufficientMemory) of `run` says is needed, in bytes; 0 if it runs.
 double neededBytes(const std::function<void()>& run) {
   try {
@@ -124,6 +170,19 @@ TEST(TeamReconstruction, EachRankAsksForItsShareOfTheFinestGridsMemory) {
   ASSERT_GT(whole, 1e6) << "one process's refusal names the finest grid's memory";
   EXPECT_NEAR(shares[0] / whole, kOutputBytesPerActiveVoxel / kPeakBytesPerActiveVoxel, 0.01);
   for (std::size_t r = 1; r < 4; ++r) EXPECT_NEAR(shares[r] / whole, kSlabShareMargin / 4.0, 0.01) << "rank " << r;
+  // Ranks that keep their pieces of the output each need their share alone.
+  ReconstructionOptions piecesOptions = options;
+  piecesOptions.keepPieces = true;
+  const Reconstructor inPieces(test::noisyTorusScans(), piecesOptions);
+  double firstsPiece = 0.0;
+  {
+    const test::MemoryBudgetScope tiny(2 * 1024 * 1024);
+    test::runOnThreadTeam(4, [&](const SlabTeam& team) {
+      const double needed = neededBytes([&] { inPieces.run({}, {}, &team); });
+      if (team.rank() == 0) firstsPiece = needed;
+    });
+  }
+  EXPECT_NEAR(firstsPiece / whole, kSlabShareMargin / 4.0, 0.01);
   // Within a budget of 70% of the whole, one process refuses and the team runs.
   const test::MemoryBudgetScope most(static_cast<std::uint64_t>(0.7 * whole));
   EXPECT_THROW(reconstructor.run(), InsufficientMemory);

@@ -87,6 +87,13 @@ struct ReconstructionOptions {
   int minIterations = 4;    ///< per grid
   int maxIterations = 300;  ///< per grid
   std::string name = "surface";  ///< the output grid's name
+  /// On a team (run with a SlabTeam), each process keeps its slab's piece of
+  /// the output, the whole level set there (levelset/LevelSetPieces.h,
+  /// closeLevelSetPiece), with the weight and colour grids of that piece,
+  /// and no process assembles the whole: for pipelines that keep the pieces
+  /// apart, and for outputs larger than one process's memory. The pieces'
+  /// CSG union is the assembled level set.
+  bool keepPieces = false;
   SparseFieldOptions engine;     ///< the sparse-field engine's settings
 };
 
@@ -231,7 +238,8 @@ class Reconstructor {
   /// the same scans and options; each evolves one slab of every grid, cut
   /// along x where the coarsest grid's leaf nodes share out evenly. The
   /// result is one process's, bit for bit, and only the team's first process
-  /// holds it (the level set, weight and colour are null on the others). The
+  /// holds it (the level set, weight and colour are null on the others), or,
+  /// with options keepPieces, every process holds its piece of it. The
   /// scans, the data term and the initial model are every process's whole.
   ReconstructionResult run(const ProgressCallback& progress = {}, const Interrupter& interrupter = {},
                            const SlabTeam* team = nullptr) const;
