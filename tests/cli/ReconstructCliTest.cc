@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iterator>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <fcntl.h>
@@ -108,6 +109,42 @@ TEST_F(ReconstructCli, LinearSolutionAndMeshCommand) {
   std::string first;
   std::getline(obj, first);
   EXPECT_EQ(first.rfind("# written by levelfuse", 0), 0u) << first;
+}
+
+TEST_F(ReconstructCli, OneProcesssOnePieceIsTheWholeAndWhatNeedsItWholeIsRefused) {
+  // --pieces names each rank's file; one process writes the one piece of
+  // one, the whole level set (tests/mpi/cli_mpi_test.sh runs ranks).
+  const std::string scans = sphereScans();
+  CliRun run = levelfuse("reconstruct " + scans + " --voxel-size 0.05 -q -o " + path("whole.vdb"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  run = levelfuse("reconstruct " + scans + " --voxel-size 0.05 --pieces -o " + path("p.vdb"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NE(run.output.find("wrote " + path("p.0-of-1.vdb") + " (a piece of the closed level set, 1 in all"),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("fit to the points: not measured, the surface is in pieces"), std::string::npos)
+      << run.output;
+  EXPECT_FALSE(fs::exists(path("p.vdb")));
+  const auto whole = openvdb::gridPtrCast<openvdb::FloatGrid>((*io::readVdb(path("whole.vdb")))[0]);
+  const auto piece = openvdb::gridPtrCast<openvdb::FloatGrid>((*io::readVdb(path("p.0-of-1.vdb")))[0]);
+  ASSERT_TRUE(whole && piece);
+  std::string why;
+  EXPECT_TRUE(test::identical(*whole, *piece, &why)) << why;
+  EXPECT_EQ(piece->metaValue<openvdb::Int32>("levelfuse_piece"), 0);
+  EXPECT_EQ(piece->metaValue<openvdb::Int32>("levelfuse_pieces"), 1);
+  EXPECT_FALSE(piece->getMetadata<openvdb::Int32Metadata>("levelfuse_piece_begin_x"));
+  // A mesh or preview needs the whole surface, the linear solution is not
+  // shared, and pieces are files of -o's name: refused before any work.
+  const std::pair<std::string, std::string> refused[] = {
+      {" --pieces -o " + path("q.vdb") + " --mesh " + path("q.ply"), "a mesh or preview needs it whole"},
+      {" --pieces --preview " + path("q.png"), "--pieces writes the level set in pieces: give -o result.vdb"},
+      {" --pieces --linear -o " + path("q.vdb"), "--linear has no evolution"}};
+  for (const auto& [options, message] : refused) {
+    run = levelfuse("reconstruct " + scans + options);
+    EXPECT_EQ(run.exitCode, 1) << options << ": " << run.output;
+    EXPECT_NE(run.output.find(message), std::string::npos) << options << ": " << run.output;
+  }
+  for (const char* file : {"q.vdb", "q.0-of-1.vdb", "q.ply", "q.png"}) EXPECT_FALSE(fs::exists(path(file))) << file;
 }
 
 TEST_F(ReconstructCli, TextSummariesGiveLengthsWithUnitsAndJsonInMetres) {

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The converter under mpirun (tests/mpi/CMakeLists.txt): the same .vdb and
 # mesh, byte for byte, from 1, 2 and 4 ranks (a synthetic torus, and the
-# Stanford bunny when ../shared is beside the repository); a job too large for
-# one process's memory budget runs on four ranks within it; a rank that fails
-# (bad input, a memory limit it cannot meet, killed mid-run) stops every rank,
+# Stanford bunny when ../shared is beside the repository); pieces (--pieces)
+# whose union is one process's level set; a job too large for one process's
+# memory budget runs on four ranks within it; a rank that fails (bad input, a
+# memory limit it cannot meet, a piece it cannot write, killed mid-run) stops every rank,
 # with a clear message, a non-zero exit and no output, and never hangs; so
 # does Ctrl-C.
 #   cli_mpi_test.sh <levelfuse> <mpiexec> <scratch folder>
@@ -48,6 +49,43 @@ if [ -f "$bunny" ]; then
 else
   echo "the bunny's scans are not at $bunny: its part of the test is left out"
 fi
+
+# 1b. Pieces (--pieces): each of 3 ranks writes its own piece of the level set; together they
+#     are one process's level set (their CSG union), and each says which piece it is.
+run 3 "$levelfuse" reconstruct scans/scans.json -o pieces.vdb --pieces --json > pieces.json || fail "pieces: exit $?"
+/usr/bin/python3 - <<'PY' || fail "pieces: $(cat pieces.json)"
+import json
+import pyopenvdb as vdb
+summary = json.load(open("pieces.json"))
+names = ["pieces.%d-of-3.vdb" % r for r in range(3)]
+assert summary["outputs"]["vdb"] == names and summary["fit"] is None, summary["outputs"]
+whole = [g for g in vdb.readAll("one.vdb")[0] if g.name == "surface"][0]
+pieces = [{g.name: g for g in vdb.readAll(name)[0]} for name in names]
+united = pieces[0]["surface"].deepCopy()
+for r, piece in enumerate(pieces):
+    assert piece["surface"].metadata["levelfuse_piece"] == r and piece["surface"].metadata["levelfuse_pieces"] == 3
+    assert piece["weight"].activeVoxelCount() == piece["surface"].activeVoxelCount()
+    if r > 0:
+        assert piece["surface"].metadata["levelfuse_piece_begin_x"] == pieces[r - 1]["surface"].metadata["levelfuse_piece_end_x"]
+        united.combine(piece["surface"].deepCopy(), lambda a, b: min(a, b))
+assert united.activeVoxelCount() == whole.activeVoxelCount() == summary["narrow_band_voxels"]
+values = united.getConstAccessor()
+assert all(values.getValue(v.min) == v.value for v in whole.citerOnValues()), "a value differs"
+PY
+# A rank that cannot write its piece (a file size limit): no rank's piece is written, nor left half-made.
+cat > smallfiles.sh <<SCRIPT
+#!/usr/bin/env bash
+[ "\${OMPI_COMM_WORLD_RANK:-0}" = 2 ] && trap '' XFSZ && ulimit -f 16
+exec "$levelfuse" "\$@"
+SCRIPT
+chmod +x smallfiles.sh
+mkdir unwritten
+run 3 ./smallfiles.sh reconstruct scans/scans.json -o unwritten/pieces.vdb --pieces -q 2> unwritten.err
+code=$?
+[ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "unwritable piece: exit code $code"
+grep -q "cannot write 'unwritten/pieces.2-of-3.vdb'.*(rank 2 of 3)" unwritten.err ||
+  fail "unwritable piece: no message from the rank that failed: $(cat unwritten.err)"
+[ -z "$(ls -A unwritten)" ] || fail "unwritable piece: files were left: $(ls -A unwritten)"
 
 # 2. Bad input: every rank fails alike; the job ends with the one-line error naming the file.
 echo '{"scans": [{"format": "nope"}]}' > bad.json

@@ -70,6 +70,21 @@ void abortJobIfShared(int exitCode) {
 #endif
 }
 
+std::uint64_t totalOverJob(std::uint64_t count) {
+  const SlabTeam* team = jobTeam();
+  return team ? team->total(count) : count;
+}
+
+int jobRank() {
+  const SlabTeam* team = jobTeam();
+  return team ? team->rank() : 0;
+}
+
+int jobRanks() {
+  const SlabTeam* team = jobTeam();
+  return team ? team->size() : 1;
+}
+
 std::uint64_t ghostBytesSent() {
 #if defined(LEVELFUSE_HAVE_MPI)
   if (gTeam) return gTeam->ghostBytesSent();

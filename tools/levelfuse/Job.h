@@ -29,6 +29,13 @@ bool leadsTheJob();
 /// outside a job of more than one rank.
 void abortJobIfShared(int exitCode);
 
+/// The sum of every rank's `count`, on every rank; `count` itself outside a
+/// job of more than one rank. Every rank of a job must call it.
+std::uint64_t totalOverJob(std::uint64_t count);
+/// This rank's number and the job's ranks: 0 and 1 outside a job.
+int jobRank();
+int jobRanks();
+
 /// What one rank's share of a reconstruction cost it.
 struct RankFacts {
   double seconds = 0.0;           ///< from its start to the end of the evolution

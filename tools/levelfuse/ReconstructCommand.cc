@@ -26,10 +26,14 @@
 
 #include <chrono>
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace levelfuse::cli {
 namespace {
@@ -49,7 +53,31 @@ struct ReconstructSettings {
   int threads = 0;
   double maxMemoryGiB = 0.0;
   bool json = false, quiet = false;
+  bool pieces = false;    ///< each rank writes its piece of the level set
+  std::string piecesOf;  ///< with pieces, -o as given: output is this rank's piece's file
 };
+
+/// The file of one rank's piece: `output` with ".<rank>-of-<ranks>" before its extension (.vdb if none).
+std::string pieceFileName(const std::string& output, int rank, int ranks) {
+  std::filesystem::path path(output);
+  const std::string extension = path.has_extension() ? path.extension().string() : ".vdb";
+  path.replace_extension();
+  return path.string() + "." + std::to_string(rank) + "-of-" + std::to_string(ranks) + extension;
+}
+
+/// What --pieces cannot go with, and the rank's own file name in place of -o's.
+void checkPiecesSettings(ReconstructSettings& s) {
+  if (s.output.empty()) throw std::invalid_argument("--pieces writes the level set in pieces: give -o result.vdb");
+  if (!s.mesh.empty() || !s.preview.empty())
+    throw std::invalid_argument(
+        "--pieces keeps the level set in pieces, one per rank, and a mesh or preview needs it whole: leave out "
+        "--mesh and --preview, or --pieces");
+  if (s.linear)
+    throw std::invalid_argument("--pieces shares the evolution's output between the ranks; --linear has no evolution");
+  s.piecesOf = s.output;
+  s.output = pieceFileName(s.output, jobRank(), jobRanks());
+  s.options.keepPieces = true;
+}
 
 std::string joined(const std::vector<std::string>& items) {
   std::string s;
@@ -63,6 +91,7 @@ void checkSettings(ReconstructSettings& s) {
   if (s.maxMemoryGiB > 0.0) io::setMemoryBudget(static_cast<std::uint64_t>(s.maxMemoryGiB * 1073741824.0));
   if (s.output.empty() && s.mesh.empty() && s.preview.empty())
     throw std::invalid_argument("nothing to write: give -o result.vdb, --mesh result.ply or --preview result.png");
+  if (s.pieces) checkPiecesSettings(s);
   requireOutputs({s.output, s.mesh, s.preview}, s.inputs);
   if (!s.mesh.empty()) io::requireMeshFileName(s.mesh);
   s.options.minIterations = std::min(s.options.minIterations, s.options.maxIterations);
@@ -168,16 +197,23 @@ ReconstructionResult reconstructSurface(const Reconstructor& reconstructor, cons
 struct Measures {
   std::size_t readings = 0, points = 0;
   int fitSample = 1;  ///< one reading in fitSample along each row and column
-  DataFit fit;
+  std::optional<DataFit> fit;  ///< none when the surface is in pieces (--pieces)
   double truthRms = -1.0;
 };
 
-Measures measure(const ScansReconstruction& r, const ReconstructionResult& result, const Presentation& shown,
-                 const Inputs& in) {
-  const openvdb::FloatGrid& surface = *result.levelSet;
+/// The scans' counts alone.
+Measures countsOf(const ScansReconstruction& r) {
   Measures m;
   m.readings = r.reconstructor->summary().readings();
   m.points = r.reconstructor->summary().points();
+  return m;
+}
+
+/// The counts, the surface's fit to the scans and, for synthetic scans, its error.
+Measures measure(const ScansReconstruction& r, const ReconstructionResult& result, const Presentation& shown,
+                 const Inputs& in) {
+  const openvdb::FloatGrid& surface = *result.levelSet;
+  Measures m = countsOf(r);
   m.fitSample = fitStride(r.scans, kFitPointsAtMost);
   m.fit = measureDataFit(surface, r.scans, m.fitSample);
   if (in.truth) m.truthRms = rmsOver(zeroCrossingsShown(surface, shown.trim ? result.weight.get() : nullptr), *in.truth);
@@ -235,12 +271,21 @@ struct Summary {
   std::size_t triangles = 0;
   double seconds = 0.0;
   std::vector<RankFacts> ranks;  ///< in an MPI job, what each rank's share cost
+  std::uint64_t bandVoxels = 0;     ///< the level set's active voxels, every piece's
+  std::vector<std::string> pieces;  ///< with --pieces, every rank's file
 };
+
+/// JSON of the fit to the points, null if it was not measured.
+nlohmann::json fitJson(const std::optional<DataFit>& fit) {
+  if (!fit) return nullptr;
+  return {{"points", fit->readings}, {"mean", fit->mean},     {"rms", fit->rms},
+          {"median", fit->median},  {"p90", fit->p90},       {"p99", fit->p99},
+          {"within_voxel", fit->withinVoxel}, {"beyond_band", fit->beyondBand}};
+}
 
 void printJson(const Summary& r) {
   const ReconstructSettings& s = r.settings;
   const ReconstructionOptions& o = r.reconstructor.options();
-  const DataFit& fit = r.measures.fit;
   nlohmann::json levels = nlohmann::json::array();
   for (const LevelReport& l : r.result.levels)
     levels.push_back({{"voxel_size", l.voxelSize},
@@ -262,20 +307,14 @@ void printJson(const Summary& r) {
                    {"beta", *o.beta},
                    {"epsilon", *o.epsilon},
                    {"grids", levels},
-                   {"narrow_band_voxels", r.result.levelSet->activeVoxelCount()},
+                   {"narrow_band_voxels", r.bandVoxels},
                    {"peak_engine_bytes", r.result.peakEngineBytes},
                    {"peak_memory_bytes", peakResidentBytes()},
-                   {"fit",
-                    {{"points", fit.readings},
-                     {"mean", fit.mean},
-                     {"rms", fit.rms},
-                     {"median", fit.median},
-                     {"p90", fit.p90},
-                     {"p99", fit.p99},
-                     {"within_voxel", fit.withinVoxel},
-                     {"beyond_band", fit.beyondBand}}},
+                   {"fit", fitJson(r.measures.fit)},
                    {"seconds", r.seconds},
-                   {"outputs", {{"vdb", s.output}, {"mesh", s.mesh}, {"preview", s.preview}}},
+                   {"outputs", {{"vdb", r.pieces.empty() ? nlohmann::json(s.output) : nlohmann::json(r.pieces)},
+                                {"mesh", s.mesh},
+                                {"preview", s.preview}}},
                    {"triangles", r.triangles},
                    {"trimmed_unseen", r.trimmed}};
   if (r.ranks.size() > 1) {
@@ -288,7 +327,7 @@ void printJson(const Summary& r) {
                        {"ghost_bytes_sent", f.ghostBytes}});
     j["ranks"] = ranks;
   }
-  if (r.inputs.truth)
+  if (r.inputs.truth && r.measures.truthRms >= 0.0)
     j["truth"] = {{"shape", r.inputs.truth->name()},
                   {"rms_error", r.measures.truthRms},
                   {"measured_on", r.trimmed ? "the surface seen" : "the whole surface"},
@@ -296,11 +335,42 @@ void printJson(const Summary& r) {
   std::cout << j.dump(2) << "\n";
 }
 
+/// The summary's line of the fit to the points.
+void printFit(const Measures& m) {
+  if (!m.fit) {
+    std::cout << "  fit to the points: not measured, the surface is in pieces (--pieces)\n";
+    return;
+  }
+  const DataFit& fit = *m.fit;
+  std::cout << "  fit to the points"
+            << (m.fitSample > 1 ? " (a sample of " + withCommas(fit.readings) + ": one reading in " +
+                                      std::to_string(m.fitSample) + " along each row and column of each scan)"
+                                : std::string())
+            << ": mean " << length(fit.mean) << ", median " << length(fit.median) << ", 90% " << length(fit.p90)
+            << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, " << fixed(100.0 * fit.beyondBand, 3)
+            << "% beyond the band\n";
+}
+
+/// The summary's lines of the files written.
+void printWritten(const Summary& r) {
+  const ReconstructSettings& s = r.settings;
+  for (const std::string& piece : r.pieces)
+    std::cout << "  wrote " << piece << " (a piece of the closed level set, " << r.pieces.size()
+              << " in all, and its weight grid)\n";
+  for (const std::string* path : {&s.output, &s.mesh, &s.preview})
+    if (!path->empty() && r.pieces.empty())
+      std::cout << "  wrote " << *path
+                << (path == &s.mesh ? " (" + withCommas(r.triangles) + " triangles" +
+                                          (r.trimmed ? ", unseen parts left out" : "") + ")"
+                    : path == &s.output ? " (the closed level set and its weight grid)"
+                                        : "")
+                << "\n";
+}
+
 void printText(const Summary& r) {
   const ReconstructSettings& s = r.settings;
   const ReconstructionOptions& o = r.reconstructor.options();
   const Measures& m = r.measures;
-  const DataFit& fit = m.fit;
   std::cout << "levelfuse reconstruct: " << r.reconstructor.summary().scans() << " scans, " << withCommas(m.points)
             << " points"
             << (m.points != m.readings ? " (" + withCommas(m.readings) + " readings of their range maps)"
@@ -313,7 +383,7 @@ void printText(const Summary& r) {
     std::cout << "  grid " << length(l.voxelSize) << ": " << l.iterations << " iterations ("
               << (l.converged ? "converged" : l.settled ? "settled" : "iteration limit") << "), "
               << withCommas(l.activeSetVoxels) << " voxels in the active set, " << fixed(l.seconds, 3) << " s\n";
-  std::cout << "  surface: " << withCommas(r.result.levelSet->activeVoxelCount())
+  std::cout << "  surface: " << withCommas(r.bandVoxels)
             << " narrow-band voxels; memory: engine " << mebibytes(r.result.peakEngineBytes) << ", process peak "
             << mebibytes(peakResidentBytes()) << (r.ranks.size() > 1 ? " (rank 0)" : "") << "\n";
   if (r.ranks.size() > 1) {
@@ -328,26 +398,54 @@ void printText(const Summary& r) {
                 << mebibytes(r.ranks[k].ghostBytes) << " of ghosts sent (" << mebibytes(r.ranks[k].ghostBytes / iterations)
                 << " an iteration)\n";
   }
-  std::cout << "  fit to the points"
-            << (m.fitSample > 1 ? " (a sample of " + withCommas(fit.readings) + ": one reading in " +
-                                      std::to_string(m.fitSample) + " along each row and column of each scan)"
-                                : std::string())
-            << ": mean " << length(fit.mean) << ", median " << length(fit.median) << ", 90% " << length(fit.p90)
-            << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, " << fixed(100.0 * fit.beyondBand, 3)
-            << "% beyond the band\n";
-  if (r.inputs.truth)
+  printFit(m);
+  if (r.inputs.truth && m.truthRms >= 0.0)
     std::cout << "  error against the true " << r.inputs.truth->name() << (r.trimmed ? " where seen" : "")
               << ": rms " << length(m.truthRms) << " ("
               << fixed(m.truthRms / *o.voxelSize, 3) << " voxel)\n";
   std::cout << "  " << fixed(r.seconds, 3) << " s\n";
-  for (const std::string* path : {&s.output, &s.mesh, &s.preview})
-    if (!path->empty())
-      std::cout << "  wrote " << *path
-                << (path == &s.mesh ? " (" + withCommas(r.triangles) + " triangles" +
-                                          (r.trimmed ? ", unseen parts left out" : "") + ")"
-                    : path == &s.output ? " (the closed level set and its weight grid)"
-                                        : "")
-                << "\n";
+  printWritten(r);
+}
+
+/// Writes this rank's piece (its level set and weight grid) with every other
+/// rank's: all are committed, or, when any rank cannot write its own, none
+/// is, every rank's temporary removed before any rank reports why.
+void writePieceWithTheOthers(const ReconstructionResult& result, const ReconstructSettings& s) {
+  enterPhase("writing");
+  io::OutputSet outputs;
+  std::exception_ptr failure;
+  try {
+    io::writeVdb(outputs, s.output, gridsWritten(result));
+    io::refuseOverwritingInputs(outputs.targets(), io::inputsRead());
+    checkCancellation();
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  const std::uint64_t failed = totalOverJob(failure ? 1 : 0);
+  if (failed == 0) {
+    outputs.commit();
+    return;
+  }
+  outputs.discard();
+  totalOverJob(0);  // every rank's temporary is gone before the job ends
+  if (failure) std::rethrow_exception(failure);
+  throw std::runtime_error(std::to_string(failed) + (failed == 1 ? " other rank" : " other ranks") +
+                           " could not write " + (failed == 1 ? "its piece" : "their pieces") +
+                           "; no piece written");
+}
+
+/// With --pieces: every rank writes its piece, the first prints the summary.
+int finishInPieces(const ReconstructSettings& s, const ScansReconstruction& made, const ReconstructionResult& result,
+                   const Inputs& inputs, const std::vector<RankFacts>& ranks, double seconds) {
+  const std::uint64_t bandVoxels = totalOverJob(result.levelSet->activeVoxelCount());
+  writePieceWithTheOthers(result, s);
+  if (!leadsTheJob()) return kExitSuccess;
+  const Measures counts = countsOf(made);
+  Summary summary{s, *made.reconstructor, result, inputs, counts, false, 0, seconds, ranks, bandVoxels, {}};
+  for (int rank = 0; rank < jobRanks(); ++rank) summary.pieces.push_back(pieceFileName(s.piecesOf, rank, jobRanks()));
+  if (s.json) printJson(summary);
+  else if (!s.quiet) printText(summary);
+  return kExitSuccess;
 }
 
 int runReconstruct(ReconstructSettings s) {
@@ -369,6 +467,8 @@ int runReconstruct(ReconstructSettings s) {
                                       peakResidentBytes(), result.peakEngineBytes,
                                       result.levels.empty() ? 0 : result.levels.back().ownLeafNodes,
                                       ghostBytesSent()});
+  const auto secondsSoFar = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
+  if (s.pieces) return finishInPieces(s, made, result, inputs, ranks, secondsSoFar());
   if (!leadsTheJob()) return kExitSuccess;
   made.letTheGridsGo();
   // The grids are written first: past them, only trimming reads the weight,
@@ -378,8 +478,8 @@ int runReconstruct(ReconstructSettings s) {
   if (!shown.trim) result.weight.reset();
   const Measures measures = measure(made, result, shown, inputs);
   const std::size_t triangles = writeShownOutputs(outputs, inputs, result, shown, s);
-  const Summary summary{s, reconstructor, result, inputs, measures, shown.trim, triangles,
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), ranks};
+  const Summary summary{s,         reconstructor,  result, inputs, measures, shown.trim,
+                        triangles, secondsSoFar(), ranks,  result.levelSet->activeVoxelCount(), {}};
   if (s.json) printJson(summary);
   else if (!s.quiet) printText(summary);
   return kExitSuccess;
@@ -399,6 +499,10 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("-o,--output", s->output, "Write the surface as an OpenVDB level set (.vdb)");
   cmd->add_option("--mesh", s->mesh, "Write the surface as a triangle mesh (.ply or .obj)");
   cmd->add_option("--preview", s->preview, "Write a shaded picture of the surface (.png)");
+  cmd->add_flag("--pieces", s->pieces,
+                "Under mpirun, each rank writes its own slab of the level set, with its weight grid, to -o's name "
+                "with .<rank>-of-<ranks> before .vdb, and no rank holds the whole: the pieces' CSG union is the level "
+                "set (no --mesh or --preview, which need it whole)");
   ReconstructionOptions& o = s->options;
   cmd->add_option_function<double>("--voxel-size", [s](double v) { s->options.voxelSize = v; },
                                    "Finest voxel size, world units (default: the scans' ray spacing)")
