@@ -9,6 +9,7 @@
 #include "support/ThreadTeam.h"
 
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/scan/Synth.h>
 
 #include <gtest/gtest.h>
 #include <openvdb/tools/Composite.h>
@@ -21,6 +22,8 @@
 
 namespace levelfuse {
 namespace {
+
+using openvdb::Vec3d;
 
 void expectTeamRunIsOneProcesssRun(DataTermSource source, int ranks) {
   ReconstructionOptions options;
@@ -92,21 +95,26 @@ TEST(TeamReconstruction, ARankThatFailsStopsTheOthers) {
 
 TEST(TeamReconstruction, RanksThatKeepTheirPiecesHoldTheWholeSurfaceBetweenThem) {
   // Each of 3 ranks keeps its slab's piece of the level set, with the weight
-  // of that piece: each piece is one process's surface within the slab, and
-  // their union is the whole of it.
+  // and colour of that piece: each piece is one process's surface within the
+  // slab, and their union is the whole of it. The scans saw a torus red at
+  // x > 0 and blue elsewhere.
+  std::vector<RangeMap> scans = test::noisyTorusScans();
+  for (RangeMap& map : scans)
+    synth::paintReadings(map, synth::twoColours(Vec3d(0.0), Vec3d(1, 0, 0), Rgb8{200, 40, 30}, Rgb8{30, 60, 200}));
   ReconstructionOptions options;
   options.voxelSize = 0.02;
   options.levels = 3;
-  const Reconstructor reconstructor(test::noisyTorusScans(), options);
+  const Reconstructor reconstructor(scans, options);
   const ReconstructionResult alone = reconstructor.run();
+  ASSERT_TRUE(alone.colour);
   options.keepPieces = true;
-  const Reconstructor inPieces(test::noisyTorusScans(), options);
+  const Reconstructor inPieces(scans, options);
   std::vector<ReconstructionResult> shared(3);
   test::runOnThreadTeam(3, [&](const SlabTeam& team) {
     shared[static_cast<std::size_t>(team.rank())] = inPieces.run({}, {}, &team);
   });
   openvdb::FloatGrid::Ptr united;
-  openvdb::Index64 weighedVoxels = 0;
+  openvdb::Index64 weighedVoxels = 0, colouredVoxels = 0;
   for (int r = 0; r < 3; ++r) {
     const ReconstructionResult& mine = shared[static_cast<std::size_t>(r)];
     ASSERT_TRUE(mine.levelSet && mine.weight) << "rank " << r;
@@ -123,10 +131,21 @@ TEST(TeamReconstruction, RanksThatKeepTheirPiecesHoldTheWholeSurfaceBetweenThem)
     for (auto w = mine.weight->cbeginValueOn(); w; ++w) differ += *w != whole.getValue(w.getCoord());
     EXPECT_EQ(differ, 0u) << "rank " << r;
     weighedVoxels += mine.weight->activeVoxelCount();
+    // The colour of the piece's voxels, as one process sees it.
+    ASSERT_TRUE(mine.colour) << "rank " << r;
+    const openvdb::Vec3fGrid::ConstAccessor wholeColour = alone.colour->getConstAccessor();
+    std::size_t otherColours = 0;
+    for (auto c = mine.colour->cbeginValueOn(); c; ++c) {
+      otherColours += *c != wholeColour.getValue(c.getCoord()) || !wholeColour.isValueOn(c.getCoord());
+      otherColours += !mine.levelSet->tree().isValueOn(c.getCoord());
+    }
+    EXPECT_EQ(otherColours, 0u) << "rank " << r;
+    colouredVoxels += mine.colour->activeVoxelCount();
     if (!united) united = mine.levelSet->deepCopy();
     else openvdb::tools::csgUnion(united->tree(), mine.levelSet->deepCopy()->tree());
   }
   EXPECT_EQ(weighedVoxels, alone.weight->activeVoxelCount());
+  EXPECT_EQ(colouredVoxels, alone.colour->activeVoxelCount());
   EXPECT_FALSE(shared.front().levelSet->getMetadata<openvdb::Int32Metadata>("levelfuse_piece_begin_x"));
   EXPECT_FALSE(shared.back().levelSet->getMetadata<openvdb::Int32Metadata>("levelfuse_piece_end_x"));
   EXPECT_EQ(shared[0].levelSet->metaValue<openvdb::Int32>("levelfuse_piece_end_x"),
