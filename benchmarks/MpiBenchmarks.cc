@@ -1,6 +1,8 @@
 // The reconstruction shared by the ranks of an MPI job (mpi/RankTeam.h), one
 // slab of every grid each: the Stanford bunny at 0.25 and 0.125 mm and the
-// dragon at 0.25 mm, from their scans. Run it as one MPI job per rank count,
+// dragon at 0.25 mm, from their scans; and the same two at their finer size
+// with each rank keeping its piece of the output (BM_*InPiecesOnRanks,
+// ReconstructionOptions::keepPieces), where rank 0 assembles nothing. Run it as one MPI job per rank count,
 //   mpirun -np N mpi_benchmarks --benchmark_format=json
 // with N = 1, 2, 4 (tools/quickstart.sh bench does): a process's peak
 // resident memory is its own, so each count is its own run, and the ratios
@@ -11,7 +13,8 @@
 // time per reconstruction (loading included):
 //   ranks                   N
 //   peak_rss_mb_rank0       rank 0's peak resident memory: its slab, then the
-//                           whole level set and its weight grid
+//                           whole level set and its weight grid (in pieces: its
+//                           piece of them)
 //   peak_rss_mb_others      the largest of the other ranks' peaks
 //   leaves_max_over_mean    the finest grid's leaf nodes of the most loaded rank
 //                           over the ranks' mean (1 is an even split)
@@ -54,7 +57,7 @@ std::vector<double> atRankZero(double value, const mpi::RankTeam& team) {
   return all;
 }
 
-void reconstructOnRanks(benchmark::State& state, const Scans& scans) {
+void reconstructOnRanks(benchmark::State& state, const Scans& scans, bool inPieces = false) {
   if (!std::filesystem::exists(scans.conf)) {
     state.SkipWithError((scans.conf + " is absent").c_str());
     return;
@@ -69,6 +72,7 @@ void reconstructOnRanks(benchmark::State& state, const Scans& scans) {
     load.towardScanner = scans.towardScanner;
     ReconstructionOptions options;
     options.voxelSize = voxelSize;
+    options.keepPieces = inPieces;
     result = Reconstructor(io::loadStanfordScans(scans.conf, load), options).run({}, {}, &team);
   }
   int iterations = 0;
@@ -95,7 +99,17 @@ void registerAll() {
       ->Iterations(1)
       ->Unit(benchmark::kSecond)
       ->UseRealTime();
+  benchmark::RegisterBenchmark("BM_BunnyInPiecesOnRanks", [](benchmark::State& s) { reconstructOnRanks(s, kBunny, true); })
+      ->Arg(125)
+      ->Iterations(1)
+      ->Unit(benchmark::kSecond)
+      ->UseRealTime();
   benchmark::RegisterBenchmark("BM_DragonOnRanks", [](benchmark::State& s) { reconstructOnRanks(s, kDragon); })
+      ->Arg(250)
+      ->Iterations(1)
+      ->Unit(benchmark::kSecond)
+      ->UseRealTime();
+  benchmark::RegisterBenchmark("BM_DragonInPiecesOnRanks", [](benchmark::State& s) { reconstructOnRanks(s, kDragon, true); })
       ->Arg(250)
       ->Iterations(1)
       ->Unit(benchmark::kSecond)

@@ -73,6 +73,24 @@ openvdb::CoordBBox slabBox(const SlabBounds& slab) {
                             openvdb::Coord(std::min(slab.end, far) - 1, far, far));
 }
 
+namespace {
+
+template <typename GridT>
+void dropLeavesOutsideOf(GridT& grid, const SlabBounds& slab) {
+  using LeafT = typename GridT::TreeType::LeafNodeType;
+  std::vector<openvdb::Coord> outside;
+  for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf)
+    if (!slab.contains(leaf->origin().x())) outside.push_back(leaf->origin());
+  for (const openvdb::Coord& origin : outside)
+    delete grid.tree().template stealNode<LeafT>(origin, grid.background(), false);
+  openvdb::tools::prune(grid.tree());
+}
+
+}  // namespace
+
+void dropLeavesOutside(openvdb::FloatGrid& grid, const SlabBounds& slab) { dropLeavesOutsideOf(grid, slab); }
+void dropLeavesOutside(openvdb::Vec3fGrid& grid, const SlabBounds& slab) { dropLeavesOutsideOf(grid, slab); }
+
 PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds) {
   PackedLeaves out;
   for (auto leaf = levelSet.tree().cbeginLeaf(); leaf; ++leaf) {

@@ -86,8 +86,8 @@ void EvolvingField::keepOwnPiece(openvdb::FloatGrid::Ptr& levelSet, openvdb::Flo
   closeLevelSetPiece(*piece);
   describeLevelSetPiece(*piece, mTeam->rank(), mTeam->size(), mReleasedBounds);
   levelSet = piece;
-  if (weight) weight->tree().clip(slabBox(mReleasedBounds));
-  if (colour) colour->tree().clip(slabBox(mReleasedBounds));
+  if (weight) dropLeavesOutside(*weight, mReleasedBounds);
+  if (colour) dropLeavesOutside(*colour, mReleasedBounds);
 }
 
 std::size_t EvolvingField::ownLeafNodes() const {

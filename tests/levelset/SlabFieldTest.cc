@@ -374,6 +374,33 @@ TEST(SlabField, EachSlabsPieceIsTheWholeLevelSetWithinIt) {
   EXPECT_GT(wideTiles, 0u);
 }
 
+TEST(SlabField, LeavesOutsideASlabAreLetGoWithoutNodesAdded) {
+  // A weight grid and a colour grid along a line through several 4096-wide
+  // nodes, cut down to a slab that ends inside one of them.
+  openvdb::FloatGrid weight(0.0f);
+  openvdb::Vec3fGrid colour(openvdb::Vec3f(0.0f));
+  std::size_t within = 0;
+  const SlabBounds slab{-8, 4104};
+  for (openvdb::Int32 x = -5000; x < 9000; x += 3) {
+    weight.tree().setValueOn(openvdb::Coord(x, 5, -7), static_cast<float>(x));
+    colour.tree().setValueOn(openvdb::Coord(x, 5, -7), openvdb::Vec3f(static_cast<float>(x)));
+    within += slab.contains(x & ~7);
+  }
+  const std::vector<openvdb::Index32> nodesBefore = weight.tree().nodeCount();
+  dropLeavesOutside(weight, slab);
+  dropLeavesOutside(colour, slab);
+  EXPECT_EQ(weight.activeVoxelCount(), within);
+  EXPECT_EQ(colour.activeVoxelCount(), within);
+  for (auto v = weight.cbeginValueOn(); v; ++v) {
+    EXPECT_TRUE(slab.contains(v.getCoord().x()));
+    EXPECT_EQ(*v, static_cast<float>(v.getCoord().x()));
+  }
+  const std::vector<openvdb::Index32> nodesAfter = weight.tree().nodeCount();
+  for (std::size_t level = 0; level + 1 < nodesBefore.size(); ++level)  // the root's one node aside
+    EXPECT_LT(nodesAfter[level], nodesBefore[level]) << "level " << level;
+  EXPECT_EQ(colour.tree().nodeCount(), nodesAfter);
+}
+
 TEST(SlabField, LevelSetPiecesAreChecked) {
   const auto sphere = sample(shapes::Sphere{Vec3d(0.0), 6.0}, openvdb::BBoxd(Vec3d(-9), Vec3d(9)));
   const PackedLeaves all = packLevelSetLeaves(*sphere, SlabBounds{});

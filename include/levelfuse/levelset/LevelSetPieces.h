@@ -28,6 +28,13 @@ SlabBounds overlapOf(const SlabBounds& a, const SlabBounds& b);
 /// a grid reaches.
 openvdb::CoordBBox slabBox(const SlabBounds& slab);
 
+/// Lets go of the leaf nodes of `grid` whose origin x lies outside `slab`
+/// and prunes it: a grid of leaves on the background (a weight or colour
+/// grid beside a level set) cut down to the slab. Unlike Tree::clip, it adds
+/// no nodes of background beyond the slab.
+void dropLeavesOutside(openvdb::FloatGrid& grid, const SlabBounds& slab);
+void dropLeavesOutside(openvdb::Vec3fGrid& grid, const SlabBounds& slab);
+
 /// The leaf nodes of `levelSet` whose origin x lies in `bounds`, their values
 /// and active voxels, packed as bytes for another process.
 PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds);
