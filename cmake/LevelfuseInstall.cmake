@@ -1,5 +1,6 @@
 # Install the library, headers, an exported CMake package (find_package(levelfuse),
-# target levelfuse::levelfuse) and a pkg-config file (levelfuse.pc), all
+# target levelfuse::levelfuse; with MPI, the component mpi and its target
+# levelfuse::mpi) and a pkg-config file (levelfuse.pc, the library alone), all
 # relocatable: nothing in them names the machine levelfuse was built on.
 
 include(GNUInstallDirs)
@@ -11,9 +12,14 @@ install(TARGETS levelfuse EXPORT levelfuseTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-# The MPI layer (include/levelfuse/mpi) is not part of the installed package yet.
-install(DIRECTORY include/levelfuse DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN "*.in" EXCLUDE
-        PATTERN "mpi" EXCLUDE)
+# The MPI layer (include/levelfuse/mpi, levelfuse_mpi) is installed when it was built.
+if(LEVELFUSE_HAVE_MPI)
+  install(TARGETS levelfuse_mpi EXPORT levelfuseTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(DIRECTORY include/levelfuse DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN "*.in" EXCLUDE)
+else()
+  install(DIRECTORY include/levelfuse DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN "*.in" EXCLUDE
+          PATTERN "mpi" EXCLUDE)
+endif()
 install(FILES "${PROJECT_BINARY_DIR}/include/levelfuse/Version.h"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/levelfuse)
 install(EXPORT levelfuseTargets NAMESPACE levelfuse:: DESTINATION ${LEVELFUSE_CMAKE_INSTALL_DIR})

@@ -8,7 +8,9 @@
 #     it on synthetic scans made by the installed converter;
 #  3. builds the same main.cpp with pkg-config instead of CMake;
 #  4. builds and runs tests/package/consumer (the engine alone, through the
-#     umbrella header).
+#     umbrella header);
+#  5. when levelfuse was built with MPI, builds tests/package/mpi_consumer
+#     with the package's component mpi and runs it as one rank.
 # Invoked by CTest with -DBUILD_DIR, -DSOURCE_DIR (the repository), -DWORK_DIR and
 # -DOPENVDB_MODULE_DIR (where this machine's FindOpenVDB.cmake was found).
 
@@ -66,7 +68,8 @@ endif()
 file(READ "${prefix}/include/levelfuse/levelfuse.h" umbrella)
 file(GLOB_RECURSE publicHeaders RELATIVE "${prefix}/include" "${prefix}/include/levelfuse/*.h")
 foreach(h ${publicHeaders})
-  if(h MATCHES "/detail/" OR h STREQUAL "levelfuse/levelfuse.h")
+  # The MPI layer's headers need mpi.h: a consumer of the component mpi includes them.
+  if(h MATCHES "/detail/" OR h MATCHES "^levelfuse/mpi/" OR h STREQUAL "levelfuse/levelfuse.h")
     continue()
   endif()
   string(FIND "${umbrella}" "#include <${h}>" found)
@@ -123,3 +126,15 @@ run(WHAT "configuring the engine consumer"
             "-DCMAKE_PREFIX_PATH=${prefix}" -DCMAKE_BUILD_TYPE=Release)
 run(WHAT "building the engine consumer" COMMAND "${CMAKE_COMMAND}" --build "${WORK_DIR}/engine")
 run(WHAT "running the engine consumer" COMMAND "${WORK_DIR}/engine/consumer")
+
+# 5. The MPI layer, the package's component mpi, when it was built (run without mpirun: one rank).
+file(GLOB mpiLibrary "${prefix}/lib*/liblevelfuse_mpi.a" "${prefix}/lib*/*/liblevelfuse_mpi.a")
+if(mpiLibrary)
+  run(WHAT "configuring the MPI consumer"
+      COMMAND "${CMAKE_COMMAND}" -S "${SOURCE_DIR}/tests/package/mpi_consumer" -B "${WORK_DIR}/mpi"
+              "-DCMAKE_PREFIX_PATH=${prefix}" -DCMAKE_BUILD_TYPE=Release)
+  run(WHAT "building the MPI consumer" COMMAND "${CMAKE_COMMAND}" --build "${WORK_DIR}/mpi")
+  run(WHAT "running the MPI consumer" COMMAND "${WORK_DIR}/mpi/mpi_consumer")
+else()
+  message(STATUS "levelfuse was built without MPI: no component mpi to test")
+endif()
