@@ -7,7 +7,8 @@
 #
 # Run as root, or as a user who may sudo. Build directory: $LEVELFUSE_BUILD_DIR
 # (default build/), sanitizer builds with LEVELFUSE_SANITIZER=address|thread;
-# tests of a label left out with LEVELFUSE_SKIP_LABEL (e.g. paper).
+# tests of a label left out with LEVELFUSE_SKIP_LABEL (e.g. paper), tests
+# whose names match a regular expression with LEVELFUSE_SKIP_TESTS.
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -61,7 +62,8 @@ case "$mode" in
     cmake --build "$build" -j "$jobs"
     echo "== running the tests"
     skip=()
-    [ -n "${LEVELFUSE_SKIP_LABEL:-}" ] && skip=(-LE "$LEVELFUSE_SKIP_LABEL")
+    [ -n "${LEVELFUSE_SKIP_LABEL:-}" ] && skip+=(-LE "$LEVELFUSE_SKIP_LABEL")
+    [ -n "${LEVELFUSE_SKIP_TESTS:-}" ] && skip+=(-E "$LEVELFUSE_SKIP_TESTS")
     (cd "$build" && ctest --output-on-failure -j "$jobs" "${skip[@]}")
     ;;
   bench)
