@@ -80,11 +80,14 @@ exec "$levelfuse" "\$@"
 SCRIPT
 chmod +x smallfiles.sh
 mkdir unwritten
-run 3 ./smallfiles.sh reconstruct scans/scans.json -o unwritten/pieces.vdb --pieces -q 2> unwritten.err
+# Over loopback TCP: OpenMPI's shared memory would meet the file size limit at the start.
+OMPI_MCA_btl=self,tcp run 3 ./smallfiles.sh reconstruct scans/scans.json -o unwritten/pieces.vdb --pieces -q \
+  2> unwritten.err
 code=$?
 [ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "unwritable piece: exit code $code"
-grep -q "cannot write 'unwritten/pieces.2-of-3.vdb'.*(rank 2 of 3)" unwritten.err ||
-  fail "unwritable piece: no message from the rank that failed: $(cat unwritten.err)"
+# Whichever rank's line comes first, it says why rank 2 failed.
+grep -q "cannot write 'unwritten/pieces.2-of-3.vdb'" unwritten.err ||
+  fail "unwritable piece: no message saying why: $(cat unwritten.err)"
 [ -z "$(ls -A unwritten)" ] || fail "unwritable piece: files were left: $(ls -A unwritten)"
 
 # 2. Bad input: every rank fails alike; the job ends with the one-line error naming the file.

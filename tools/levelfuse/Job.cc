@@ -75,6 +75,16 @@ std::uint64_t totalOverJob(std::uint64_t count) {
   return team ? team->total(count) : count;
 }
 
+std::vector<std::string> everyRanksText(const std::string& text) {
+  const SlabTeam* team = jobTeam();
+  if (!team) return {text};
+  const PackedLeaves bytes(text.begin(), text.end());
+  std::vector<std::string> all;
+  for (const PackedLeaves& received : team->exchange(std::vector<PackedLeaves>(static_cast<std::size_t>(team->size()), bytes)))
+    all.emplace_back(received.begin(), received.end());
+  return all;
+}
+
 int jobRank() {
   const SlabTeam* team = jobTeam();
   return team ? team->rank() : 0;

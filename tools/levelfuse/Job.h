@@ -10,6 +10,7 @@
 #include <levelfuse/levelset/SlabTeam.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace levelfuse::cli {
@@ -32,6 +33,9 @@ void abortJobIfShared(int exitCode);
 /// The sum of every rank's `count`, on every rank; `count` itself outside a
 /// job of more than one rank. Every rank of a job must call it.
 std::uint64_t totalOverJob(std::uint64_t count);
+/// Every rank's `text`, in rank order, on every rank; {text} outside a job.
+/// Every rank of a job must call it.
+std::vector<std::string> everyRanksText(const std::string& text);
 /// This rank's number and the job's ranks: 0 and 1 outside a job.
 int jobRank();
 int jobRanks();

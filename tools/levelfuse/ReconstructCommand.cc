@@ -24,6 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <exception>
@@ -409,29 +410,36 @@ void printText(const Summary& r) {
 
 /// Writes this rank's piece (its level set and weight grid) with every other
 /// rank's: all are committed, or, when any rank cannot write its own, none
-/// is, every rank's temporary removed before any rank reports why.
+/// is, every rank's temporary removed before any rank reports why. Every
+/// rank learns why the first that failed did, so whichever rank's line the
+/// job prints before it ends says it.
 void writePieceWithTheOthers(const ReconstructionResult& result, const ReconstructSettings& s) {
   enterPhase("writing");
   io::OutputSet outputs;
   std::exception_ptr failure;
+  std::string why;
   try {
     io::writeVdb(outputs, s.output, gridsWritten(result));
     io::refuseOverwritingInputs(outputs.targets(), io::inputsRead());
     checkCancellation();
+  } catch (const std::exception& e) {
+    failure = std::current_exception();
+    why = e.what();
   } catch (...) {
     failure = std::current_exception();
+    why = "an unknown failure";
   }
-  const std::uint64_t failed = totalOverJob(failure ? 1 : 0);
-  if (failed == 0) {
+  const std::vector<std::string> whys = everyRanksText(why);
+  const auto firstFailed = std::find_if(whys.begin(), whys.end(), [](const std::string& w) { return !w.empty(); });
+  if (firstFailed == whys.end()) {
     outputs.commit();
     return;
   }
   outputs.discard();
   totalOverJob(0);  // every rank's temporary is gone before the job ends
   if (failure) std::rethrow_exception(failure);
-  throw std::runtime_error(std::to_string(failed) + (failed == 1 ? " other rank" : " other ranks") +
-                           " could not write " + (failed == 1 ? "its piece" : "their pieces") +
-                           "; no piece written");
+  throw std::runtime_error("rank " + std::to_string(firstFailed - whys.begin()) + " of " + std::to_string(whys.size()) +
+                           " could not write its piece (" + *firstFailed + "); no piece written");
 }
 
 /// With --pieces: every rank writes its piece, the first prints the summary.
