@@ -1,8 +1,9 @@
 // The reconstruction shared by the ranks of an MPI job (mpi/RankTeam.h), one
 // slab of every grid each: the Stanford bunny at 0.25 and 0.125 mm and the
-// dragon at 0.25 mm, from their scans; and the same two at their finer size
-// with each rank keeping its piece of the output (BM_*InPiecesOnRanks,
-// ReconstructionOptions::keepPieces), where rank 0 assembles nothing. Run it as one MPI job per rank count,
+// dragon at 0.25 and 0.125 mm, from their scans; and the bunny at 0.125 mm and
+// the dragon at both sizes with each rank keeping its piece of the output
+// (BM_*InPiecesOnRanks, ReconstructionOptions::keepPieces), where rank 0
+// assembles nothing. Run it as one MPI job per rank count,
 //   mpirun -np N mpi_benchmarks --benchmark_format=json
 // with N = 1, 2, 4 (tools/quickstart.sh bench does): a process's peak
 // resident memory is its own, so each count is its own run, and the ratios
@@ -106,11 +107,13 @@ void registerAll() {
       ->UseRealTime();
   benchmark::RegisterBenchmark("BM_DragonOnRanks", [](benchmark::State& s) { reconstructOnRanks(s, kDragon); })
       ->Arg(250)
+      ->Arg(125)
       ->Iterations(1)
       ->Unit(benchmark::kSecond)
       ->UseRealTime();
   benchmark::RegisterBenchmark("BM_DragonInPiecesOnRanks", [](benchmark::State& s) { reconstructOnRanks(s, kDragon, true); })
       ->Arg(250)
+      ->Arg(125)
       ->Iterations(1)
       ->Unit(benchmark::kSecond)
       ->UseRealTime();
