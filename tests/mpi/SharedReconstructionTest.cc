@@ -1,13 +1,16 @@
 // A reconstruction whose evolution the ranks of an MPI job share, one slab
-// of every grid each, gives one process's result bit for bit, at rank 0.
+// of every grid each, gives one process's result bit for bit, at rank 0, or
+// in pieces, one at each rank.
 
 #include "support/NoisyTorus.h"
 #include "support/TestSupport.h"
 
+#include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/mpi/RankTeam.h>
 #include <levelfuse/recon/Reconstructor.h>
 
 #include <gtest/gtest.h>
+#include <openvdb/tools/Prune.h>
 
 #include <algorithm>
 #include <string>
@@ -47,6 +50,37 @@ TEST(SharedReconstruction, TheDataTermFromTheMapsGivesOneProcesssSurface) {
 
 TEST(SharedReconstruction, TheDataTermFromGridsGivesOneProcesssSurface) {
   expectSharedRunIsOneProcesssRun(DataTermSource::kGrids);
+}
+
+TEST(SharedReconstruction, EachRankKeepsItsPieceOfOneProcesssSurface) {
+  // Every rank keeps its slab's piece of the output: the level set one
+  // process makes, clipped to the piece's x range (its metadata), tiles and
+  // nodes alike, and that piece's weight; together the pieces hold it all.
+  ReconstructionOptions options;
+  options.voxelSize = 0.02;
+  options.levels = 3;
+  const ReconstructionResult alone = Reconstructor(test::noisyTorusScans(), options).run();
+  options.keepPieces = true;
+  const mpi::RankTeam team;
+  const ReconstructionResult mine = Reconstructor(test::noisyTorusScans(), options).run({}, {}, &team);
+  ASSERT_TRUE(mine.levelSet && mine.weight) << "rank " << team.rank();
+  EXPECT_EQ(mine.levelSet->metaValue<openvdb::Int32>("levelfuse_piece"), team.rank());
+  EXPECT_EQ(mine.levelSet->metaValue<openvdb::Int32>("levelfuse_pieces"), team.size());
+  SlabBounds slab;
+  if (team.rank() > 0) slab.begin = mine.levelSet->metaValue<openvdb::Int32>("levelfuse_piece_begin_x");
+  if (team.rank() + 1 < team.size()) slab.end = mine.levelSet->metaValue<openvdb::Int32>("levelfuse_piece_end_x");
+  const openvdb::FloatGrid::Ptr clipped = alone.levelSet->deepCopy();
+  clipped->tree().clip(slabBox(slab));
+  openvdb::tools::pruneLevelSet(clipped->tree());
+  std::string why;
+  EXPECT_TRUE(test::identical(*clipped, *mine.levelSet, &why)) << "rank " << team.rank() << ": " << why;
+  EXPECT_TRUE(test::sameTreeBytes(*clipped, *mine.levelSet)) << "rank " << team.rank();
+  const openvdb::FloatGrid::ConstAccessor weight = alone.weight->getConstAccessor();
+  std::size_t otherWeights = 0;
+  for (auto w = mine.weight->cbeginValueOn(); w; ++w) otherWeights += *w != weight.getValue(w.getCoord());
+  EXPECT_EQ(otherWeights, 0u) << "rank " << team.rank();
+  EXPECT_EQ(team.total(mine.levelSet->activeVoxelCount()), alone.levelSet->activeVoxelCount());
+  EXPECT_EQ(team.total(mine.weight->activeVoxelCount()), alone.weight->activeVoxelCount());
 }
 
 }  // namespace
