@@ -86,7 +86,23 @@ void dropLeavesOutsideOf(GridT& grid, const SlabBounds& slab) {
   openvdb::tools::prune(grid.tree());
 }
 
+template <typename GridT>
+void moveAllLeavesOf(GridT& from, GridT& to) {
+  using LeafT = typename GridT::TreeType::LeafNodeType;
+  std::vector<openvdb::Coord> origins;
+  for (auto leaf = from.tree().cbeginLeaf(); leaf; ++leaf) origins.push_back(leaf->origin());
+  for (const openvdb::Coord& origin : origins) {
+    if (to.tree().template probeConstNode<LeafT>(origin))
+      throw std::invalid_argument("moveAllLeaves: the leaf at " + origin.asVec3i().str() + " is there already");
+    to.tree().addLeaf(from.tree().template stealNode<LeafT>(origin, from.background(), false));
+  }
+  openvdb::tools::prune(to.tree());
+}
+
 }  // namespace
+
+void moveAllLeaves(openvdb::FloatGrid& from, openvdb::FloatGrid& to) { moveAllLeavesOf(from, to); }
+void moveAllLeaves(openvdb::Vec3fGrid& from, openvdb::Vec3fGrid& to) { moveAllLeavesOf(from, to); }
 
 void dropLeavesOutside(openvdb::FloatGrid& grid, const SlabBounds& slab) { dropLeavesOutsideOf(grid, slab); }
 void dropLeavesOutside(openvdb::Vec3fGrid& grid, const SlabBounds& slab) { dropLeavesOutsideOf(grid, slab); }

@@ -401,6 +401,23 @@ TEST(SlabField, LeavesOutsideASlabAreLetGoWithoutNodesAdded) {
   EXPECT_EQ(colour.tree().nodeCount(), nodesAfter);
 }
 
+TEST(SlabField, PiecesOfAWeightGridPutTogetherAreTheWhole) {
+  openvdb::FloatGrid weight(0.0f);
+  for (openvdb::Int32 x = -300; x < 300; x += 5) weight.tree().setValueOn(openvdb::Coord(x, x / 3, 7), 0.5f * x);
+  std::vector<openvdb::FloatGrid::Ptr> pieces;
+  for (const SlabBounds& slab : {SlabBounds{-SlabBounds::kUnbounded, 0}, SlabBounds{0, 128}, SlabBounds{128, SlabBounds::kUnbounded}}) {
+    pieces.push_back(weight.deepCopy());
+    dropLeavesOutside(*pieces.back(), slab);
+  }
+  const openvdb::FloatGrid::Ptr whole = weight.copyWithNewTree();
+  for (const openvdb::FloatGrid::Ptr& piece : pieces) moveAllLeaves(*piece, *whole);
+  std::string why;
+  EXPECT_TRUE(test::identical(weight, *whole, &why)) << why;
+  EXPECT_EQ(pieces.front()->tree().leafCount(), 0u) << "the leaves were moved";
+  const openvdb::FloatGrid::Ptr again = weight.deepCopy();
+  EXPECT_THROW(moveAllLeaves(*again, *whole), std::invalid_argument);
+}
+
 TEST(SlabField, LevelSetPiecesAreChecked) {
   const auto sphere = sample(shapes::Sphere{Vec3d(0.0), 6.0}, openvdb::BBoxd(Vec3d(-9), Vec3d(9)));
   const PackedLeaves all = packLevelSetLeaves(*sphere, SlabBounds{});

@@ -2,7 +2,8 @@
 # The converter under mpirun (tests/mpi/CMakeLists.txt): the same .vdb and
 # mesh, byte for byte, from 1, 2 and 4 ranks (a synthetic torus, and the
 # Stanford bunny when ../shared is beside the repository); pieces (--pieces)
-# whose union is one process's level set; a job too large for one process's
+# whose union is one process's level set, and whose mesh (levelfuse mesh of
+# every piece) is one process's; a job too large for one process's
 # memory budget runs on four ranks within it; a rank that fails (bad input, a
 # memory limit it cannot meet, a piece it cannot write, killed mid-run) stops every rank,
 # with a clear message, a non-zero exit and no output, and never hangs; so
@@ -72,6 +73,21 @@ assert united.activeVoxelCount() == whole.activeVoxelCount() == summary["narrow_
 values = united.getConstAccessor()
 assert all(values.getValue(v.min) == v.value for v in whole.citerOnValues()), "a value differs"
 PY
+# The pieces put together by levelfuse mesh: the mesh of one process's level set, byte for byte;
+# anything but every piece once is refused, naming the file, and nothing is written.
+"$levelfuse" mesh pieces.0-of-3.vdb pieces.1-of-3.vdb pieces.2-of-3.vdb -o pieces-mesh.ply > /dev/null ||
+  fail "pieces: levelfuse mesh of the pieces exited with $?"
+"$levelfuse" mesh one.vdb -o one-mesh.ply > /dev/null || fail "pieces: levelfuse mesh of one.vdb exited with $?"
+cmp one-mesh.ply pieces-mesh.ply || fail "pieces: the mesh of the pieces differs from that of one process's level set"
+for given in "pieces.0-of-3.vdb pieces.2-of-3.vdb|pieces.0-of-3.vdb: piece 1 of 3, but 2 files were given" \
+             "pieces.1-of-3.vdb pieces.1-of-3.vdb pieces.2-of-3.vdb|pieces.1-of-3.vdb: piece 2 of 3 was given twice" \
+             "pieces.0-of-3.vdb one.vdb pieces.2-of-3.vdb|one.vdb: 'surface' is a whole level set, not a piece"; do
+  # shellcheck disable=SC2086
+  "$levelfuse" mesh ${given%%|*} -o refused.ply 2> refused.err && fail "pieces: levelfuse mesh took ${given%%|*}"
+  grep -q "${given#*|}" refused.err || fail "pieces: levelfuse mesh ${given%%|*}: $(cat refused.err)"
+  [ ! -e refused.ply ] || fail "pieces: levelfuse mesh ${given%%|*} wrote a mesh"
+done
+
 # A rank that cannot write its piece (a file size limit): no rank's piece is written, nor left half-made.
 cat > smallfiles.sh <<SCRIPT
 #!/usr/bin/env bash

@@ -80,12 +80,6 @@ void checkPiecesSettings(ReconstructSettings& s) {
   s.options.keepPieces = true;
 }
 
-std::string joined(const std::vector<std::string>& items) {
-  std::string s;
-  for (const std::string& item : items) s += (s.empty() ? "" : ", ") + item;
-  return s;
-}
-
 /// Every option and output, checked before the work starts and before anything is written.
 void checkSettings(ReconstructSettings& s) {
   // The budget of the readers and of the reconstruction.

@@ -70,6 +70,12 @@ void commitOutputs(io::OutputSet& outputs) {
   outputs.commit();
 }
 
+std::string joined(const std::vector<std::string>& items) {
+  std::string s;
+  for (const std::string& item : items) s += (s.empty() ? "" : ", ") + item;
+  return s;
+}
+
 std::string withCommas(std::size_t n) {
   std::string digits = std::to_string(n), out;
   for (std::size_t i = 0; i < digits.size(); ++i) {

@@ -52,6 +52,8 @@ void addTrimUnseenOptions(CLI::App* cmd, std::optional<bool>& trim, const std::s
 
 /// "1,234,567"
 std::string withCommas(std::size_t n);
+/// The items, separated by commas (file names in a message).
+std::string joined(const std::vector<std::string>& items);
 /// A number with `digits` significant digits.
 std::string fixed(double value, int digits = 4);
 /// "12.3 MiB"

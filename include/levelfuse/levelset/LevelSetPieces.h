@@ -35,6 +35,12 @@ openvdb::CoordBBox slabBox(const SlabBounds& slab);
 void dropLeavesOutside(openvdb::FloatGrid& grid, const SlabBounds& slab);
 void dropLeavesOutside(openvdb::Vec3fGrid& grid, const SlabBounds& slab);
 
+/// Moves every leaf node of `from` into `to` (which holds none at their
+/// origins) and prunes `to`: the pieces of a weight or colour grid, whose
+/// leaves lie on the background, put together.
+void moveAllLeaves(openvdb::FloatGrid& from, openvdb::FloatGrid& to);
+void moveAllLeaves(openvdb::Vec3fGrid& from, openvdb::Vec3fGrid& to);
+
 /// The leaf nodes of `levelSet` whose origin x lies in `bounds`, their values
 /// and active voxels, packed as bytes for another process.
 PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds);
