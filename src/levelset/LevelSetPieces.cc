@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -66,36 +67,48 @@ SlabBounds overlapOf(const SlabBounds& a, const SlabBounds& b) {
   return both;
 }
 
-openvdb::CoordBBox slabBox(const SlabBounds& slab) {
-  // Far beyond any grid's voxels, yet the box's extent fits an Int32.
-  constexpr openvdb::Int32 far = 1 << 29;
-  return openvdb::CoordBBox(openvdb::Coord(std::max(slab.begin, -far), -far, -far),
-                            openvdb::Coord(std::min(slab.end, far) - 1, far, far));
+namespace {
+
+/// The metadata describeLevelSetPiece writes.
+constexpr const char* kPieceKey = "levelfuse_piece";
+constexpr const char* kPiecesKey = "levelfuse_pieces";
+constexpr const char* kPieceBeginKey = "levelfuse_piece_begin_x";
+constexpr const char* kPieceEndKey = "levelfuse_piece_end_x";
+
+/// The origins of the leaf nodes of `tree` whose origin x lies in `bounds`
+/// (with `within` false: outside it).
+template <typename TreeT>
+std::vector<openvdb::Coord> leafOrigins(const TreeT& tree, const SlabBounds& bounds, bool within) {
+  std::vector<openvdb::Coord> origins;
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
+    if (bounds.contains(leaf->origin().x()) == within) origins.push_back(leaf->origin());
+  return origins;
 }
 
-namespace {
+/// Moves the leaf nodes of `from` whose origin x lies in `bounds` into `to`;
+/// `caller` names the function in the error for a leaf `to` holds already.
+template <typename GridT>
+void moveLeavesWithin(GridT& from, const SlabBounds& bounds, GridT& to, const char* caller) {
+  using LeafT = typename GridT::TreeType::LeafNodeType;
+  for (const openvdb::Coord& origin : leafOrigins(from.tree(), bounds, true)) {
+    if (to.tree().template probeConstNode<LeafT>(origin))
+      throw std::invalid_argument(std::string(caller) + ": the leaf at " + origin.asVec3i().str() +
+                                  " is there already");
+    to.tree().addLeaf(from.tree().template stealNode<LeafT>(origin, from.background(), false));
+  }
+}
 
 template <typename GridT>
 void dropLeavesOutsideOf(GridT& grid, const SlabBounds& slab) {
   using LeafT = typename GridT::TreeType::LeafNodeType;
-  std::vector<openvdb::Coord> outside;
-  for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf)
-    if (!slab.contains(leaf->origin().x())) outside.push_back(leaf->origin());
-  for (const openvdb::Coord& origin : outside)
+  for (const openvdb::Coord& origin : leafOrigins(grid.tree(), slab, false))
     delete grid.tree().template stealNode<LeafT>(origin, grid.background(), false);
   openvdb::tools::prune(grid.tree());
 }
 
 template <typename GridT>
 void moveAllLeavesOf(GridT& from, GridT& to) {
-  using LeafT = typename GridT::TreeType::LeafNodeType;
-  std::vector<openvdb::Coord> origins;
-  for (auto leaf = from.tree().cbeginLeaf(); leaf; ++leaf) origins.push_back(leaf->origin());
-  for (const openvdb::Coord& origin : origins) {
-    if (to.tree().template probeConstNode<LeafT>(origin))
-      throw std::invalid_argument("moveAllLeaves: the leaf at " + origin.asVec3i().str() + " is there already");
-    to.tree().addLeaf(from.tree().template stealNode<LeafT>(origin, from.background(), false));
-  }
+  moveLeavesWithin(from, SlabBounds{}, to, "moveAllLeaves");
   openvdb::tools::prune(to.tree());
 }
 
@@ -151,22 +164,25 @@ void closeLevelSetPiece(openvdb::FloatGrid& piece) {
 }
 
 void describeLevelSetPiece(openvdb::FloatGrid& piece, int index, int count, const SlabBounds& bounds) {
-  piece.insertMeta("levelfuse_piece", openvdb::Int32Metadata(index));
-  piece.insertMeta("levelfuse_pieces", openvdb::Int32Metadata(count));
-  if (bounds.hasLower()) piece.insertMeta("levelfuse_piece_begin_x", openvdb::Int32Metadata(bounds.begin));
-  if (bounds.hasHigher()) piece.insertMeta("levelfuse_piece_end_x", openvdb::Int32Metadata(bounds.end));
+  piece.insertMeta(kPieceKey, openvdb::Int32Metadata(index));
+  piece.insertMeta(kPiecesKey, openvdb::Int32Metadata(count));
+  if (bounds.hasLower()) piece.insertMeta(kPieceBeginKey, openvdb::Int32Metadata(bounds.begin));
+  if (bounds.hasHigher()) piece.insertMeta(kPieceEndKey, openvdb::Int32Metadata(bounds.end));
+}
+
+std::optional<std::pair<int, int>> levelSetPieceOf(const openvdb::FloatGrid& levelSet) {
+  const auto index = levelSet.getMetadata<openvdb::Int32Metadata>(kPieceKey);
+  const auto count = levelSet.getMetadata<openvdb::Int32Metadata>(kPiecesKey);
+  if (!index || !count) return std::nullopt;
+  return std::make_pair(index->value(), count->value());
+}
+
+void forgetLevelSetPiece(openvdb::FloatGrid& levelSet) {
+  for (const char* key : {kPieceKey, kPiecesKey, kPieceBeginKey, kPieceEndKey}) levelSet.removeMeta(key);
 }
 
 void moveLevelSetLeaves(openvdb::FloatGrid& from, const SlabBounds& bounds, openvdb::FloatGrid& to) {
-  std::vector<openvdb::Coord> origins;
-  for (auto leaf = from.tree().cbeginLeaf(); leaf; ++leaf)
-    if (bounds.contains(leaf->origin().x())) origins.push_back(leaf->origin());
-  for (const openvdb::Coord& origin : origins) {
-    if (to.tree().probeConstLeaf(origin))
-      throw std::invalid_argument("moveLevelSetLeaves: the leaf at " + origin.asVec3i().str() + " is there already");
-    Leaf* leaf = from.tree().stealNode<Leaf>(origin, from.background(), false);
-    to.tree().addLeaf(leaf);
-  }
+  moveLeavesWithin(from, bounds, to, "moveLevelSetLeaves");
 }
 
 void setTilesBesideLeaves(openvdb::FloatGrid& grid) {

@@ -18,7 +18,6 @@
 #include <gtest/gtest.h>
 #include <openvdb/tools/Composite.h>
 #include <openvdb/tools/LevelSetSphere.h>
-#include <openvdb/tools/Prune.h>
 
 #include <algorithm>
 #include <cmath>
@@ -357,9 +356,7 @@ TEST(SlabField, EachSlabsPieceIsTheWholeLevelSetWithinIt) {
       const openvdb::FloatGrid::Ptr piece = shape->copyWithNewTree();
       addLevelSetLeaves(*piece, packLevelSetLeaves(*shape, slab));
       closeLevelSetPiece(*piece);
-      const openvdb::FloatGrid::Ptr clipped = shape->deepCopy();
-      clipped->tree().clip(slabBox(slab));
-      openvdb::tools::pruneLevelSet(clipped->tree());
+      const openvdb::FloatGrid::Ptr clipped = test::clippedToSlab(*shape, slab);
       std::string why;
       EXPECT_TRUE(test::identical(*clipped, *piece, &why)) << "slab " << k << ": " << why;
       EXPECT_TRUE(test::sameTreeBytes(*clipped, *piece)) << "slab " << k << ": the trees' tiles or nodes differ";

@@ -5,12 +5,10 @@
 #include "support/NoisyTorus.h"
 #include "support/TestSupport.h"
 
-#include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/mpi/RankTeam.h>
 #include <levelfuse/recon/Reconstructor.h>
 
 #include <gtest/gtest.h>
-#include <openvdb/tools/Prune.h>
 
 #include <algorithm>
 #include <string>
@@ -69,9 +67,7 @@ TEST(SharedReconstruction, EachRankKeepsItsPieceOfOneProcesssSurface) {
   SlabBounds slab;
   if (team.rank() > 0) slab.begin = mine.levelSet->metaValue<openvdb::Int32>("levelfuse_piece_begin_x");
   if (team.rank() + 1 < team.size()) slab.end = mine.levelSet->metaValue<openvdb::Int32>("levelfuse_piece_end_x");
-  const openvdb::FloatGrid::Ptr clipped = alone.levelSet->deepCopy();
-  clipped->tree().clip(slabBox(slab));
-  openvdb::tools::pruneLevelSet(clipped->tree());
+  const openvdb::FloatGrid::Ptr clipped = test::clippedToSlab(*alone.levelSet, slab);
   std::string why;
   EXPECT_TRUE(test::identical(*clipped, *mine.levelSet, &why)) << "rank " << team.rank() << ": " << why;
   EXPECT_TRUE(test::sameTreeBytes(*clipped, *mine.levelSet)) << "rank " << team.rank();

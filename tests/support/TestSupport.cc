@@ -5,10 +5,12 @@
 #include <levelfuse/core/Parallel.h>
 
 #include <openvdb/tools/LevelSetSphere.h>
+#include <openvdb/tools/Prune.h>
 #include <tbb/global_control.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -100,6 +102,17 @@ std::string treeBytes(const openvdb::FloatGrid& grid) {
 }  // namespace
 
 bool sameTreeBytes(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) { return treeBytes(a) == treeBytes(b); }
+
+openvdb::FloatGrid::Ptr clippedToSlab(const openvdb::FloatGrid& levelSet, const SlabBounds& slab) {
+  // Far beyond any grid's voxels, yet the box's extent fits an Int32.
+  constexpr openvdb::Int32 far = 1 << 29;
+  const openvdb::CoordBBox box(openvdb::Coord(std::max(slab.begin, -far), -far, -far),
+                               openvdb::Coord(std::min(slab.end, far) - 1, far, far));
+  openvdb::FloatGrid::Ptr clipped = levelSet.deepCopy();
+  clipped->tree().clip(box);
+  openvdb::tools::pruneLevelSet(clipped->tree());
+  return clipped;
+}
 
 RadiusFit fitRadius(const openvdb::FloatGrid& grid, const openvdb::Vec3d& centre) {
   const std::vector<openvdb::Vec3d> points = zeroCrossings(grid);

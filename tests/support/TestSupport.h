@@ -1,6 +1,7 @@
 // Shared helpers of levelfuse's tests.
 #pragma once
 
+#include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/levelset/SparseField.h>
 
 #include <openvdb/openvdb.h>
@@ -24,6 +25,11 @@ bool identical(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b, std::st
 /// True if OpenVDB writes the two trees (topology and values) as the same
 /// bytes: internal nodes and tiles alike, as a .vdb file of them would be.
 bool sameTreeBytes(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b);
+
+/// `levelSet` within the x range of `slab` (its tiles split at the slab's
+/// faces, background beyond them; Tree::clip), pruned as a level set: what a
+/// piece of it (LevelSetPieces.h) must be.
+openvdb::FloatGrid::Ptr clippedToSlab(const openvdb::FloatGrid& levelSet, const SlabBounds& slab);
 
 /// How many of `a`'s band voxels `b` puts in another layer (SparseField::layerOf).
 std::size_t voxelsInOtherLayers(const SparseField& a, const SparseField& b);

@@ -77,16 +77,15 @@ Surface surfaceIn(const std::string& file, const std::string& name) {
   return surface;
 }
 
-/// Which piece of how many `levelSet` is (LevelSetPieces.h, describeLevelSetPiece); throws,
-/// naming `file`, for a level set that is no piece.
+/// Which piece of how many `levelSet` is (levelSetPieceOf); throws, naming
+/// `file`, for a level set that is no piece.
 std::pair<int, int> pieceOf(const openvdb::FloatGrid& levelSet, const std::string& file) {
-  const auto index = levelSet.getMetadata<openvdb::Int32Metadata>("levelfuse_piece");
-  const auto count = levelSet.getMetadata<openvdb::Int32Metadata>("levelfuse_pieces");
-  if (!index || !count)
+  const std::optional<std::pair<int, int>> piece = levelSetPieceOf(levelSet);
+  if (!piece)
     throw std::runtime_error(file + ": '" + levelSet.getName() +
                              "' is a whole level set, not a piece of one (levelfuse reconstruct --pieces writes "
                              "pieces): give one whole level set, or every piece of one");
-  return {index->value(), count->value()};
+  return *piece;
 }
 
 /// The whole level set of its pieces (one per file, each written by a rank of
@@ -110,8 +109,7 @@ Surface surfaceOfPieces(const std::vector<std::string>& files, const std::string
   }
   Surface whole;
   whole.levelSet = pieces.front().levelSet->copyWithNewTree();
-  for (const char* key : {"levelfuse_piece", "levelfuse_pieces", "levelfuse_piece_begin_x", "levelfuse_piece_end_x"})
-    whole.levelSet->removeMeta(key);
+  forgetLevelSetPiece(*whole.levelSet);
   const bool weighed = std::all_of(pieces.begin(), pieces.end(), [](const Surface& p) { return p.weight != nullptr; });
   const bool coloured = std::all_of(pieces.begin(), pieces.end(), [](const Surface& p) { return p.colour != nullptr; });
   if (weighed) whole.weight = pieces.front().weight->copyWithNewTree();

@@ -12,6 +12,8 @@
 
 #include <openvdb/openvdb.h>
 
+#include <optional>
+#include <utility>
 #include <vector>
 
 namespace levelfuse {
@@ -23,10 +25,6 @@ SlabBounds levelSetReach(const SlabBounds& slab);
 
 /// The x that lie in both (an empty range, begin >= end, if none do).
 SlabBounds overlapOf(const SlabBounds& a, const SlabBounds& b);
-
-/// The box of index space a slab covers: its x range, and y and z as far as
-/// a grid reaches.
-openvdb::CoordBBox slabBox(const SlabBounds& slab);
 
 /// Lets go of the leaf nodes of `grid` whose origin x lies outside `slab`
 /// and prunes it: a grid of leaves on the background (a weight or colour
@@ -76,6 +74,11 @@ void closeLevelSetPiece(openvdb::FloatGrid& piece);
 /// space it holds, levelfuse_piece_begin_x and levelfuse_piece_end_x (the
 /// end excluded; each left out where the piece reaches to infinity).
 void describeLevelSetPiece(openvdb::FloatGrid& piece, int index, int count, const SlabBounds& bounds);
+/// Which piece `levelSet` is and of how many, as describeLevelSetPiece said;
+/// none for a level set that is no piece.
+std::optional<std::pair<int, int>> levelSetPieceOf(const openvdb::FloatGrid& levelSet);
+/// Removes what describeLevelSetPiece wrote: the pieces put together are no piece.
+void forgetLevelSetPiece(openvdb::FloatGrid& levelSet);
 
 /// Moves the leaf nodes of `from` whose origin x lies in `bounds` into `to`
 /// (an empty tree, or one holding none of them): this process's own piece,
