@@ -34,6 +34,7 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -58,7 +59,7 @@ std::vector<double> atRankZero(double value, const mpi::RankTeam& team) {
   return all;
 }
 
-void reconstructOnRanks(benchmark::State& state, const Scans& scans, bool inPieces = false) {
+void reconstructOnRanks(benchmark::State& state, const Scans& scans, bool inPieces) {
   if (!std::filesystem::exists(scans.conf)) {
     state.SkipWithError((scans.conf + " is absent").c_str());
     return;
@@ -93,30 +94,20 @@ void reconstructOnRanks(benchmark::State& state, const Scans& scans, bool inPiec
   state.counters["active"] = static_cast<double>(result.levels.back().activeSetVoxels);
 }
 
+/// Registers `name`: the reconstruction of `scans` on the job's ranks at each
+/// voxel size (micrometres), whole or in pieces; one iteration each.
+void registerOnRanks(const char* name, const Scans& scans, bool inPieces, std::initializer_list<int> voxelMicrometres) {
+  benchmark::internal::Benchmark* b = benchmark::RegisterBenchmark(
+      name, [&scans, inPieces](benchmark::State& s) { reconstructOnRanks(s, scans, inPieces); });
+  for (const int size : voxelMicrometres) b->Arg(size);
+  b->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+}
+
 void registerAll() {
-  benchmark::RegisterBenchmark("BM_BunnyOnRanks", [](benchmark::State& s) { reconstructOnRanks(s, kBunny); })
-      ->Arg(250)
-      ->Arg(125)
-      ->Iterations(1)
-      ->Unit(benchmark::kSecond)
-      ->UseRealTime();
-  benchmark::RegisterBenchmark("BM_BunnyInPiecesOnRanks", [](benchmark::State& s) { reconstructOnRanks(s, kBunny, true); })
-      ->Arg(125)
-      ->Iterations(1)
-      ->Unit(benchmark::kSecond)
-      ->UseRealTime();
-  benchmark::RegisterBenchmark("BM_DragonOnRanks", [](benchmark::State& s) { reconstructOnRanks(s, kDragon); })
-      ->Arg(250)
-      ->Arg(125)
-      ->Iterations(1)
-      ->Unit(benchmark::kSecond)
-      ->UseRealTime();
-  benchmark::RegisterBenchmark("BM_DragonInPiecesOnRanks", [](benchmark::State& s) { reconstructOnRanks(s, kDragon, true); })
-      ->Arg(250)
-      ->Arg(125)
-      ->Iterations(1)
-      ->Unit(benchmark::kSecond)
-      ->UseRealTime();
+  registerOnRanks("BM_BunnyOnRanks", kBunny, false, {250, 125});
+  registerOnRanks("BM_BunnyInPiecesOnRanks", kBunny, true, {125});
+  registerOnRanks("BM_DragonOnRanks", kDragon, false, {250, 125});
+  registerOnRanks("BM_DragonInPiecesOnRanks", kDragon, true, {250, 125});
 }
 
 /// Prints nothing: the ranks other than rank 0 run the benchmarks silently.

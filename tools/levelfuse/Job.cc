@@ -57,10 +57,7 @@ const SlabTeam* jobTeam() {
   return nullptr;
 }
 
-bool leadsTheJob() {
-  const SlabTeam* team = jobTeam();
-  return !team || team->rank() == 0;
-}
+bool leadsTheJob() { return jobRank() == 0; }
 
 void abortJobIfShared(int exitCode) {
 #if defined(LEVELFUSE_HAVE_MPI)
