@@ -7,6 +7,7 @@
 #include "LeavesReached.h"
 
 #include <array>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -55,6 +56,7 @@ BlockVotes::BlockVotes(std::vector<Coord> origins, std::vector<Mask> asked, doub
     Block& block = mBlocks[b];
     block.origin = origins[b];
     block.asked = asked[b];
+    block.everyVoxelAsked = block.asked.isOn();
     std::uint16_t before = 0;
     for (openvdb::Index w = 0; w < Mask::WORD_COUNT; ++w) {
       block.firstOfWord[w] = before;
@@ -71,13 +73,13 @@ void BlockVotes::add(const RangeMap& map, double margin) {
 }
 
 void BlockVotes::addToBlock(Block& block, const RangeMap& map, double margin) const {
-  const RangeMap::Sight whole = leafSight(map, block.origin, mVoxelSize, margin);
+  const std::optional<RangeMap::Sight> whole = leafSight(map, block.origin, mVoxelSize, margin);
   if (whole == RangeMap::Sight::kEmpty) {
     block.empty = true;
     return;
   }
-  if (whole != RangeMap::Sight::kUnknown) {
-    block.uniform += sightVote(whole, map.kind());
+  if (whole) {
+    block.uniform += sightVote(*whole, map.kind());
     return;
   }
   if (block.voxels.empty()) block.voxels.assign(block.asked.countOn(), 0);
@@ -105,16 +107,16 @@ void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, con
     }
   }
   if (count == 0) return;
-  const RangeMap::Sight whole = count > 1 ? cubeSight(map, block.origin + local, kCubeDim, mVoxelSize, margin)
-                                          : RangeMap::Sight::kUnknown;
+  const std::optional<RangeMap::Sight> whole =
+      count > 1 ? cubeSight(map, block.origin + local, kCubeDim, mVoxelSize, margin) : std::nullopt;
   std::array<RangeMap::Sight, kCubeVoxels> sight;
-  if (whole == RangeMap::Sight::kUnknown) {
+  if (!whole) {
     std::array<openvdb::Vec3d, kCubeVoxels> x;
     for (std::size_t i = 0; i < count; ++i)
       x[i] = (block.origin + LeafT::offsetToLocalCoord(open[i])).asVec3d() * mVoxelSize;
     map.sights(x.data(), count, margin, sight.data());
   } else {
-    sight.fill(whole);
+    sight.fill(*whole);
   }
   for (std::size_t i = 0; i < count; ++i) {
     const openvdb::Index o = open[i];

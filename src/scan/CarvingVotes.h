@@ -89,8 +89,10 @@ class BlockVotes {
     std::int32_t uniform = 0;     ///< the balance of the maps that spoke for the whole block
     Mask voxelEmpty;              ///< asked voxels some map saw empty
     std::vector<std::int32_t> voxels;  ///< per asked voxel in order, the others' balance (allocated when first needed)
+    bool everyVoxelAsked = false;
     /// The place of asked voxel `offset` in `voxels`.
     std::size_t rank(openvdb::Index offset) const {
+      if (everyVoxelAsked) return offset;
       const Mask::Word word = asked.template getWord<Mask::Word>(offset >> 6);
       const Mask::Word below = (Mask::Word(1) << (offset & 63)) - 1;
       return firstOfWord[offset >> 6] + openvdb::util::CountOn(word & below);

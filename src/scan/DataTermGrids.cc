@@ -90,6 +90,7 @@ void DataTermGrids::restrictToSlab(openvdb::Int32 begin, openvdb::Int32 end) {
 void DataTermGrids::integrate(const RangeMap& map) {
   const double reach = mWindow.reach();
   const double h = mVoxelSize;
+  const detail::UsableSpans spans(map);
   std::vector<Coord> leaves = detail::leavesReached(map, h, reach);
   leaves.erase(std::remove_if(leaves.begin(), leaves.end(),
                               [&](const Coord& origin) { return origin.x() < mSlabBegin || origin.x() >= mSlabEnd; }),
@@ -108,8 +109,8 @@ void DataTermGrids::integrate(const RangeMap& map) {
   parallelFor(leaves.size(), mGrainSize, [&](std::size_t begin, std::size_t end) {
     RangeMap::LocalSample s;
     for (std::size_t l = begin; l < end; ++l) {
-      if (!detail::leafMayBeReached(map, leaves[l], h, reach)) continue;
-      const std::uint8_t cubes = detail::leafCubesMayBeReached(map, leaves[l], h, reach);
+      if (!detail::leafMayBeReached(spans, leaves[l], h, reach)) continue;
+      const std::uint8_t cubes = detail::leafCubesMayBeReached(spans, leaves[l], h, reach);
       if (cubes == 0) continue;
       const Vec3d base = toMap.transform(leaves[l].asVec3d() * h);
       std::vector<VoxelTerm>& out = terms[l];

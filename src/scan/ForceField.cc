@@ -61,10 +61,12 @@ struct LeafTerms {
 /// `origin`; returns the voxels evaluated. The leaf's depth range is first
 /// held against the readings over its footprint; then voxels step through the
 /// map's frame incrementally, and a voxel outside the window costs one lookup.
-std::size_t addLeafTerms(const RangeMap& m, const Coord& origin, double voxelSize, const DataWindow& window,
-                         double positionVariance, std::vector<double>& gSum, std::vector<double>& wSum) {
+std::size_t addLeafTerms(const detail::UsableSpans& spans, const Coord& origin, double voxelSize,
+                         const DataWindow& window, double positionVariance, std::vector<double>& gSum,
+                         std::vector<double>& wSum) {
+  const RangeMap& m = spans.map();
   const double reach = window.reach();
-  if (!detail::leafMayBeReached(m, origin, voxelSize, reach)) return 0;
+  if (!detail::leafMayBeReached(spans, origin, voxelSize, reach)) return 0;
   const int leafDim = static_cast<int>(LeafT::DIM);
   const openvdb::math::Mat4d& toMap = m.worldToMap();
   const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
@@ -221,6 +223,10 @@ AccumulatedField ForceField::accumulate(double voxelSize, const Interrupter& int
   interrupt.throwIfStopped();
 
   // Per leaf and voxel, the terms of Eq. 17 in map order: deterministic.
+  std::vector<std::unique_ptr<const detail::UsableSpans>> spans(mMaps->size());
+  parallelFor(spans.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t m = begin; m < end; ++m) spans[m] = std::make_unique<const detail::UsableSpans>((*mMaps)[m]);
+  });
   const std::size_t leafCount = reaching.leafCount();
   std::vector<LeafTerms> terms(leafCount);
   parallelFor(leafCount, mOptions.grainSize, [&](std::size_t begin, std::size_t end) {
@@ -230,7 +236,7 @@ AccumulatedField ForceField::accumulate(double voxelSize, const Interrupter& int
       std::fill(wSum.begin(), wSum.end(), 0.0);
       const Coord origin = reaching.origin(l);
       for (std::size_t p = reaching.first[l]; p < reaching.first[l + 1]; ++p)
-        terms[l].evaluations += addLeafTerms((*mMaps)[reaching.pairs[p].second], origin, voxelSize, mWindow,
+        terms[l].evaluations += addLeafTerms(*spans[reaching.pairs[p].second], origin, voxelSize, mWindow,
                                              mOptions.positionVariance, gSum, wSum);
       std::tie(terms[l].g, terms[l].weight) = leafTermsOf(origin, gSum, wSum);
     }

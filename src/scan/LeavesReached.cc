@@ -164,42 +164,85 @@ double depthSlack(const CubeFootprint& f, double distance) {
 
 }  // namespace
 
-bool leafMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {
-  return cubeMayBeReached(m, origin, kLeafDim, voxelSize, reach);
+bool leafMayBeReached(const UsableSpans& spans, const Coord& origin, double voxelSize, double reach) {
+  return cubeMayBeReached(spans, origin, kLeafDim, voxelSize, reach);
 }
 
-bool cubeMayBeReached(const RangeMap& m, const Coord& origin, int dim, double voxelSize, double reach) {
-  const CubeFootprint f = cubeFootprint(m, origin, voxelSize, dim);
+bool cubeMayBeReached(const UsableSpans& spans, const Coord& origin, int dim, double voxelSize, double reach) {
+  const CubeFootprint f = cubeFootprint(spans.map(), origin, voxelSize, dim);
   if (f.inFront < 8) return true;  // straddles the camera plane
   // A voxel is reached only from the usable cell it projects into, whose
   // reading lies within the reach of its depth.
   const double slack = depthSlack(f, reach);
-  return m.usableReadingsMeet(f.u0 - kPixelSlack, f.v0 - kPixelSlack, f.u1 + kPixelSlack, f.v1 + kPixelSlack,
-                              f.z0 - reach - slack, f.z1 + reach + slack);
+  return spans.meet(f.u0 - kPixelSlack, f.v0 - kPixelSlack, f.u1 + kPixelSlack, f.v1 + kPixelSlack,
+                    f.z0 - reach - slack, f.z1 + reach + slack);
 }
 
-std::uint8_t leafCubesMayBeReached(const RangeMap& m, const Coord& origin, double voxelSize, double reach) {
+std::uint8_t leafCubesMayBeReached(const UsableSpans& spans, const Coord& origin, double voxelSize, double reach) {
   constexpr int kHalf = kLeafDim / 2;
   std::uint8_t reached = 0;
   for (int c = 0; c < 8; ++c) {
     const Coord corner = origin.offsetBy(((c >> 2) & 1) * kHalf, ((c >> 1) & 1) * kHalf, (c & 1) * kHalf);
-    if (cubeMayBeReached(m, corner, kHalf, voxelSize, reach)) reached = static_cast<std::uint8_t>(reached | (1 << c));
+    if (cubeMayBeReached(spans, corner, kHalf, voxelSize, reach)) reached = static_cast<std::uint8_t>(reached | (1 << c));
   }
   return reached;
 }
 
-RangeMap::Sight leafSight(const RangeMap& m, const Coord& origin, double voxelSize, double margin) {
+std::optional<RangeMap::Sight> leafSight(const RangeMap& m, const Coord& origin, double voxelSize, double margin) {
   return cubeSight(m, origin, kLeafDim, voxelSize, margin);
 }
 
-RangeMap::Sight cubeSight(const RangeMap& m, const Coord& origin, int dim, double voxelSize, double margin) {
+namespace {
+
+/// Pixels at most that cubeSight reads one by one when the blocks' bounds do
+/// not decide: a cube's footprint can be cheaper to read than its voxels' sights.
+constexpr int kMostPixelsRead = 1024;
+
+/// What a footprint whose four pixels around every voxel have no reading says:
+/// unknown to every voxel, unless a pixel without a reading may be a miss.
+std::optional<RangeMap::Sight> withoutReadings(const RangeMap& m) {
+  if (m.missesAreEmpty()) return std::nullopt;
+  return RangeMap::Sight::kUnknown;
+}
+
+/// What readings from lo to hi at every pixel of a footprint at depths z0 to
+/// z1 say of every voxel, if the same.
+std::optional<RangeMap::Sight> behindOrInFront(double lo, double hi, double z0, double z1, double margin,
+                                               double slack) {
+  if (z0 - hi > margin + slack) return RangeMap::Sight::kBehind;
+  if (z1 - lo < -margin - slack) return RangeMap::Sight::kEmpty;
+  return std::nullopt;
+}
+
+/// The same from the pixels i0 to i1 and j0 to j1 themselves, read until one
+/// says other than the first: exact where the blocks around them hold a hole
+/// or readings far from theirs.
+std::optional<RangeMap::Sight> sightOfPixels(const RangeMap& m, int i0, int j0, int i1, int j1, double z0, double z1,
+                                             double margin, double slack) {
+  const float first = m.reading(i0, j0);
+  if (!(first == first))
+    return m.everyPixel(i0, j0, i1, j1, [](float r) { return !(r == r); }) ? withoutReadings(m) : std::nullopt;
+  const std::optional<RangeMap::Sight> s = behindOrInFront(first, first, z0, z1, margin, slack);
+  if (s == RangeMap::Sight::kBehind &&
+      m.everyPixel(i0, j0, i1, j1, [&](float r) { return z0 - r > margin + slack; }))
+    return s;
+  if (s == RangeMap::Sight::kEmpty &&
+      m.everyPixel(i0, j0, i1, j1, [&](float r) { return z1 - r < -margin - slack; }))
+    return s;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<RangeMap::Sight> cubeSight(const RangeMap& m, const Coord& origin, int dim, double voxelSize,
+                                         double margin) {
   using Sight = RangeMap::Sight;
   CubeFootprint f = cubeFootprint(m, origin, voxelSize, dim);
   double &u0 = f.u0, &v0 = f.v0, &u1 = f.u1, &v1 = f.v1;
   const double z0 = f.z0, z1 = f.z1;
   const int inFront = f.inFront;
   if (inFront == 0) return Sight::kOutside;  // wholly behind the camera
-  if (inFront < 8) return Sight::kUnknown;   // straddles the camera plane: the projection is unbounded
+  if (inFront < 8) return std::nullopt;      // straddles the camera plane: the projection is unbounded
   // In front of a camera, or along parallel rays, the leaf projects into the
   // convex hull of its corners' projections; its depths lie between its
   // corners'. A little slack leaves ties within rounding to the voxels.
@@ -209,17 +252,19 @@ RangeMap::Sight cubeSight(const RangeMap& m, const Coord& origin, int dim, doubl
   u1 += kPixelSlack;
   v1 += kPixelSlack;
   if (u1 < 0.0 || v1 < 0.0 || u0 > m.width() - 1 || v0 > m.height() - 1) return Sight::kOutside;
-  if (u0 < 0.0 || v0 < 0.0 || u1 > m.width() - 1 || v1 > m.height() - 1) return Sight::kUnknown;
+  if (u0 < 0.0 || v0 < 0.0 || u1 > m.width() - 1 || v1 > m.height() - 1) return std::nullopt;
   // The four pixels around every voxel: from floor(u0) to floor(u1) + 1.
+  const int i0 = static_cast<int>(std::floor(u0)), j0 = static_cast<int>(std::floor(v0));
+  const int i1 = static_cast<int>(std::floor(u1)) + 1, j1 = static_cast<int>(std::floor(v1)) + 1;
   double lo, hi;
   bool complete = false;
-  if (!m.readingBounds(std::floor(u0), std::floor(v0), std::floor(u1) + 1.0, std::floor(v1) + 1.0, lo, hi,
-                       &complete) ||
-      !complete)
-    return Sight::kUnknown;
-  if (z0 - hi > margin + slack) return Sight::kBehind;
-  if (z1 - lo < -margin - slack) return Sight::kEmpty;
-  return Sight::kUnknown;
+  if (!m.readingBounds(i0, j0, i1, j1, lo, hi, &complete)) return withoutReadings(m);
+  if (complete)
+    if (const std::optional<Sight> s = behindOrInFront(lo, hi, z0, z1, margin, slack)) return s;
+  // The blocks around the footprint hold a hole or readings beyond it: its
+  // own pixels, if few.
+  if ((i1 - i0 + 1) * (j1 - j0 + 1) > kMostPixelsRead) return std::nullopt;
+  return sightOfPixels(m, i0, j0, i1, j1, z0, z1, margin, slack);
 }
 
 }  // namespace levelfuse::detail

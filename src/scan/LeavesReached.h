@@ -4,10 +4,13 @@
 
 #include <levelfuse/scan/RangeMap.h>
 
+#include "UsableSpans.h"
+
 #include <openvdb/math/BBox.h>
 #include <openvdb/math/Coord.h>
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace levelfuse::detail {
@@ -26,17 +29,18 @@ std::vector<openvdb::Coord> leavesReached(const RangeMap& map, double voxelSize,
 /// seen before the marking starts. Expands `reached` by the tiles' boxes.
 double leafMarks(const RangeMap& map, double voxelSize, double reach, openvdb::BBoxd& reached);
 
-/// Whether readings of `map` can reach the leaf at `origin` within `reach`:
-/// false if the leaf's depths and the readings of the usable cells over its
-/// footprint in the map (RangeMap::usableReadingsMeet) are more than `reach`
+/// Whether readings of the spans' map can reach the leaf at `origin` within
+/// `reach`: false if the leaf's depths and the readings of the usable cells
+/// over its footprint in the map (UsableSpans::meet) are more than `reach`
 /// apart.
-bool leafMayBeReached(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double reach);
+bool leafMayBeReached(const UsableSpans& spans, const openvdb::Coord& origin, double voxelSize, double reach);
 /// The same for the cube of `dim` voxels a side at `origin` (a leaf's is 8).
-bool cubeMayBeReached(const RangeMap& map, const openvdb::Coord& origin, int dim, double voxelSize, double reach);
+bool cubeMayBeReached(const UsableSpans& spans, const openvdb::Coord& origin, int dim, double voxelSize, double reach);
 /// Which of the eight cubes of 4^3 voxels of the leaf at `origin` readings of
-/// `map` may reach (cubeMayBeReached): bit (x / 4) * 4 + (y / 4) * 2 + z / 4
-/// for the cube holding local voxel (x, y, z).
-std::uint8_t leafCubesMayBeReached(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double reach);
+/// the spans' map may reach (cubeMayBeReached): bit (x / 4) * 4 + (y / 4) * 2
+/// + z / 4 for the cube holding local voxel (x, y, z).
+std::uint8_t leafCubesMayBeReached(const UsableSpans& spans, const openvdb::Coord& origin, double voxelSize,
+                                   double reach);
 /// The bit of leafCubesMayBeReached for the voxel at `offset` in its leaf
 /// (OpenVDB's order: offset = x * 64 + y * 8 + z).
 inline unsigned cubeOfOffset(openvdb::Index offset) {
@@ -45,13 +49,17 @@ inline unsigned cubeOfOffset(openvdb::Index offset) {
 
 /// What RangeMap::sight(x, margin) says at every voxel centre x of the leaf at
 /// `origin`, when it says the same everywhere and that can be told from the
-/// leaf's corners and the bounds of the readings over its footprint: kOutside
-/// (wholly behind a camera or beside the map's pixels), kEmpty (in front of
-/// complete readings by more than the margin), kBehind (behind them by more);
-/// else kUnknown, and each voxel must be asked. Never says what a voxel's own
-/// sight would not (ties within rounding are left to the voxels).
-RangeMap::Sight leafSight(const RangeMap& map, const openvdb::Coord& origin, double voxelSize, double margin);
+/// leaf's corners and the readings over its footprint (the blocks' bounds,
+/// else the footprint's own pixels when they are few): kOutside (wholly
+/// behind a camera or beside the map's pixels), kEmpty (in front of complete
+/// readings by more than the margin), kBehind (behind them by more), kUnknown
+/// (no pixel of the footprint has a reading, and misses are not empty);
+/// nothing when each voxel must be asked. Never says what a voxel's own sight
+/// would not (ties within rounding are left to the voxels).
+std::optional<RangeMap::Sight> leafSight(const RangeMap& map, const openvdb::Coord& origin, double voxelSize,
+                                         double margin);
 /// The same for the cube of `dim` voxels a side at `origin` (a leaf's is 8).
-RangeMap::Sight cubeSight(const RangeMap& map, const openvdb::Coord& origin, int dim, double voxelSize, double margin);
+std::optional<RangeMap::Sight> cubeSight(const RangeMap& map, const openvdb::Coord& origin, int dim, double voxelSize,
+                                         double margin);
 
 }  // namespace levelfuse::detail

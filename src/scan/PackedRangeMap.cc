@@ -133,10 +133,6 @@ PackedRangeMap::PackedRangeMap(RangeMap map) : mShell(std::move(map)) {
   mBlockMin = packArray(mShell.mBlockMin);
   mBlockMax = packArray(mShell.mBlockMax);
   mBlockComplete = packArray(mShell.mBlockComplete);
-  // The usable cells' spans are worked out again when the map is unpacked:
-  // packed, they would add more than a third to a packed depth frame.
-  for (std::vector<float>* spans : {&mShell.mCellMin, &mShell.mCellMax, &mShell.mCellGapLo, &mShell.mCellGapHi})
-    std::vector<float>().swap(*spans);
   mUsableCells = packFlags(mShell.mUsableCell);
   mMisses = packFlags(mShell.mMisses);
 }
@@ -159,7 +155,6 @@ RangeMap PackedRangeMap::unpack() const {
   map.mBlockComplete = unpackArray<std::uint8_t>(mBlockComplete);
   map.mUsableCell = unpackFlags(mUsableCells);
   map.mMisses = unpackFlags(mMisses);
-  map.findUsableSpans();
   return map;
 }
 

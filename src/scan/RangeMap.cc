@@ -110,57 +110,6 @@ void RangeMap::findUsableCells() {
     }
   }
   mLargestStep = mJumpFactor * mOrtho.pixelSize + kJumpNoise * largestSigma;
-  findUsableSpans();
-}
-
-void RangeMap::findUsableSpans() {
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  const std::size_t blocks = static_cast<std::size_t>(mBlocksX) * mBlocksY;
-  mCellMin.assign(blocks, nan);
-  mCellMax.assign(blocks, nan);
-  mCellGapLo.assign(blocks, nan);
-  mCellGapHi.assign(blocks, nan);
-  struct Span {
-    float lo, hi;
-  };
-  std::vector<Span> spans;
-  for (int c = 0; c < mBlocksY; ++c)
-    for (int b = 0; b < mBlocksX; ++b) {
-      // Neighbouring cells of a row share two readings, so a run of usable
-      // cells spans one stretch: a span per run.
-      spans.clear();
-      for (int j = c * kBlock; j < std::min((c + 1) * kBlock, mHeight - 1); ++j) {
-        bool inRun = false;
-        for (int i = b * kBlock; i < std::min((b + 1) * kBlock, mWidth - 1); ++i) {
-          const std::size_t at = index(i, j);
-          if (!mUsableCell[at]) {
-            inRun = false;
-            continue;
-          }
-          const float r[4] = {mReadings[at], mReadings[at + 1], mReadings[at + static_cast<std::size_t>(mWidth)],
-                              mReadings[at + static_cast<std::size_t>(mWidth) + 1]};
-          const float lo = std::min(std::min(r[0], r[1]), std::min(r[2], r[3]));
-          const float hi = std::max(std::max(r[0], r[1]), std::max(r[2], r[3]));
-          if (!inRun) spans.push_back({lo, hi});
-          spans.back().lo = std::min(spans.back().lo, lo);
-          spans.back().hi = std::max(spans.back().hi, hi);
-          inRun = true;
-        }
-      }
-      if (spans.empty()) continue;
-      std::sort(spans.begin(), spans.end(), [](const Span& one, const Span& other) { return one.lo < other.lo; });
-      const std::size_t at = static_cast<std::size_t>(c) * mBlocksX + b;
-      float reached = spans.front().hi;  // the largest reading of the spans so far
-      for (const Span& s : spans) {
-        if (s.lo > reached && !(s.lo - reached <= mCellGapHi[at] - mCellGapLo[at])) {
-          mCellGapLo[at] = reached;
-          mCellGapHi[at] = s.lo;
-        }
-        reached = std::max(reached, s.hi);
-      }
-      mCellMin[at] = spans.front().lo;
-      mCellMax[at] = reached;
-    }
 }
 
 void RangeMap::setDiscontinuityFactor(double factor) {
@@ -478,21 +427,6 @@ bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double&
   return any;
 }
 
-bool RangeMap::usableReadingsMeet(double u0, double v0, double u1, double v1, double lo, double hi) const {
-  if (!(u1 >= 0.0) || !(v1 >= 0.0) || !(u0 < mWidth - 1) || !(v0 < mHeight - 1)) return false;
-  const int b0 = clampedIndex(std::floor(u0), mWidth - 2) / kBlock, b1 = clampedIndex(std::floor(u1), mWidth - 2) / kBlock;
-  const int c0 = clampedIndex(std::floor(v0), mHeight - 2) / kBlock;
-  const int c1 = clampedIndex(std::floor(v1), mHeight - 2) / kBlock;
-  for (int c = c0; c <= c1; ++c)
-    for (int b = b0; b <= b1; ++b) {
-      const std::size_t at = static_cast<std::size_t>(c) * mBlocksX + b;
-      if (!(hi >= mCellMin[at] && lo <= mCellMax[at])) continue;  // also without usable cells (NaN)
-      if (lo > mCellGapLo[at] && hi < mCellGapHi[at]) continue;    // within the stretch no cell spans
-      return true;
-    }
-  return false;
-}
-
 bool RangeMap::sample(const openvdb::Vec3d& x, RangeSample& out) const {
   LocalSample s;
   if (!sampleLocal(mWorldToMap.transform(x), std::numeric_limits<double>::infinity(), s)) return false;
@@ -569,9 +503,8 @@ openvdb::BBoxd RangeMap::boundsOfReadings() const {
 }
 
 std::size_t RangeMap::memoryBytes() const {
-  const std::size_t spans = mCellMin.capacity() + mCellMax.capacity() + mCellGapLo.capacity() + mCellGapHi.capacity();
   return sizeof(*this) + mName.capacity() + mBlockMin.capacity() * sizeof(float) +
-         mBlockMax.capacity() * sizeof(float) + mBlockComplete.capacity() + spans * sizeof(float) +
+         mBlockMax.capacity() * sizeof(float) + mBlockComplete.capacity() +
          mReadings.capacity() * sizeof(float) +
          mUsableCell.memoryBytes() + mDirections.capacity() * sizeof(openvdb::Vec3f) +
          mSigmas.capacity() * sizeof(float) + mColours.capacity() * sizeof(Rgb8) + mSamples.capacity() * sizeof(openvdb::Vec3d) + mMisses.memoryBytes();

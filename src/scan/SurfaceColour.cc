@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace levelfuse {
@@ -73,6 +74,7 @@ struct AddMapColoursOp {
   const openvdb::FloatGrid* levelSet;
   const std::vector<LeafSurfaceSteps>* steps;  ///< per leaf of the colour tree's LeafManager
   const RangeMap* map;
+  const detail::UsableSpans* spans;  ///< the map's, when culling
   const DataWindow* window;
   double positionVariance;
   bool cull;            ///< cubes of leaves the map's readings cannot reach are skipped
@@ -83,7 +85,7 @@ struct AddMapColoursOp {
   void operator()(ColourTree::LeafNodeType& sums, std::size_t leaf) const {
     if (interrupt->stop()) return;
     const double h = levelSet->voxelSize()[0];
-    const std::uint8_t cubes = cull ? detail::leafCubesMayBeReached(*map, sums.origin(), h, cullReach) : 0xFF;
+    const std::uint8_t cubes = cull ? detail::leafCubesMayBeReached(*spans, sums.origin(), h, cullReach) : 0xFF;
     if (cubes == 0) return;
     openvdb::FloatTree::LeafNodeType* weightLeaf = weights->probeLeaf(sums.origin());
     const openvdb::math::Mat4d& toMap = map->worldToMap();
@@ -141,13 +143,16 @@ openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const 
   openvdb::tree::LeafManager<ColourTree> leaves(colour->tree());
   const double bandHalfWidth = std::abs(static_cast<double>(levelSet.background()));
   const std::vector<LeafSurfaceSteps> steps = surfaceSteps(levelSet, leaves, interrupt);
-  AddMapColoursOp add{&levelSet, &steps, nullptr, &window, positionVariance,
+  AddMapColoursOp add{&levelSet, &steps, nullptr, nullptr, &window, positionVariance,
                       centredOnMultiples(levelSet.transform()), window.reach() + bandHalfWidth, &weights,
                       &interrupt};
   scans([&](const RangeMap& map) {
     checkInterrupter(interrupter);
     if (!map.hasColours()) return;
+    std::optional<detail::UsableSpans> spans;
+    if (add.cull) spans.emplace(map);
     add.map = &map;
+    add.spans = spans ? &*spans : nullptr;
     leaves.foreach(add);
     interrupt.throwIfStopped();
   });

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace levelfuse {
@@ -95,10 +96,11 @@ std::array<std::size_t, 4> cubesTold(const RangeMap& map, int dim) {
     for (int y = -96; y <= 96; y += dim)
       for (int z = -16; z <= 160; z += dim) {
         const Coord origin(x, y, z);
-        const Sight whole = dim == 8 ? detail::leafSight(map, origin, kVoxel, kMargin)
-                                     : detail::cubeSight(map, origin, dim, kVoxel, kMargin);
+        const std::optional<Sight> told = dim == 8 ? detail::leafSight(map, origin, kVoxel, kMargin)
+                                                   : detail::cubeSight(map, origin, dim, kVoxel, kMargin);
+        if (!told) continue;
+        const Sight whole = *told;
         ++cubes[static_cast<std::size_t>(whole)];
-        if (whole == Sight::kUnknown) continue;
         for (int i = 0; i < dim; ++i)
           for (int j = 0; j < dim; ++j)
             for (int k = 0; k < dim; ++k) {
@@ -132,14 +134,62 @@ TEST(LeafSight, WhatACubeIsToldEveryVoxelIsToo) {
     for (int x = -96; x <= 96; x += 8)
       for (int y = -96; y <= 96; y += 8)
         for (int z = -16; z <= 160; z += 8) {
-          if (detail::leafSight(map, Coord(x, y, z), kVoxel, kMargin) != Sight::kUnknown) continue;
+          if (detail::leafSight(map, Coord(x, y, z), kVoxel, kMargin)) continue;
           for (int c = 0; c < 8; ++c) {
             const Coord cube(x + (c & 1) * 4, y + ((c >> 1) & 1) * 4, z + (c >> 2) * 4);
-            decidedInUnknownLeaves += detail::cubeSight(map, cube, 4, kVoxel, kMargin) != Sight::kUnknown;
+            decidedInUnknownLeaves += detail::cubeSight(map, cube, 4, kVoxel, kMargin).has_value();
           }
         }
     EXPECT_GT(decidedInUnknownLeaves, 100u) << map.name();
   }
+}
+
+TEST(LeafSight, AFootprintWithoutReadingsIsUnknownToEveryVoxelUnlessMissesAreEmpty) {
+  // The wall's hole (pixels 60 to 69, rows 5 to 11) has no readings: a cube
+  // whose footprint lies within it is unknown to each of its voxels, and
+  // told so at once. Where misses are empty, a pixel without a reading may
+  // say empty: then each voxel is asked (cubesTold checks every answer).
+  const std::array<std::size_t, 4> holes = cubesTold(wallWithABox(), 4);
+  EXPECT_GT(holes[static_cast<std::size_t>(Sight::kUnknown)], 10u);
+  RangeMap misses = wallWithABox();
+  misses.setMissesAreEmpty(true, 0);
+  const std::array<std::size_t, 4> cubes = cubesTold(misses, 4);
+  EXPECT_EQ(cubes[static_cast<std::size_t>(Sight::kUnknown)], 0u);
+  EXPECT_GT(cubes[static_cast<std::size_t>(Sight::kEmpty)], 1000u);
+}
+
+TEST(LeafSight, AFootprintNearAHoleIsToldFromItsOwnPixels) {
+  // The pixels themselves tell what the blocks' bounds cannot: the 8 x 8
+  // block of pixels 56 to 63 and rows 0 to 7 holds part of the hole, pixels
+  // 56 to 59 of rows 5 to 7 all have readings (the wall, 2 m).
+  const RangeMap map = wallWithABox();
+  double lo = 0.0, hi = 0.0;
+  bool complete = true;
+  ASSERT_TRUE(map.readingBounds(56.0, 5.0, 59.0, 7.0, lo, hi, &complete));
+  EXPECT_FALSE(complete);
+  const auto wall = [](float r) { return r == 2.0f; };
+  const auto hole = [](float r) { return !(r == r); };
+  EXPECT_TRUE(map.everyPixel(56, 5, 59, 7, wall));
+  EXPECT_FALSE(map.everyPixel(56, 5, 60, 7, wall));  // one column of the hole
+  EXPECT_TRUE(map.everyPixel(61, 6, 68, 10, hole));  // within the hole
+  EXPECT_FALSE(map.everyPixel(59, 6, 68, 10, hole));
+  EXPECT_TRUE(map.everyPixel(-5, -5, 1000, 4, wall));  // clamped to the map: rows 0 to 4 are the wall's
+  EXPECT_FALSE(map.everyPixel(-5, -5, 1000, 1000, wall));
+  // The cubes behind the wall that project beside the hole, within a block
+  // that holds part of it, are told behind at once.
+  std::size_t besideTheHole = 0, toldBehind = 0;
+  for (int x = -96; x <= 96; x += 4)
+    for (int y = -96; y <= 96; y += 4)
+      for (int z = -16; z <= 160; z += 4) {
+        const Coord origin(x, y, z);
+        const Vec3d centre = map.worldToMap().transform(origin.asVec3d() * kVoxel + Vec3d(1.5 * kVoxel));
+        const openvdb::math::Vec2d uv = map.project(centre);
+        if (!(centre.z() > 2.1 && uv.x() > 56.6 && uv.x() < 57.4 && uv.y() > 4.0 && uv.y() < 6.5)) continue;
+        ++besideTheHole;
+        toldBehind += detail::cubeSight(map, origin, 4, kVoxel, kMargin) == Sight::kBehind;
+      }
+  EXPECT_GT(besideTheHole, 3u);
+  EXPECT_EQ(toldBehind, besideTheHole);
 }
 
 TEST(LeafSight, AWholeTurnSpeaksForLeavesAllRound) {
@@ -154,6 +204,7 @@ TEST(LeavesReached, EveryVoxelAReadingReachesIsInALeafReached) {
   const double reach = 0.07;
   for (const RangeMap& map : {wallWithABox(), roomAroundAScanner(false), roomAroundAScanner(true), roomOnUnevenRows()}) {
     const std::vector<Coord> leaves = detail::leavesReached(map, kVoxel, reach);
+    const detail::UsableSpans spans(map);
     std::size_t reached = 0;
     for (int x = -96; x < 96; ++x)
       for (int y = -96; y < 96; ++y)
@@ -164,9 +215,9 @@ TEST(LeavesReached, EveryVoxelAReadingReachesIsInALeafReached) {
           ++reached;
           const Coord leaf(x & ~7, y & ~7, z & ~7);
           ASSERT_TRUE(std::binary_search(leaves.begin(), leaves.end(), leaf)) << map.name() << " voxel " << ijk;
-          ASSERT_TRUE(detail::leafMayBeReached(map, leaf, kVoxel, reach)) << map.name() << " voxel " << ijk;
+          ASSERT_TRUE(detail::leafMayBeReached(spans, leaf, kVoxel, reach)) << map.name() << " voxel " << ijk;
           const int cube = (((x >> 2) & 1) << 2) | (((y >> 2) & 1) << 1) | ((z >> 2) & 1);
-          ASSERT_TRUE(detail::leafCubesMayBeReached(map, leaf, kVoxel, reach) & (1 << cube))
+          ASSERT_TRUE(detail::leafCubesMayBeReached(spans, leaf, kVoxel, reach) & (1 << cube))
               << map.name() << " voxel " << ijk;
         }
     EXPECT_GT(reached, 10000u) << map.name();
@@ -178,8 +229,9 @@ TEST(LeavesReached, TheEmptyStretchOfADepthDiscontinuityIsNotReached) {
   // 20 to 39; the cells across its edge are not usable, so no reading is
   // interpolated between 1.5 and 2 m.
   const RangeMap map = wallWithABox();
-  const auto meets = [&map](double u0, double u1, double lo, double hi) {
-    return map.usableReadingsMeet(u0, 25.0, u1, 30.0, lo, hi);
+  const detail::UsableSpans spans(map);
+  const auto meets = [&spans](double u0, double u1, double lo, double hi) {
+    return spans.meet(u0, 25.0, u1, 30.0, lo, hi);
   };
   EXPECT_TRUE(meets(44.0, 56.0, 1.45, 1.55));   // the box
   EXPECT_TRUE(meets(44.0, 56.0, 1.95, 2.05));   // the wall
@@ -210,7 +262,7 @@ TEST(LeavesReached, TheEmptyStretchOfADepthDiscontinuityIsNotReached) {
         if (!(centre.z() > 1.62 && centre.z() < 1.88 && uv.y() > 22.0 && uv.y() < 37.0 && std::fabs(uv.x() - 49.5) < 3.0))
           continue;
         ++between;
-        culled += !detail::cubeMayBeReached(map, Coord(x, y, z), 4, kVoxel, 0.05);
+        culled += !detail::cubeMayBeReached(spans, Coord(x, y, z), 4, kVoxel, 0.05);
       }
   EXPECT_GT(between, 5u);
   EXPECT_EQ(culled, between);

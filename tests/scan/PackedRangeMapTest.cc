@@ -126,11 +126,15 @@ void expectSameMap(const RangeMap& a, const RangeMap& b) {
         ++sampled;
       }
       EXPECT_EQ(a.sight(x, 0.01), b.sight(x, 0.01));
-      // The usable cells' reading spans, per block, over a window around the pixel.
-      const double r = a.reading(u, v);
-      for (const double depth : {r - 0.3, r, r + 0.3})
-        EXPECT_EQ(a.usableReadingsMeet(u - 3.5, v - 3.5, u + 3.5, v + 3.5, depth - 0.01, depth + 0.01),
-                  b.usableReadingsMeet(u - 3.5, v - 3.5, u + 3.5, v + 3.5, depth - 0.01, depth + 0.01));
+      // The usable cell at the pixel, and the reading bounds of the blocks over a window around it.
+      EXPECT_EQ(a.cellUsable(u, v), b.cellUsable(u, v)) << u << ", " << v;
+      double loA = 0.0, hiA = 0.0, loB = 0.0, hiB = 0.0;
+      bool completeA = false, completeB = true;
+      ASSERT_EQ(a.readingBounds(u - 3.5, v - 3.5, u + 3.5, v + 3.5, loA, hiA, &completeA),
+                b.readingBounds(u - 3.5, v - 3.5, u + 3.5, v + 3.5, loB, hiB, &completeB));
+      EXPECT_EQ(loA, loB);
+      EXPECT_EQ(hiA, hiB);
+      EXPECT_EQ(completeA, completeB);
     }
   EXPECT_GT(sampled, 500) << a.name();
 }

@@ -277,14 +277,23 @@ class RangeMap {
   /// reading (false when unsure: the blocks around the window are asked).
   bool readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi,
                      bool* complete = nullptr) const;
-  /// Whether a reading interpolated in a usable cell whose corner pixel (its
-  /// first) lies in the window [u0, u1] x [v0, v1] (clamped to the map) may lie
-  /// between lo and hi, from per-block bounds: a block's usable cells hold
-  /// readings from its smallest to its largest, less the widest stretch
-  /// between them that no cell spans (a depth discontinuity's: the cells across
-  /// it are not usable). A reading interpolated in a cell lies between the
-  /// cell's four.
-  bool usableReadingsMeet(double u0, double v0, double u1, double v1, double lo, double hi) const;
+  /// Whether `test(reading)` holds at every pixel from i0 to i1 and from j0 to
+  /// j1 (clamped to the map; the reading is NaN where a pixel has none): the
+  /// pixels are read in order until one fails.
+  template <typename Test>
+  bool everyPixel(int i0, int j0, int i1, int j1, const Test& test) const {
+    i0 = std::max(i0, 0);
+    i1 = std::min(i1, mWidth - 1);
+    for (int j = std::max(j0, 0); j <= std::min(j1, mHeight - 1); ++j) {
+      const float* row = mReadings.data() + index(0, j);
+      for (int i = i0; i <= i1; ++i)
+        if (!test(row[i])) return false;
+    }
+    return true;
+  }
+  /// Whether cell (i, j), between pixels i to i + 1 and j to j + 1, is usable:
+  /// its four readings are valid and span no depth discontinuity.
+  bool cellUsable(int i, int j) const { return mUsableCell[index(i, j)]; }
   /// Pixel coordinates of a point in the map's frame (may lie outside the map).
   openvdb::math::Vec2d project(const openvdb::Vec3d& p) const;
 
@@ -382,13 +391,6 @@ class RangeMap {
   int mBlocksX = 0, mBlocksY = 0;
   std::vector<float> mBlockMin, mBlockMax;  ///< per block, NaN if it has no reading
   std::vector<std::uint8_t> mBlockComplete;  ///< per block, 1 if every pixel of it has a reading
-  /// Per block, over its usable cells (those whose first pixel lies in it):
-  /// the smallest and largest reading, and the widest open stretch between
-  /// them that no cell's readings span (NaN where it has no usable cell, or
-  /// no such stretch).
-  std::vector<float> mCellMin, mCellMax, mCellGapLo, mCellGapHi;
-  /// Works out mCellMin to mCellGapHi from the usable cells.
-  void findUsableSpans();
 
   Kind mKind = Kind::kOrthographic;
   int mWidth = 0, mHeight = 0;
