@@ -6,8 +6,10 @@
 #include <levelfuse/io/LoadProgress.h>
 #include <levelfuse/io/Scans.h>
 
+#include <tbb/task_group.h>
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <exception>
 #include <optional>
@@ -35,34 +37,56 @@ class ScanDelivery {
   std::size_t mDelivered = 0;
 };
 
-/// Reads `count` frames, `read(i)` making the i-th, a few at a time in
-/// parallel (twice as many as there are threads, no more in flight), and
-/// hands them over in order from the calling thread, telling the progress
-/// after each and asking the interrupter before each. Of the frames that
-/// cannot be read, the first in order throws: the same error whatever the
-/// number of threads.
+/// Reads `count` frames, `read(i)` making the i-th, a batch at a time in
+/// parallel (twice as many frames as there are threads), and hands them over
+/// in order from the calling thread, telling the progress after each and
+/// asking the interrupter before each. While the calling thread hands a batch
+/// over, the other threads read the next: no more than two batches are in
+/// flight. Of the frames that cannot be read, the first in order throws: the
+/// same error whatever the number of threads.
 template <typename Read>
 void deliverFrames(std::size_t count, const Read& read, ScanDelivery& scans, const ScanLoadOptions& options) {
-  const std::size_t batch = itemsInFlight();
-  std::vector<std::optional<RangeMap>> frames(batch);
-  std::vector<std::exception_ptr> failures(batch);
-  for (std::size_t first = 0; first < count; first += batch) {
-    checkInterrupter(options.interrupter);
-    const std::size_t n = std::min(batch, count - first);
-    parallelFor(n, 1, [&](std::size_t begin, std::size_t end) {
+  struct Batch {
+    std::vector<std::optional<RangeMap>> frames;
+    std::vector<std::exception_ptr> failures;
+  };
+  const std::size_t size = itemsInFlight();
+  std::array<Batch, 2> batches;
+  for (Batch& b : batches) {
+    b.frames.resize(size);
+    b.failures.resize(size);
+  }
+  const auto readBatch = [&](Batch& b, std::size_t first) {
+    parallelFor(std::min(size, count - first), 1, [&](std::size_t begin, std::size_t end) {
       for (std::size_t k = begin; k < end; ++k) try {
-          frames[k].emplace(read(first + k));
+          b.frames[k].emplace(read(first + k));
         } catch (...) {
-          failures[k] = std::current_exception();
+          b.failures[k] = std::current_exception();
         }
     });
-    for (std::size_t k = 0; k < n; ++k) {
+  };
+  const auto handOver = [&](Batch& b, std::size_t first) {
+    for (std::size_t k = 0; k < std::min(size, count - first); ++k) {
       checkInterrupter(options.interrupter);
-      if (failures[k]) std::rethrow_exception(failures[k]);
-      scans.deliver(std::move(*frames[k]));
-      frames[k].reset();
+      if (b.failures[k]) std::rethrow_exception(b.failures[k]);
+      scans.deliver(std::move(*b.frames[k]));
+      b.frames[k].reset();
       reportLoaded(options.progress, scans.delivered(), count);
     }
+  };
+  checkInterrupter(options.interrupter);
+  if (count > 0) readBatch(batches[0], 0);
+  for (std::size_t first = 0, current = 0; first < count; first += size, current ^= 1) {
+    tbb::task_group next;
+    if (first + size < count) next.run([&, first, current] { readBatch(batches[current ^ 1], first + size); });
+    try {
+      handOver(batches[current], first);
+    } catch (...) {
+      next.cancel();
+      next.wait();
+      throw;
+    }
+    next.wait();
   }
 }
 

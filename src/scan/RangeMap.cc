@@ -56,25 +56,39 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
   mBlocksX = (mWidth + kBlock - 1) / kBlock;
   mBlocksY = (mHeight + kBlock - 1) / kBlock;
   findUsableCells();
-  // Per-block bounds of the readings, for culling in accumulation.
-  mBlockMin.assign(static_cast<std::size_t>(mBlocksX) * mBlocksY, nan);
-  mBlockMax.assign(mBlockMin.size(), nan);
-  mBlockComplete.assign(mBlockMin.size(), 1);
-  for (int v = 0; v < mHeight; ++v)
-    for (int u = 0; u < mWidth; ++u) {
-      const float r = mReadings[index(u, v)];
-      const std::size_t b = static_cast<std::size_t>(v / kBlock) * mBlocksX + static_cast<std::size_t>(u / kBlock);
-      if (!(r == r)) {
-        mBlockComplete[b] = 0;
-        continue;
-      }
-      if (!(mBlockMin[b] <= r)) mBlockMin[b] = r;
-      if (!(mBlockMax[b] >= r)) mBlockMax[b] = r;
-    }
+  findBlockBounds();
   mMapToWorld = mapToWorld;
   mWorldToMap = mapToWorld.inverse();
   mRotation = mapToWorld.getMat3();
   mReadingBounds = boundsOfReadings();
+}
+
+void RangeMap::findBlockBounds() {
+  const std::size_t blocks = static_cast<std::size_t>(mBlocksX) * static_cast<std::size_t>(mBlocksY);
+  const float infinity = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  mBlockMin.assign(blocks, infinity);
+  mBlockMax.assign(blocks, -infinity);
+  mBlockComplete.assign(blocks, 1);
+  for (int v = 0; v < mHeight; ++v) {
+    const float* readings = mReadings.data() + index(0, v);
+    const std::size_t first = static_cast<std::size_t>(v / kBlock) * static_cast<std::size_t>(mBlocksX);
+    for (int b = 0; b < mBlocksX; ++b) {
+      float lo = mBlockMin[first + b], hi = mBlockMax[first + b];
+      bool complete = true;
+      for (int u = b * kBlock; u < std::min((b + 1) * kBlock, mWidth); ++u) {
+        const float r = readings[u];
+        const bool has = r == r;
+        complete &= has;
+        lo = std::min(lo, has ? r : infinity);
+        hi = std::max(hi, has ? r : -infinity);
+      }
+      mBlockMin[first + b] = lo;
+      mBlockMax[first + b] = hi;
+      if (!complete) mBlockComplete[first + b] = 0;
+    }
+  }
+  for (std::size_t b = 0; b < blocks; ++b)
+    if (!(mBlockMin[b] <= mBlockMax[b])) mBlockMin[b] = mBlockMax[b] = nan;  // no reading
 }
 
 void RangeMap::findUsableCells() {
@@ -496,9 +510,29 @@ double RangeMap::maxRaySpacing() const {
 
 openvdb::BBoxd RangeMap::boundsOfReadings() const {
   openvdb::BBoxd box;
-  for (int v = 0; v < mHeight; ++v)
-    for (int u = 0; u < mWidth; ++u)
-      if (valid(u, v)) box.expand(readingPoint(u, v));
+  if (mKind == Kind::kSpherical) {
+    for (int v = 0; v < mHeight; ++v)
+      for (int u = 0; u < mWidth; ++u)
+        if (valid(u, v)) box.expand(readingPoint(u, v));
+    return box;
+  }
+  // pointAt's arithmetic with the parts that depend on the column or the row
+  // alone worked out once: the same points, bit for bit.
+  const bool pinhole = mKind == Kind::kPinhole;
+  std::vector<double> columns(static_cast<std::size_t>(mWidth));
+  for (int u = 0; u < mWidth; ++u)
+    columns[static_cast<std::size_t>(u)] =
+        pinhole ? (u - mPinhole.cx) / mPinhole.fx : mOrtho.origin.x() + u * mOrtho.pixelSize;
+  for (int v = 0; v < mHeight; ++v) {
+    const double row = pinhole ? (v - mPinhole.cy) / mPinhole.fy : mOrtho.origin.y() + v * mOrtho.pixelSize;
+    const float* readings = mReadings.data() + index(0, v);
+    for (int u = 0; u < mWidth; ++u) {
+      const double r = readings[u];
+      if (!(r == r)) continue;
+      const double x = columns[static_cast<std::size_t>(u)];
+      box.expand(mMapToWorld.transform(pinhole ? Vec3d(x * r, row * r, r) : Vec3d(x, row, r)));
+    }
+  }
   return box;
 }
 

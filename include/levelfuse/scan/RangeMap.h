@@ -382,6 +382,8 @@ class RangeMap {
   float depthNoiseSigma(float reading) const;
   /// Marks the 2x2 cells of readings that may be interpolated.
   void findUsableCells();
+  /// Works out mBlockMin, mBlockMax and mBlockComplete from the readings.
+  void findBlockBounds();
   /// Shared by sample() and sampleLocal(): the bilinear reading at pixel (u, v)
   /// and its derivatives; false without one.
   bool interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
