@@ -105,6 +105,8 @@ void DataTermGrids::integrate(const RangeMap& map) {
 
   // 1. Per leaf, the map's terms at its voxels (Eqs. 17, 38).
   std::vector<std::vector<VoxelTerm>> terms(leaves.size());
+  std::vector<std::uint16_t> binsOfLeaf(leaves.size(), 0);  // bit b: a term of bin b
+  static_assert(kSightBins <= 16, "a bit per bin");
   std::vector<std::size_t> evaluations(leaves.size(), 0);
   parallelFor(leaves.size(), mGrainSize, [&](std::size_t begin, std::size_t end) {
     RangeMap::LocalSample s;
@@ -128,6 +130,7 @@ void DataTermGrids::integrate(const RangeMap& map) {
             const double weight = detail::readingWeight(w, s, mPositionVariance);  // Eq. 38
             const Vec3d sight = toWorld.transform3x3(s.lineOfSight);
             const int bin = parallel ? parallelBin : sightBin(sight);
+            binsOfLeaf[l] = static_cast<std::uint16_t>(binsOfLeaf[l] | (1u << bin));
             out.push_back(VoxelTerm{static_cast<std::uint16_t>(row + k), static_cast<std::uint8_t>(bin),
                                     static_cast<float>(weight * s.D),  // Eq. 17
                                     static_cast<float>(weight), static_cast<float>(w), Vec3f(toWorld.transform3x3(s.gradD) * weight),
@@ -145,10 +148,10 @@ void DataTermGrids::integrate(const RangeMap& map) {
     for (std::size_t l = 0; l < leaves.size(); ++l) {
       if (terms[l].empty()) continue;
       maskLeaves[l] = mask.touchLeaf(leaves[l]);
-      for (const VoxelTerm& t : terms[l]) {
-        BinLeaves& target = targets[l][t.bin];
-        if (target.g) continue;
-        Bin& bin = mBins[t.bin];
+      for (std::size_t b = 0; b < kSightBins; ++b) {
+        if (!(binsOfLeaf[l] & (1u << b))) continue;
+        BinLeaves& target = targets[l][b];
+        Bin& bin = mBins[b];
         target.g = bin.g->tree().touchLeaf(leaves[l]);
         target.weight = bin.weight->tree().touchLeaf(leaves[l]);
         target.gradient = bin.gradient->tree().touchLeaf(leaves[l]);

@@ -2,6 +2,8 @@
 
 #include "LeavesReached.h"
 
+#include <levelfuse/core/Parallel.h>
+
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
@@ -29,10 +31,15 @@ double sphericalBulge(const RangeMap& m, int du, int v0, int v1, double range) {
 /// tile of kTile x kTile pixels span, from its nearest reading less the reach
 /// to its farthest plus the reach (a box for parallel rays, a frustum's for a
 /// camera); tiles share their last row and column.
+constexpr int kTile = 4;
+
+/// The rows of tiles of a map.
+int tileRows(const RangeMap& m) { return (m.height() - 2) / kTile + 1; }
+
+/// forEachTileBox over the tiles of rows `first` to `last` - 1 of tiles.
 template <typename Visit>
-void forEachTileBox(const RangeMap& m, double reach, const Visit& visit) {
-  constexpr int kTile = 4;
-  for (int v0 = 0; v0 + 1 < m.height(); v0 += kTile)
+void forEachTileBoxOfRows(const RangeMap& m, double reach, int first, int last, const Visit& visit) {
+  for (int v0 = first * kTile; v0 < last * kTile && v0 + 1 < m.height(); v0 += kTile)
     for (int u0 = 0; u0 + 1 < m.width(); u0 += kTile) {
       const int u1 = std::min(u0 + kTile, m.width() - 1), v1 = std::min(v0 + kTile, m.height() - 1);
       float nearest = std::numeric_limits<float>::max(), farthest = -nearest;
@@ -54,18 +61,34 @@ void forEachTileBox(const RangeMap& m, double reach, const Visit& visit) {
     }
 }
 
+template <typename Visit>
+void forEachTileBox(const RangeMap& m, double reach, const Visit& visit) {
+  forEachTileBoxOfRows(m, reach, 0, tileRows(m), visit);
+}
+
 }  // namespace
 
 std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double reach) {
-  openvdb::MaskTree coarse;  // one voxel per leaf: duplicates cost nothing
-  openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(coarse);
-  forEachTileBox(m, reach, [&](const openvdb::BBoxd& box) {
-    const Coord lo = Coord::floor(box.min() / (voxelSize * kLeafDim));
-    const Coord hi = Coord::floor(box.max() / (voxelSize * kLeafDim));
-    for (int x = lo.x(); x <= hi.x(); ++x)
-      for (int y = lo.y(); y <= hi.y(); ++y)
-        for (int z = lo.z(); z <= hi.z(); ++z) marks.setValueOn(Coord(x, y, z));
+  // One voxel per leaf: duplicates cost nothing. Bands of rows of tiles mark
+  // their own trees in parallel, joined in the order of the bands.
+  constexpr int kRowsPerBand = 8;
+  const int bands = (tileRows(m) + kRowsPerBand - 1) / kRowsPerBand;
+  std::vector<openvdb::MaskTree> marked(static_cast<std::size_t>(bands));
+  parallelFor(marked.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t b = begin; b < end; ++b) {
+      openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(marked[b]);
+      const int first = static_cast<int>(b) * kRowsPerBand;
+      forEachTileBoxOfRows(m, reach, first, first + kRowsPerBand, [&](const openvdb::BBoxd& box) {
+        const Coord lo = Coord::floor(box.min() / (voxelSize * kLeafDim));
+        const Coord hi = Coord::floor(box.max() / (voxelSize * kLeafDim));
+        for (int x = lo.x(); x <= hi.x(); ++x)
+          for (int y = lo.y(); y <= hi.y(); ++y)
+            for (int z = lo.z(); z <= hi.z(); ++z) marks.setValueOn(Coord(x, y, z));
+      });
+    }
   });
+  openvdb::MaskTree coarse;
+  for (openvdb::MaskTree& band : marked) coarse.topologyUnion(band);
   std::vector<Coord> leaves;
   leaves.reserve(coarse.activeVoxelCount());
   for (auto it = coarse.cbeginValueOn(); it; ++it) {
