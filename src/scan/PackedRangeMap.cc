@@ -5,8 +5,10 @@
 #include <levelfuse/core/Parallel.h>
 
 #include <blosc.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -172,17 +174,30 @@ void PackedScans::add(RangeMap map) {
 }
 
 void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisitor& visit) {
-  const std::size_t batch = itemsInFlight();
-  std::vector<std::optional<RangeMap>> unpacked(batch);
-  for (std::size_t first = 0; first < maps.size(); first += batch) {
-    const std::size_t n = std::min(batch, maps.size() - first);
-    parallelFor(n, 1, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t k = begin; k < end; ++k) unpacked[k].emplace(maps[first + k].unpack());
+  using Batch = std::vector<std::optional<RangeMap>>;
+  const std::size_t size = itemsInFlight();
+  std::array<Batch, 2> batches{Batch(size), Batch(size)};
+  const auto unpackBatch = [&](Batch& batch, std::size_t first) {
+    parallelFor(std::min(size, maps.size() - first), 1, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) batch[k].emplace(maps[first + k].unpack());
     });
-    for (std::size_t k = 0; k < n; ++k) {
-      visit(*unpacked[k]);
-      unpacked[k].reset();
+  };
+  if (!maps.empty()) unpackBatch(batches[0], 0);
+  for (std::size_t first = 0, current = 0; first < maps.size(); first += size, current ^= 1) {
+    // The next batch is unpacked while this one is visited.
+    tbb::task_group next;
+    if (first + size < maps.size()) next.run([&, first, current] { unpackBatch(batches[current ^ 1], first + size); });
+    try {
+      for (std::size_t k = 0; k < std::min(size, maps.size() - first); ++k) {
+        visit(*batches[current][k]);
+        batches[current][k].reset();
+      }
+    } catch (...) {
+      next.cancel();
+      next.wait();
+      throw;
     }
+    next.wait();
   }
 }
 

@@ -44,9 +44,9 @@ class PackedRangeMap {
 };
 
 /// Calls `visit` with each of `maps` unpacked, in order, from the calling
-/// thread: they are unpacked a few at a time in parallel (twice as many as
-/// there are threads; no more are held unpacked at once), each batch before
-/// its maps are visited.
+/// thread: they are unpacked a batch at a time in parallel (twice as many as
+/// there are threads), the next batch while the maps of the last are visited
+/// (no more than two batches are held unpacked at once).
 void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisitor& visit);
 
 /// Scans held packed as they are read, with what a reconstruction's derived
