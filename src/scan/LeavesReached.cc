@@ -27,10 +27,6 @@ double sphericalBulge(const RangeMap& m, int du, int v0, int v1, double range) {
   return range * (1.0 - std::cos(diagonal)) + 1e-9 * range;
 }
 
-/// Calls visit(box) with the world box that the lines of sight through each
-/// tile of kTile x kTile pixels span, from its nearest reading less the reach
-/// to its farthest plus the reach (a box for parallel rays, a frustum's for a
-/// camera); tiles share their last row and column.
 constexpr int kTile = 4;
 
 /// The rows of tiles of a map.
@@ -61,6 +57,10 @@ void forEachTileBoxOfRows(const RangeMap& m, double reach, int first, int last, 
     }
 }
 
+/// Calls visit(box) with the world box that the lines of sight through each
+/// tile of kTile x kTile pixels span, from its nearest reading less the reach
+/// to its farthest plus the reach (a box for parallel rays, a frustum's for a
+/// camera); tiles share their last row and column.
 template <typename Visit>
 void forEachTileBox(const RangeMap& m, double reach, const Visit& visit) {
   forEachTileBoxOfRows(m, reach, 0, tileRows(m), visit);
@@ -246,11 +246,7 @@ std::optional<RangeMap::Sight> sightOfPixels(const RangeMap& m, int i0, int j0, 
   if (!(first == first))
     return m.everyPixel(i0, j0, i1, j1, [](float r) { return !(r == r); }) ? withoutReadings(m) : std::nullopt;
   const std::optional<RangeMap::Sight> s = behindOrInFront(first, first, z0, z1, margin, slack);
-  if (s == RangeMap::Sight::kBehind &&
-      m.everyPixel(i0, j0, i1, j1, [&](float r) { return z0 - r > margin + slack; }))
-    return s;
-  if (s == RangeMap::Sight::kEmpty &&
-      m.everyPixel(i0, j0, i1, j1, [&](float r) { return z1 - r < -margin - slack; }))
+  if (s && m.everyPixel(i0, j0, i1, j1, [&](float r) { return behindOrInFront(r, r, z0, z1, margin, slack) == s; }))
     return s;
   return std::nullopt;
 }
