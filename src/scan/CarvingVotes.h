@@ -89,7 +89,7 @@ class BlockVotes {
     std::int32_t uniform = 0;     ///< the balance of the maps that spoke for the whole block
     Mask voxelEmpty;              ///< asked voxels some map saw empty
     std::vector<std::int32_t> voxels;  ///< per asked voxel in order, the others' balance (allocated when first needed)
-    bool everyVoxelAsked = false;
+    bool everyVoxelAsked = false;  ///< then an asked voxel's place in `voxels` is its offset
     /// The place of asked voxel `offset` in `voxels`.
     std::size_t rank(openvdb::Index offset) const {
       if (everyVoxelAsked) return offset;

@@ -76,7 +76,7 @@ std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double rea
   std::vector<openvdb::MaskTree> marked(static_cast<std::size_t>(bands));
   parallelFor(marked.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b) {
-      openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(marked[b]);
+      openvdb::tree::ValueAccessor<openvdb::MaskTree, false> marks(marked[b]);  // its band's own tree: not registered
       const int first = static_cast<int>(b) * kRowsPerBand;
       forEachTileBoxOfRows(m, reach, first, first + kRowsPerBand, [&](const openvdb::BBoxd& box) {
         const Coord lo = Coord::floor(box.min() / (voxelSize * kLeafDim));
