@@ -15,6 +15,7 @@
 #include <levelfuse/core/DebugCheck.h>
 #include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/MadeAhead.h>
 #include <levelfuse/core/Median.h>
 #include <levelfuse/core/Parallel.h>
 

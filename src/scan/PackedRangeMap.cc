@@ -2,18 +2,15 @@
 
 #include <levelfuse/scan/PackedRangeMap.h>
 
-#include <levelfuse/core/Parallel.h>
+#include <levelfuse/core/MadeAhead.h>
 
 #include <blosc.h>
-#include <tbb/task_group.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
-#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -174,31 +171,9 @@ void PackedScans::add(RangeMap map) {
 }
 
 void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisitor& visit) {
-  using Batch = std::vector<std::optional<RangeMap>>;
-  const std::size_t size = itemsInFlight();
-  std::array<Batch, 2> batches{Batch(size), Batch(size)};
-  const auto unpackBatch = [&](Batch& batch, std::size_t first) {
-    parallelFor(std::min(size, maps.size() - first), 1, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t k = begin; k < end; ++k) batch[k].emplace(maps[first + k].unpack());
-    });
-  };
-  if (!maps.empty()) unpackBatch(batches[0], 0);
-  for (std::size_t first = 0, current = 0; first < maps.size(); first += size, current ^= 1) {
-    // The next batch is unpacked while this one is visited.
-    tbb::task_group next;
-    if (first + size < maps.size()) next.run([&, first, current] { unpackBatch(batches[current ^ 1], first + size); });
-    try {
-      for (std::size_t k = 0; k < std::min(size, maps.size() - first); ++k) {
-        visit(*batches[current][k]);
-        batches[current][k].reset();
-      }
-    } catch (...) {
-      next.cancel();
-      next.wait();
-      throw;
-    }
-    next.wait();
-  }
+  takeMadeAhead<RangeMap>(
+      maps.size(), [&](std::size_t i) { return maps[i].unpack(); },
+      [&](std::size_t, RangeMap&& map) { visit(map); });
 }
 
 RangeMapSequence PackedScans::unpacked() const {

@@ -3,6 +3,8 @@
 #include <levelfuse/core/Median.h>
 #include <levelfuse/scan/RangeMap.h>
 
+#include "ClampedIndex.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -410,21 +412,12 @@ RangeMap::Sight RangeMap::sightAtPixel(double u, double v, double along, double 
   return Sight::kUnknown;
 }
 
-namespace {
-
-/// Pixel (or cell) coordinate x as an index from 0 to `last`: clamped before
-/// it is made an integer, as a footprint near a camera's plane reaches far
-/// beyond the map.
-int clampedIndex(double x, int last) { return static_cast<int>(std::clamp(x, 0.0, static_cast<double>(last))); }
-
-}  // namespace
-
 bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi,
                              bool* complete) const {
   if (!(u1 >= 0.0) || !(v1 >= 0.0) || !(u0 <= mWidth - 1) || !(v0 <= mHeight - 1)) return false;
-  const int b0 = clampedIndex(std::floor(u0), mWidth - 1) / kBlock, b1 = clampedIndex(std::ceil(u1), mWidth - 1) / kBlock;
-  const int c0 = clampedIndex(std::floor(v0), mHeight - 1) / kBlock;
-  const int c1 = clampedIndex(std::ceil(v1), mHeight - 1) / kBlock;
+  const int b0 = detail::clampedIndex(std::floor(u0), mWidth - 1) / kBlock, b1 = detail::clampedIndex(std::ceil(u1), mWidth - 1) / kBlock;
+  const int c0 = detail::clampedIndex(std::floor(v0), mHeight - 1) / kBlock;
+  const int c1 = detail::clampedIndex(std::ceil(v1), mHeight - 1) / kBlock;
   bool any = false;
   lo = std::numeric_limits<double>::max();
   hi = -lo;

@@ -4,6 +4,8 @@
 
 #include <levelfuse/core/Parallel.h>
 
+#include "ClampedIndex.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -11,15 +13,6 @@
 #include <limits>
 
 namespace levelfuse::detail {
-
-namespace {
-
-/// Pixel (or cell) coordinate x as an index from 0 to `last`: clamped before
-/// it is made an integer, as a footprint near a camera's plane reaches far
-/// beyond the map.
-int clampedIndex(double x, int last) { return static_cast<int>(std::clamp(x, 0.0, static_cast<double>(last))); }
-
-}  // namespace
 
 UsableSpans::UsableSpans(const RangeMap& map) : mMap(map) {
   const int cellsX = map.width() - 1, cellsY = map.height() - 1;
