@@ -447,15 +447,21 @@ bool RangeMap::sample(const openvdb::Vec3d& x, RangeSample& out) const {
 
 openvdb::Vec3d RangeMap::readingPoint(int u, int v) const { return pointAt(u, v, mReadings[index(u, v)]); }
 
+double RangeMap::columnTerm(double u) const {
+  return mKind == Kind::kPinhole ? (u - mPinhole.cx) / mPinhole.fx : mOrtho.origin.x() + u * mOrtho.pixelSize;
+}
+
+double RangeMap::rowTerm(double v) const {
+  return mKind == Kind::kPinhole ? (v - mPinhole.cy) / mPinhole.fy : mOrtho.origin.y() + v * mOrtho.pixelSize;
+}
+
+openvdb::Vec3d RangeMap::planarPoint(double column, double row, double r) const {
+  return mKind == Kind::kPinhole ? Vec3d(column * r, row * r, r) : Vec3d(column, row, r);
+}
+
 openvdb::Vec3d RangeMap::pointAt(double u, double v, double r) const {
-  Vec3d p;
-  if (mKind == Kind::kOrthographic)
-    p = Vec3d(mOrtho.origin.x() + u * mOrtho.pixelSize, mOrtho.origin.y() + v * mOrtho.pixelSize, r);
-  else if (mKind == Kind::kPinhole)
-    p = Vec3d((u - mPinhole.cx) / mPinhole.fx * r, (v - mPinhole.cy) / mPinhole.fy * r, r);
-  else
-    p = sphericalDirection(mSpherical, u, v) * r;
-  return mMapToWorld.transform(p);
+  if (mKind == Kind::kSpherical) return mMapToWorld.transform(sphericalDirection(mSpherical, u, v) * r);
+  return mMapToWorld.transform(planarPoint(columnTerm(u), rowTerm(v), r));
 }
 
 double elevationOfRow(const SphericalProjection& p, double v) {
@@ -509,22 +515,15 @@ openvdb::BBoxd RangeMap::boundsOfReadings() const {
         if (valid(u, v)) box.expand(readingPoint(u, v));
     return box;
   }
-  // pointAt's arithmetic with the parts that depend on the column or the row
-  // alone worked out once: the same points, bit for bit.
-  const bool pinhole = mKind == Kind::kPinhole;
+  // pointAt with the terms of each column and row worked out once.
   std::vector<double> columns(static_cast<std::size_t>(mWidth));
-  for (int u = 0; u < mWidth; ++u)
-    columns[static_cast<std::size_t>(u)] =
-        pinhole ? (u - mPinhole.cx) / mPinhole.fx : mOrtho.origin.x() + u * mOrtho.pixelSize;
+  for (int u = 0; u < mWidth; ++u) columns[static_cast<std::size_t>(u)] = columnTerm(u);
   for (int v = 0; v < mHeight; ++v) {
-    const double row = pinhole ? (v - mPinhole.cy) / mPinhole.fy : mOrtho.origin.y() + v * mOrtho.pixelSize;
+    const double row = rowTerm(v);
     const float* readings = mReadings.data() + index(0, v);
-    for (int u = 0; u < mWidth; ++u) {
-      const double r = readings[u];
-      if (!(r == r)) continue;
-      const double x = columns[static_cast<std::size_t>(u)];
-      box.expand(mMapToWorld.transform(pinhole ? Vec3d(x * r, row * r, r) : Vec3d(x, row, r)));
-    }
+    for (int u = 0; u < mWidth; ++u)
+      if (readings[u] == readings[u])
+        box.expand(mMapToWorld.transform(planarPoint(columns[static_cast<std::size_t>(u)], row, readings[u])));
   }
   return box;
 }

@@ -384,6 +384,12 @@ class RangeMap {
   void findUsableCells();
   /// Works out mBlockMin, mBlockMax and mBlockComplete from the readings.
   void findBlockBounds();
+  /// A camera's or parallel rays' point in the map's frame (pointAt) from
+  /// what depends on the column alone (x of the ray through it, per unit of
+  /// depth for a camera), on the row alone (y) and on the reading.
+  double columnTerm(double u) const;
+  double rowTerm(double v) const;
+  openvdb::Vec3d planarPoint(double column, double row, double reading) const;
   /// Shared by sample() and sampleLocal(): the bilinear reading at pixel (u, v)
   /// and its derivatives; false without one.
   bool interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
