@@ -269,6 +269,48 @@ DataTerms DataTermGrids::facingTerms(const Vec3d& x, const Vec3d& normal) const 
   return sum;
 }
 
+namespace {
+
+/// The bits of a leaf mask's word (the 64 voxels of one x) for y in [y0, y1] and z in [z0, z1].
+std::uint64_t wordBits(int y0, int y1, int z0, int z1) {
+  const std::uint64_t row = ((std::uint64_t(1) << (z1 - z0 + 1)) - 1) << z0;
+  std::uint64_t bits = 0;
+  for (int y = y0; y <= y1; ++y) bits |= row << (y * kLeafDim);
+  return bits;
+}
+
+/// Whether a tree holds an active voxel or an active tile in `box`.
+bool anyActiveIn(const openvdb::Int32Tree& tree, const openvdb::CoordBBox& box) {
+  openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> acc(tree);
+  const Coord first = leafBlock(box.min()), last = leafBlock(box.max());
+  for (int bx = first.x(); bx <= last.x(); ++bx)
+    for (int by = first.y(); by <= last.y(); ++by)
+      for (int bz = first.z(); bz <= last.z(); ++bz) {
+        const Coord origin(bx * kLeafDim, by * kLeafDim, bz * kLeafDim);
+        const MaskLeaf* leaf = acc.probeConstLeaf(origin);
+        if (!leaf) {
+          if (acc.isValueOn(origin)) return true;
+          continue;
+        }
+        const Coord lo = openvdb::Coord::maxComponent(box.min(), origin) - origin;
+        const Coord hi = openvdb::Coord::minComponent(box.max(), origin.offsetBy(kLeafDim - 1)) - origin;
+        const std::uint64_t bits = wordBits(lo.y(), hi.y(), lo.z(), hi.z());
+        for (int x = lo.x(); x <= hi.x(); ++x)
+          if (leaf->getValueMask().getWord<std::uint64_t>(static_cast<openvdb::Index>(x)) & bits) return true;
+      }
+  return false;
+}
+
+}  // namespace
+
+bool DataTermGrids::mayHaveTermsIn(const openvdb::BBoxd& world) const {
+  // The voxels whose terms reach a point of the box (its eight voxels around,
+  // cornersAround), and one more on each side for rounding.
+  const Coord lo = Coord::floor(world.min() / mVoxelSize).offsetBy(-1);
+  const Coord hi = Coord::floor(world.max() / mVoxelSize).offsetBy(2);
+  return anyActiveIn(mBinMask->tree(), openvdb::CoordBBox(lo, hi));
+}
+
 double DataTermGrids::weight(const Vec3d& x) const { return allTerms(x).weight; }
 
 double DataTermGrids::readings(const Vec3d& x) const { return allTerms(x).readings; }

@@ -3,7 +3,10 @@
 // rule from the per-map term and from the grids.
 
 #include <levelfuse/io/DepthImages.h>
+#include <levelfuse/levelset/SparseFieldStep.h>
 #include <levelfuse/recon/DataSpeed.h>
+
+#include <openvdb/tools/LevelSetSphere.h>
 
 #include <gtest/gtest.h>
 
@@ -90,6 +93,53 @@ TYPED_TEST(DataForceTest, FadesWhereLessThanOneReadingReaches) {
   EXPECT_NEAR(force(Vec3d(0.0, 0.0, 3.0 + D), Vec3d(0.0, 0.0, -1.0)), D * window, 0.2 * D * window);
   // Beyond the window's reach (3 eps and a voxel), nothing.
   EXPECT_EQ(force(Vec3d(0.0, 0.0, 3.045), Vec3d(0.0, 0.0, -1.0)), 0.0);
+}
+
+/// The same speed without atRestIn(): the engine asks it at every point.
+struct AskedEverywhere {
+  DataSpeed<DataTermGrids> speed;
+  float operator()(const ActivePoint& p) const { return speed(p); }
+  double curvatureWeight() const { return speed.curvatureWeight(); }
+  double stiffness() const { return speed.stiffness(); }
+};
+
+TEST(DataSpeed, WithoutThePriorPointsNoReadingReachesRest) {
+  // A wall 0.25 m from a camera cuts the front of a sphere of 0.1 m around
+  // (0, 0, 0.3): its readings reach the sphere's front, not its back. Without
+  // the prior the back is at rest, and the engine leaves its leaves without
+  // asking their points: the same field, bit for bit, as asking every point.
+  const auto field = dataTermOf<DataTermGrids>(wallFrames(0.25, 2));
+  DataSpeed<DataTermGrids> speed;
+  speed.force.field = field.get();
+  const openvdb::FloatGrid::Ptr sphere =
+      openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(0.1f, openvdb::Vec3f(0.0f, 0.0f, 0.3f), kVoxel, 3.0f);
+  const openvdb::math::Transform& xform = sphere->transform();
+  int atRest = 0, moving = 0;
+  for (auto leaf = sphere->tree().cbeginLeaf(); leaf; ++leaf)
+    (speedAtRestIn(speed, forceSamplingBox(leaf->getNodeBoundingBox(), xform)) ? atRest : moving)++;
+  EXPECT_GT(atRest, 20);
+  EXPECT_GT(moving, 20);
+
+  SparseField skipping = SparseField::fromLevelSet(*sphere), asking = SparseField::fromLevelSet(*sphere);
+  for (int i = 0; i < 4; ++i) {
+    skipping.step(speed);
+    asking.step(AskedEverywhere{speed});
+  }
+  const openvdb::FloatTree& a = skipping.grid().tree();
+  const openvdb::FloatTree& b = asking.grid().tree();
+  ASSERT_EQ(a.activeVoxelCount(), b.activeVoxelCount());
+  int changed = 0;
+  for (auto it = a.cbeginValueOn(); it; ++it) {
+    ASSERT_TRUE(b.isValueOn(it.getCoord())) << it.getCoord();
+    ASSERT_EQ(*it, b.getValue(it.getCoord())) << it.getCoord();
+    changed += *it != sphere->tree().getValue(it.getCoord());
+  }
+  EXPECT_GT(changed, 100);  // the data moved the front
+
+  // With the prior every point moves: nothing is at rest.
+  speed.beta = 1e-4;
+  for (auto leaf = sphere->tree().cbeginLeaf(); leaf; ++leaf)
+    EXPECT_FALSE(speedAtRestIn(speed, forceSamplingBox(leaf->getNodeBoundingBox(), xform)));
 }
 
 }  // namespace

@@ -51,6 +51,41 @@ TEST(SightBins, EveryDirectionIsNearItsBin) {
   EXPECT_LT(worst, std::cos(35.0 * M_PI / 180.0));
 }
 
+TEST(DataTermGrids, NoTermReachesABoxItSaysHoldsNone) {
+  // Boxes of 1 to 20 voxels around a scanned sphere: where the grids say no
+  // term reaches a box, no point of it has a term in any direction, and the
+  // answer is no for boxes away from the surface.
+  const double voxel = 0.02;
+  std::vector<RangeMap> maps;
+  for (const Vec3d& direction : {Vec3d(0, 0, -1), Vec3d(1, 0, 0)})
+    maps.push_back(synth::renderDistanceFunction([](const Vec3d& p) { return p.length() - 0.5; },
+                                                 synth::orthographicView(direction, Vec3d(0.0), 1.4, 90),
+                                                 synth::Noise{}, 0.005));
+  const DataTermGrids grids = gridsOf(maps, voxel, optionsFor(voxel, 0.03));
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> position(-0.8, 0.8), size(voxel, 20 * voxel), unit(0.0, 1.0);
+  int none = 0, some = 0;
+  for (int b = 0; b < 3000; ++b) {
+    const Vec3d lo(position(random), position(random), position(random));
+    const openvdb::BBoxd box(lo, lo + Vec3d(size(random), size(random), size(random)));
+    if (grids.mayHaveTermsIn(box)) {
+      ++some;
+      continue;
+    }
+    ++none;
+    for (int i = 0; i < 20; ++i) {
+      const Vec3d x = box.min() + (box.max() - box.min()) * Vec3d(unit(random), unit(random), unit(random));
+      ASSERT_EQ(grids.weight(x), 0.0) << x;
+      for (const Vec3d& n : {Vec3d(0, 0, 1), Vec3d(0, 0, -1), Vec3d(1, 0, 0), Vec3d(-1, 0, 0)})
+        ASSERT_EQ(grids.facingTerms(x, n).weight, 0.0) << x;
+    }
+  }
+  EXPECT_GT(none, 500);
+  EXPECT_GT(some, 500);
+  EXPECT_TRUE(grids.mayHaveTermsIn(openvdb::BBoxd(Vec3d(-0.01, -0.01, 0.49), Vec3d(0.01, 0.01, 0.51))));
+  EXPECT_FALSE(grids.mayHaveTermsIn(openvdb::BBoxd(Vec3d(-0.05), Vec3d(0.05))));
+}
+
 TEST(DataTermGrids, OneScanOfAPlaneGivesItsDistanceBetweenVoxels) {
   // A tilted plane seen from above: D is linear, and the term carried along
   // grad D gives D itself at any point between voxels.

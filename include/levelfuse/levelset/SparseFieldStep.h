@@ -31,6 +31,11 @@ double computeRates(SparseFieldState& state, const Speed& speed) {
   forEachRecord(table, state.options.grainSize, [&](std::size_t r) {
     const LeafRecord& record = table[r];
     if (!anyOn(record.layer[0])) return;
+    const openvdb::CoordBBox voxels(record.origin, record.origin.offsetBy(FloatLeaf::DIM - 1));
+    if (speedAtRestIn(speed, forceSamplingBox(voxels, transform))) {
+      std::fill_n(rates + state.firstActive[r], state.activeCount[r], 0.0f);  // leafMax[r] stays 0
+      return;
+    }
     const ValueNeighbourhood neighbourhood(table, record);
     Stencil stencil;
     stencil.h = h;

@@ -11,11 +11,13 @@
 //   double curvatureWeight() const;               // beta, for the time-step limit (0 if none)
 // and optionally
 //   double stiffness() const;                     // see speedStiffness() below
+//   bool atRestIn(const openvdb::BBoxd&) const;   // see speedAtRestIn() below
 // Engines are templates over the speed, so the per-point call inlines.
 #pragma once
 
 #include <levelfuse/levelset/Stencil.h>
 
+#include <openvdb/math/BBox.h>
 #include <openvdb/math/Coord.h>
 #include <openvdb/math/Transform.h>
 
@@ -30,6 +32,16 @@ template <typename T, typename = void>
 struct HasStiffness : std::false_type {};
 template <typename T>
 struct HasStiffness<T, std::void_t<decltype(std::declval<const T&>().stiffness())>> : std::true_type {};
+template <typename T, typename = void>
+struct HasAtRest : std::false_type {};
+template <typename T>
+struct HasAtRest<T, std::void_t<decltype(std::declval<const T&>().atRestIn(std::declval<const openvdb::BBoxd&>()))>>
+    : std::true_type {};
+template <typename T, typename = void>
+struct HasVanishes : std::false_type {};
+template <typename T>
+struct HasVanishes<T, std::void_t<decltype(std::declval<const T&>().vanishesIn(std::declval<const openvdb::BBoxd&>()))>>
+    : std::true_type {};
 }  // namespace detail
 
 /// How fast a speed (or force) pulls a displaced surface back, per unit time:
@@ -41,6 +53,31 @@ template <typename T>
 double speedStiffness(const T& speed) {
   if constexpr (detail::HasStiffness<T>::value) return speed.stiffness();
   else return 0.0;
+}
+
+/// Whether a speed is 0 at every grid point whose force it samples inside the
+/// world box `box`, whatever the values around the point: the engines then
+/// leave such points as they are without gathering their stencils. False for
+/// types without an atRestIn() member.
+template <typename T>
+bool speedAtRestIn(const T& speed, const openvdb::BBoxd& box) {
+  if constexpr (detail::HasAtRest<T>::value) return speed.atRestIn(box);
+  else return false;
+}
+
+/// Whether a force is 0 at every point of the world box `box` and for every
+/// normal; false for types without a vanishesIn() member.
+template <typename T>
+bool forceVanishesIn(const T& force, const openvdb::BBoxd& box) {
+  if constexpr (detail::HasVanishes<T>::value) return force.vanishesIn(box);
+  else return false;
+}
+
+/// The world box in which the speed of a point of the index box `voxels`
+/// samples its force: x^ lies within a voxel of its grid point along each
+/// axis (subcellOffset).
+inline openvdb::BBoxd forceSamplingBox(const openvdb::CoordBBox& voxels, const openvdb::math::Transform& transform) {
+  return transform.indexToWorld(openvdb::CoordBBox(voxels.min().offsetBy(-1), voxels.max().offsetBy(1)));
 }
 
 /// What a speed sees of one grid point being updated.
@@ -111,6 +148,8 @@ struct ForceSpeed {
   }
   double curvatureWeight() const { return beta; }
   double stiffness() const { return speedStiffness(force); }
+  /// Without the prior, at rest where the force vanishes.
+  bool atRestIn(const openvdb::BBoxd& box) const { return beta == 0.0 && forceVanishesIn(force, box); }
 };
 
 /// A constant outward normal speed (negative: the surface shrinks).

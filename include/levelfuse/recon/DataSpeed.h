@@ -27,6 +27,8 @@
 #include <levelfuse/scan/ForceField.h>
 
 #include <algorithm>
+#include <type_traits>
+#include <utility>
 
 namespace levelfuse {
 
@@ -46,6 +48,18 @@ struct DataForce {
   /// At most 1 per unit time: F is at most a weighted mean of distances along
   /// lines of sight, which change by at most the distance the surface moves.
   double stiffness() const { return 1.0; }
+  /// F is 0 where no reading's window reaches (for a data term that can tell).
+  bool vanishesIn(const openvdb::BBoxd& box) const {
+    if constexpr (HasTermsTest<Field>::value) return !field->mayHaveTermsIn(box);
+    else return false;
+  }
+
+ private:
+  template <typename T, typename = void>
+  struct HasTermsTest : std::false_type {};
+  template <typename T>
+  struct HasTermsTest<T, std::void_t<decltype(std::declval<const T&>().mayHaveTermsIn(openvdb::BBoxd()))>>
+      : std::true_type {};
 };
 
 /// The MAP evolution's speed: the data force at x^ plus the surface-area prior

@@ -93,6 +93,9 @@ class DataTermGrids {
   double weight(const openvdb::Vec3d& x) const;
   /// The number of readings that reach x, all directions (sum_b N_b(x)).
   double readings(const openvdb::Vec3d& x) const;
+  /// False only if no term reaches any point of the world box `world`: then
+  /// facingTerms, weight and readings are zero everywhere in it.
+  bool mayHaveTermsIn(const openvdb::BBoxd& world) const;
 
   /// g and its weight summed over all bins, per voxel (GRID_UNKNOWN, named "g"
   /// and "weight"): the field whose zero set is the linear solution.
