@@ -54,6 +54,23 @@ typename GridT::Ptr emptyGrid(double voxelSize, const char* name) {
   return grid;
 }
 
+/// The bin of the lines of sight of every voxel of the leaf at `base` (in a
+/// map's frame, voxel steps `step`), or -1 unless they share one: the lines of
+/// sight from a camera or a scanner's centre are the directions of the
+/// voxels, which lie in the cone of the leaf's corner voxels.
+int commonBinOfLeaf(const RangeMap& map, const Vec3d& base, const Vec3d step[3]) {
+  if (map.kind() == RangeMap::Kind::kOrthographic || map.hasRayDirections()) return -1;
+  constexpr double last = kLeafDim - 1;
+  Vec3d corners[8];
+  for (int c = 0; c < 8; ++c) {
+    const Vec3d q = base + step[0] * ((c & 1) * last) + step[1] * (((c >> 1) & 1) * last) + step[2] * ((c >> 2) * last);
+    const double length = q.length();
+    if (!(length > 0.0)) return -1;
+    corners[c] = map.mapToWorld().transform3x3(q / length);
+  }
+  return sightBinOfCone(corners, 8);
+}
+
 /// The voxel, in a grid of one voxel per leaf node, of the leaf holding `ijk`
 /// (arithmetic shifts: floor division, also of negative coordinates).
 Coord leafBlock(const Coord& ijk) {
@@ -115,6 +132,7 @@ void DataTermGrids::integrate(const RangeMap& map) {
       const std::uint8_t cubes = detail::leafCubesMayBeReached(spans, leaves[l], h, reach);
       if (cubes == 0) continue;
       const Vec3d base = toMap.transform(leaves[l].asVec3d() * h);
+      const int leafBin = parallel ? parallelBin : commonBinOfLeaf(map, base, step);
       std::vector<VoxelTerm>& out = terms[l];
       for (int i = 0; i < kLeafDim; ++i)
         for (int j = 0; j < kLeafDim; ++j) {
@@ -129,7 +147,7 @@ void DataTermGrids::integrate(const RangeMap& map) {
             if (w == 0.0) continue;
             const double weight = detail::readingWeight(w, s, mPositionVariance);  // Eq. 38
             const Vec3d sight = toWorld.transform3x3(s.lineOfSight);
-            const int bin = parallel ? parallelBin : sightBin(sight);
+            const int bin = leafBin >= 0 ? leafBin : sightBin(sight);
             binsOfLeaf[l] = static_cast<std::uint16_t>(binsOfLeaf[l] | (1u << bin));
             out.push_back(VoxelTerm{static_cast<std::uint16_t>(row + k), static_cast<std::uint8_t>(bin),
                                     static_cast<float>(weight * s.D),  // Eq. 17

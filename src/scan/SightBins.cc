@@ -43,4 +43,16 @@ int sightBin(const openvdb::Vec3d& direction) {
   return best;
 }
 
+int sightBinOfCone(const openvdb::Vec3d* directions, int count) {
+  constexpr double kClearly = 1e-9;  // in dot products of unit vectors: far above their rounding
+  const std::array<openvdb::Vec3d, kSightBins>& centres = sightBinCentres();
+  const int bin = count > 0 ? sightBin(directions[0]) : -1;
+  for (int i = 0; i < count && bin >= 0; ++i) {
+    const double own = directions[i].dot(centres[static_cast<std::size_t>(bin)]);
+    for (int b = 0; b < kSightBins; ++b)
+      if (b != bin && !(own - directions[i].dot(centres[static_cast<std::size_t>(b)]) > kClearly)) return -1;
+  }
+  return bin;
+}
+
 }  // namespace levelfuse

@@ -51,6 +51,40 @@ TEST(SightBins, EveryDirectionIsNearItsBin) {
   EXPECT_LT(worst, std::cos(35.0 * M_PI / 180.0));
 }
 
+TEST(SightBins, AConesBinIsTheBinOfEveryDirectionInIt) {
+  // Cones of eight directions around random axes, narrow and wide: where
+  // sightBinOfCone names a bin, every direction between them (nonnegative
+  // sums, normalized) is in it; where the corners lie in different bins it
+  // names none.
+  std::mt19937 random(11);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int named = 0, unnamed = 0;
+  for (int cone = 0; cone < 4000; ++cone) {
+    const Vec3d axis = Vec3d(normal(random), normal(random), normal(random)).unit();
+    const double spread = cone % 2 ? 0.02 : 0.3;
+    Vec3d corners[8];
+    for (Vec3d& c : corners) c = (axis + Vec3d(normal(random), normal(random), normal(random)) * spread).unit();
+    const int bin = sightBinOfCone(corners, 8);
+    bool split = false;
+    for (const Vec3d& c : corners) split = split || sightBin(c) != sightBin(corners[0]);
+    if (split) {
+      EXPECT_EQ(bin, -1);
+      ++unnamed;
+      continue;
+    }
+    if (bin < 0) continue;
+    ++named;
+    for (int i = 0; i < 20; ++i) {
+      Vec3d d(0.0);
+      for (const Vec3d& c : corners) d += c * unit(random);
+      ASSERT_EQ(sightBin(d.unit()), bin);
+    }
+  }
+  EXPECT_GT(named, 1000);
+  EXPECT_GT(unnamed, 100);
+}
+
 TEST(DataTermGrids, NoTermReachesABoxItSaysHoldsNone) {
   // Boxes of 1 to 20 voxels around a scanned sphere: where the grids say no
   // term reaches a box, no point of it has a term in any direction, and the
