@@ -29,9 +29,15 @@ constexpr int kLeafDim = static_cast<int>(FloatLeaf::DIM);
 struct VoxelTerm {
   std::uint16_t offset;  ///< within the leaf
   std::uint8_t bin;
-  float g, weight, window;
+  float g, weight;
   Vec3f gradient;  ///< weight * grad D, world
-  Vec3f sight;     ///< weight * the line of sight, world
+};
+
+/// One range map's sums over a leaf's terms, per bin: S_b, and the sums of
+/// the weights and of the windows.
+struct LeafSums {
+  std::array<Vec3f, kSightBins> sight;
+  std::array<openvdb::Vec2d, kSightBins> weightAndWindows;
 };
 
 /// The leaves of one bin that a leaf's terms go into.
@@ -120,11 +126,12 @@ void DataTermGrids::integrate(const RangeMap& map) {
   const bool parallel = map.kind() == RangeMap::Kind::kOrthographic && !map.hasRayDirections();
   const int parallelBin = sightBin(toWorld.transform3x3(Vec3d(0, 0, 1)));
 
-  // 1. Per leaf, the map's terms at its voxels (Eqs. 17, 38).
+  // 1. Per leaf, the map's terms at its voxels (Eqs. 17, 38) and their sums per bin.
   std::vector<std::vector<VoxelTerm>> terms(leaves.size());
   std::vector<std::uint16_t> binsOfLeaf(leaves.size(), 0);  // bit b: a term of bin b
   static_assert(kSightBins <= 16, "a bit per bin");
   std::vector<std::size_t> evaluations(leaves.size(), 0);
+  std::vector<LeafSums> leafSums(leaves.size());
   parallelFor(leaves.size(), mGrainSize, [&](std::size_t begin, std::size_t end) {
     RangeMap::LocalSample s;
     for (std::size_t l = begin; l < end; ++l) {
@@ -134,6 +141,9 @@ void DataTermGrids::integrate(const RangeMap& map) {
       const Vec3d base = toMap.transform(leaves[l].asVec3d() * h);
       const int leafBin = parallel ? parallelBin : commonBinOfLeaf(map, base, step);
       std::vector<VoxelTerm>& out = terms[l];
+      LeafSums& sums = leafSums[l];
+      sums.sight.fill(Vec3f(0.0f));
+      sums.weightAndWindows.fill(openvdb::Vec2d(0.0));
       for (int i = 0; i < kLeafDim; ++i)
         for (int j = 0; j < kLeafDim; ++j) {
           Vec3d q = base + step[0] * i + step[1] * j;
@@ -151,8 +161,9 @@ void DataTermGrids::integrate(const RangeMap& map) {
             binsOfLeaf[l] = static_cast<std::uint16_t>(binsOfLeaf[l] | (1u << bin));
             out.push_back(VoxelTerm{static_cast<std::uint16_t>(row + k), static_cast<std::uint8_t>(bin),
                                     static_cast<float>(weight * s.D),  // Eq. 17
-                                    static_cast<float>(weight), static_cast<float>(w), Vec3f(toWorld.transform3x3(s.gradD) * weight),
-                                    Vec3f(sight * weight)});
+                                    static_cast<float>(weight), Vec3f(toWorld.transform3x3(s.gradD) * weight)});
+            sums.sight[bin] += Vec3f(sight * weight);
+            sums.weightAndWindows[bin] += openvdb::Vec2d(static_cast<float>(weight), static_cast<float>(w));
           }
         }
     }
@@ -183,8 +194,6 @@ void DataTermGrids::integrate(const RangeMap& map) {
   }
 
   // 3. The terms added in, each leaf by one task: deterministic.
-  std::vector<std::array<Vec3f, kSightBins>> sights(leaves.size());
-  std::vector<std::array<openvdb::Vec2d, kSightBins>> leafSums(leaves.size());
   parallelFor(leaves.size(), mGrainSize, [&](std::size_t begin, std::size_t end) {
     for (std::size_t l = begin; l < end; ++l) {
       for (const VoxelTerm& t : terms[l]) {
@@ -195,12 +204,6 @@ void DataTermGrids::integrate(const RangeMap& map) {
         target.gradient->setValueOn(o, target.gradient->getValue(o) + t.gradient);
         maskLeaves[l]->setValueOn(o, maskLeaves[l]->getValue(o) | (1 << t.bin));
       }
-      sights[l].fill(Vec3f(0.0f));
-      leafSums[l].fill(openvdb::Vec2d(0.0));
-      for (const VoxelTerm& t : terms[l]) {
-        sights[l][t.bin] += t.sight;
-        leafSums[l][t.bin] += openvdb::Vec2d(t.weight, t.window);
-      }
     }
   });
 
@@ -209,10 +212,11 @@ void DataTermGrids::integrate(const RangeMap& map) {
     for (std::size_t b = 0; b < kSightBins; ++b) {
       const BinLeaves& target = targets[l][b];
       if (!target.sight) continue;
-      target.sight->setValueOn(target.sightOffset, target.sight->getValue(target.sightOffset) + sights[l][b]);
+      const LeafSums& sums = leafSums[l];
       const openvdb::Index o = target.sightOffset;
-      target.leafWeight->setValueOn(o, static_cast<float>(target.leafWeight->getValue(o) + leafSums[l][b][0]));
-      target.leafWindows->setValueOn(o, static_cast<float>(target.leafWindows->getValue(o) + leafSums[l][b][1]));
+      target.sight->setValueOn(o, target.sight->getValue(o) + sums.sight[b]);
+      target.leafWeight->setValueOn(o, static_cast<float>(target.leafWeight->getValue(o) + sums.weightAndWindows[b][0]));
+      target.leafWindows->setValueOn(o, static_cast<float>(target.leafWindows->getValue(o) + sums.weightAndWindows[b][1]));
     }
 
   for (std::size_t e : evaluations) mEvaluations += e;
