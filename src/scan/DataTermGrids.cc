@@ -25,6 +25,10 @@ using VectorLeaf = openvdb::Vec3fTree::LeafNodeType;
 using MaskLeaf = openvdb::Int32Tree::LeafNodeType;
 constexpr int kLeafDim = static_cast<int>(FloatLeaf::DIM);
 
+/// Room made for a cube's terms before they are counted: a quarter of its 64
+/// voxels (the 500 7-Scenes frames at 10 mm make one term for 4.4 voxels visited).
+constexpr std::size_t kTermsPerCube = 16;
+
 /// One range map's term at one voxel of a leaf.
 struct VoxelTerm {
   std::uint16_t offset;  ///< within the leaf
@@ -141,6 +145,7 @@ void DataTermGrids::integrate(const RangeMap& map) {
       const Vec3d base = toMap.transform(leaves[l].asVec3d() * h);
       const int leafBin = parallel ? parallelBin : commonBinOfLeaf(map, base, step);
       std::vector<VoxelTerm>& out = terms[l];
+      out.reserve(kTermsPerCube * static_cast<std::size_t>(openvdb::util::CountOn(cubes)));
       LeafSums& sums = leafSums[l];
       sums.sight.fill(Vec3f(0.0f));
       sums.weightAndWindows.fill(openvdb::Vec2d(0.0));
