@@ -107,7 +107,7 @@ TEST(DataSpeed, WithoutThePriorPointsNoReadingReachesRest) {
   // A wall 0.25 m from a camera cuts the front of a sphere of 0.1 m around
   // (0, 0, 0.3): its readings reach the sphere's front, not its back. Without
   // the prior the back is at rest, and the engine leaves its leaves without
-  // asking their points: the same field, bit for bit, as asking every point.
+  // asking their points: the same field, value for value, as asking every point.
   const auto field = dataTermOf<DataTermGrids>(wallFrames(0.25, 2));
   DataSpeed<DataTermGrids> speed;
   speed.force.field = field.get();
@@ -116,7 +116,7 @@ TEST(DataSpeed, WithoutThePriorPointsNoReadingReachesRest) {
   const openvdb::math::Transform& xform = sphere->transform();
   int atRest = 0, moving = 0;
   for (auto leaf = sphere->tree().cbeginLeaf(); leaf; ++leaf)
-    (speedAtRestIn(speed, forceSamplingBox(leaf->getNodeBoundingBox(), xform)) ? atRest : moving)++;
+    (speedAtRestIn(speed, leaf->getNodeBoundingBox(), xform) ? atRest : moving)++;
   EXPECT_GT(atRest, 20);
   EXPECT_GT(moving, 20);
 
@@ -139,7 +139,7 @@ TEST(DataSpeed, WithoutThePriorPointsNoReadingReachesRest) {
   // With the prior every point moves: nothing is at rest.
   speed.beta = 1e-4;
   for (auto leaf = sphere->tree().cbeginLeaf(); leaf; ++leaf)
-    EXPECT_FALSE(speedAtRestIn(speed, forceSamplingBox(leaf->getNodeBoundingBox(), xform)));
+    EXPECT_FALSE(speedAtRestIn(speed, leaf->getNodeBoundingBox(), xform));
 }
 
 }  // namespace

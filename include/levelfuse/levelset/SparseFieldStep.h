@@ -32,7 +32,7 @@ double computeRates(SparseFieldState& state, const Speed& speed) {
     const LeafRecord& record = table[r];
     if (!anyOn(record.layer[0])) return;
     const openvdb::CoordBBox voxels(record.origin, record.origin.offsetBy(FloatLeaf::DIM - 1));
-    if (speedAtRestIn(speed, forceSamplingBox(voxels, transform))) {
+    if (speedAtRestIn(speed, voxels, transform)) {
       std::fill_n(rates + state.firstActive[r], state.activeCount[r], 0.0f);  // leafMax[r] stays 0
       return;
     }

@@ -11,7 +11,7 @@
 //   double curvatureWeight() const;               // beta, for the time-step limit (0 if none)
 // and optionally
 //   double stiffness() const;                     // see speedStiffness() below
-//   bool atRestIn(const openvdb::BBoxd&) const;   // see speedAtRestIn() below
+//   bool atRestIn(const openvdb::CoordBBox&, const openvdb::math::Transform&) const;  // see speedAtRestIn()
 // Engines are templates over the speed, so the per-point call inlines.
 #pragma once
 
@@ -35,7 +35,8 @@ struct HasStiffness<T, std::void_t<decltype(std::declval<const T&>().stiffness()
 template <typename T, typename = void>
 struct HasAtRest : std::false_type {};
 template <typename T>
-struct HasAtRest<T, std::void_t<decltype(std::declval<const T&>().atRestIn(std::declval<const openvdb::BBoxd&>()))>>
+struct HasAtRest<T, std::void_t<decltype(std::declval<const T&>().atRestIn(
+                        std::declval<const openvdb::CoordBBox&>(), std::declval<const openvdb::math::Transform&>()))>>
     : std::true_type {};
 template <typename T, typename = void>
 struct HasVanishes : std::false_type {};
@@ -55,13 +56,13 @@ double speedStiffness(const T& speed) {
   else return 0.0;
 }
 
-/// Whether a speed is 0 at every grid point whose force it samples inside the
-/// world box `box`, whatever the values around the point: the engines then
-/// leave such points as they are without gathering their stencils. False for
-/// types without an atRestIn() member.
+/// Whether a speed is 0 at every grid point of the index box `voxels` (of a
+/// grid with `transform`), whatever the values around the points: the engines
+/// then leave such points as they are without gathering their stencils. False
+/// for types without an atRestIn() member, at no cost.
 template <typename T>
-bool speedAtRestIn(const T& speed, const openvdb::BBoxd& box) {
-  if constexpr (detail::HasAtRest<T>::value) return speed.atRestIn(box);
+bool speedAtRestIn(const T& speed, const openvdb::CoordBBox& voxels, const openvdb::math::Transform& transform) {
+  if constexpr (detail::HasAtRest<T>::value) return speed.atRestIn(voxels, transform);
   else return false;
 }
 
@@ -149,7 +150,9 @@ struct ForceSpeed {
   double curvatureWeight() const { return beta; }
   double stiffness() const { return speedStiffness(force); }
   /// Without the prior, at rest where the force vanishes.
-  bool atRestIn(const openvdb::BBoxd& box) const { return beta == 0.0 && forceVanishesIn(force, box); }
+  bool atRestIn(const openvdb::CoordBBox& voxels, const openvdb::math::Transform& transform) const {
+    return beta == 0.0 && forceVanishesIn(force, forceSamplingBox(voxels, transform));
+  }
 };
 
 /// A constant outward normal speed (negative: the surface shrinks).
