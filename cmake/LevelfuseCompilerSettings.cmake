@@ -2,7 +2,10 @@
 
 find_program(LEVELFUSE_CCACHE ccache)
 if(LEVELFUSE_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
-  set(CMAKE_CXX_COMPILER_LAUNCHER "${LEVELFUSE_CCACHE}")
+  # ccache caches a source built with a precompiled header only when told to
+  # overlook the header's defines and time macros (its manual, "Precompiled headers").
+  set(CMAKE_CXX_COMPILER_LAUNCHER ${CMAKE_COMMAND} -E env CCACHE_SLOPPINESS=pch_defines,time_macros
+      "${LEVELFUSE_CCACHE}")
   set(CMAKE_C_COMPILER_LAUNCHER "${LEVELFUSE_CCACHE}")
 endif()
 
@@ -40,3 +43,4 @@ if(_lf_san)
   add_compile_definitions(LEVELFUSE_DEBUG_CHECKS)
 endif()
 add_compile_definitions($<$<CONFIG:Debug>:LEVELFUSE_DEBUG_CHECKS>)
+
