@@ -43,4 +43,3 @@ if(_lf_san)
   add_compile_definitions(LEVELFUSE_DEBUG_CHECKS)
 endif()
 add_compile_definitions($<$<CONFIG:Debug>:LEVELFUSE_DEBUG_CHECKS>)
-

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds levelfuse's libFuzzer targets (clang, ASan + UBSan) and runs each for
-# a while, as many at a time as $LEVELFUSE_JOBS (default 2); fails if any of them finds a crash, a leak, a hang or an input that
-# needs too much memory.
+# a while, as many at a time as $LEVELFUSE_JOBS (default 2); fails if any of
+# them finds a crash, a leak, a hang or an input that needs too much memory.
 #
 #   tools/fuzz.sh [seconds]      seconds per target (default 60)
 #
