@@ -129,6 +129,7 @@ struct LeafTally {
   double sumSq = 0.0;          ///< sum of the squared changes
   float maxChange = 0.0f;      ///< largest change
   std::uint32_t points = 0;    ///< active points changed
+  std::uint32_t pointsAtRest = 0;  ///< of those, points the speed left at rest
   std::uint32_t wantOut = 0;   ///< points whose value left the range outward (up)
   std::uint32_t wantIn = 0;    ///< ... inward (down)
   std::uint32_t conflicts = 0; ///< of those, points held because a neighbour left the other way
@@ -164,6 +165,7 @@ void addChanges(SparseFieldState& state, float dt, std::vector<LeafTally>& tally
         ++t.wantIn;
       }
     });
+    if (state.atRest[r]) t.pointsAtRest = t.points;
   });
 }
 
@@ -249,6 +251,7 @@ StepTally summarise(const SparseFieldState& state, const std::vector<LeafTally>&
     const LeafTally& t = tally[r];
     result.addSquaredChanges(t.sumSq / voxelArea);
     result.points += t.points;
+    result.pointsAtRest += t.pointsAtRest;
     result.maxChange = std::max(result.maxChange, static_cast<double>(t.maxChange));
     result.movedOut += t.movedOut;
     result.movedIn += t.movedIn;

@@ -33,6 +33,7 @@ StepTally& StepTally::operator+=(const StepTally& other) {
   maxChange = std::max(maxChange, other.maxChange);
   add128(squaredChangeHigh, squaredChangeLow, other.squaredChangeHigh, other.squaredChangeLow);
   points += other.points;
+  pointsAtRest += other.pointsAtRest;
   activeSetVoxels += other.activeSetVoxels;
   movedOut += other.movedOut;
   movedIn += other.movedIn;
@@ -49,6 +50,9 @@ StepResult StepTally::result(double dx) const {
       std::ldexp(static_cast<double>(squaredChangeHigh), 64 - kFractionBits) +
       std::ldexp(static_cast<double>(squaredChangeLow), -kFractionBits);
   r.rmsChange = points ? dx * std::sqrt(voxelsSquared / static_cast<double>(points)) : 0.0;
+  const std::uint64_t moving = points - pointsAtRest;  // points at rest add no squared change
+  r.rmsChangeNotAtRest = moving ? dx * std::sqrt(voxelsSquared / static_cast<double>(moving)) : 0.0;
+  r.pointsAtRest = static_cast<std::size_t>(pointsAtRest);
   r.activeSetVoxels = static_cast<std::size_t>(activeSetVoxels);
   r.movedOut = static_cast<std::size_t>(movedOut);
   r.movedIn = static_cast<std::size_t>(movedIn);

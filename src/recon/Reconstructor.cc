@@ -347,6 +347,7 @@ LevelReport Reconstructor::evolveLevel(detail::EvolvingField& field, const Field
   const double finest = *mOptions.voxelSize;
   speed.beta = *mOptions.beta * finest * finest;  // beta in voxels of the finest grid
   speed.sampling = ForceSampling::kSubcell;      // Eqs. 34-36
+  if (speed.beta == 0.0) speed.force.limit = forceLimitWithoutPrior(h, *mOptions.epsilon);
   LevelReport done;
   double slowest = std::numeric_limits<double>::infinity();
   int lastProgress = 0, snapshotIteration = 0;
@@ -356,7 +357,9 @@ LevelReport Reconstructor::evolveLevel(detail::EvolvingField& field, const Field
     done.simulatedTime += step.dt;
     state.iteration = iteration;
     state.activeSetVoxels = step.activeSetVoxels;
-    state.speed = step.dt > 0.0 ? step.rmsChange / step.dt / h : 0.0;
+    // The surface the speed leaves at rest (no reading reaches it, no prior)
+    // is not waited for.
+    state.speed = step.dt > 0.0 ? step.rmsChangeNotAtRest / step.dt / h : 0.0;
     done.iterations = iteration;
     report();
     if (iteration < mOptions.minIterations) continue;

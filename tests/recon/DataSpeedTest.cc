@@ -95,6 +95,24 @@ TYPED_TEST(DataForceTest, FadesWhereLessThanOneReadingReaches) {
   EXPECT_EQ(force(Vec3d(0.0, 0.0, 3.045), Vec3d(0.0, 0.0, -1.0)), 0.0);
 }
 
+TYPED_TEST(DataForceTest, ALimitClampsTheForceAndKeepsItsZeros) {
+  // The wall at 1 m seen twice: 4 mm behind it the force is 4 mm per unit time.
+  const auto field = dataTermOf<TypeParam>(wallFrames(1.0, 2));
+  const Vec3d towardCamera(0.0, 0.0, -1.0);
+  const DataForce<TypeParam> free{field.get()};
+  DataForce<TypeParam> clamped{field.get()};
+  clamped.limit = 0.002;
+  EXPECT_EQ(clamped(Vec3d(0.0, 0.0, 1.004), towardCamera), 0.002);
+  EXPECT_EQ(clamped(Vec3d(0.0, 0.0, 1.004), -towardCamera), 0.0);  // no data stays none
+  EXPECT_EQ(clamped(Vec3d(0.0, 0.0, 0.996), towardCamera), -0.002);
+  // Below the limit nothing changes: the zero at the wall stays where it was.
+  for (int k = -3; k <= 3; ++k) {
+    const Vec3d x(0.0, 0.0, 1.0 + 0.0005 * k);
+    ASSERT_LT(std::fabs(free(x, towardCamera)), 0.002) << x;
+    EXPECT_EQ(clamped(x, towardCamera), free(x, towardCamera)) << x;
+  }
+}
+
 /// The same speed without atRestIn(): the engine asks it at every point.
 struct AskedEverywhere {
   DataSpeed<DataTermGrids> speed;
@@ -102,6 +120,25 @@ struct AskedEverywhere {
   double curvatureWeight() const { return speed.curvatureWeight(); }
   double stiffness() const { return speed.stiffness(); }
 };
+
+/// The field's active points, and those of them in leaves where `speed` is at rest.
+struct ActivePointsAtRest {
+  std::size_t all = 0, atRest = 0;
+};
+template <typename Speed>
+ActivePointsAtRest activePointsAtRest(const SparseField& field, const Speed& speed) {
+  ActivePointsAtRest count;
+  const openvdb::FloatGrid& grid = field.grid();
+  for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
+    const bool rests = speedAtRestIn(speed, leaf->getNodeBoundingBox(), grid.transform());
+    for (auto v = leaf->cbeginValueOn(); v; ++v) {
+      if (field.layerOf(v.getCoord()) != 0) continue;
+      ++count.all;
+      if (rests) ++count.atRest;
+    }
+  }
+  return count;
+}
 
 TEST(DataSpeed, WithoutThePriorPointsNoReadingReachesRest) {
   // A wall 0.25 m from a camera cuts the front of a sphere of 0.1 m around
@@ -122,8 +159,20 @@ TEST(DataSpeed, WithoutThePriorPointsNoReadingReachesRest) {
 
   SparseField skipping = SparseField::fromLevelSet(*sphere), asking = SparseField::fromLevelSet(*sphere);
   for (int i = 0; i < 4; ++i) {
-    skipping.step(speed);
-    asking.step(AskedEverywhere{speed});
+    const ActivePointsAtRest before = activePointsAtRest(skipping, speed);
+    const StepResult skipped = skipping.step(speed);
+    const StepResult asked = asking.step(AskedEverywhere{speed});
+    // The report counts the points left at rest, and the rms change of the
+    // others is the same sum of squared changes over fewer points.
+    EXPECT_EQ(skipped.pointsAtRest, before.atRest) << "step " << i;
+    EXPECT_EQ(asked.pointsAtRest, 0u);
+    EXPECT_EQ(asked.rmsChangeNotAtRest, asked.rmsChange);
+    EXPECT_EQ(skipped.rmsChange, asked.rmsChange);
+    ASSERT_GT(before.atRest, 0u);
+    ASSERT_GT(before.all, before.atRest);
+    EXPECT_NEAR(skipped.rmsChangeNotAtRest,
+                skipped.rmsChange * std::sqrt(static_cast<double>(before.all) / static_cast<double>(before.all - before.atRest)),
+                1e-9 * skipped.rmsChangeNotAtRest);
   }
   const openvdb::FloatTree& a = skipping.grid().tree();
   const openvdb::FloatTree& b = asking.grid().tree();

@@ -81,6 +81,7 @@ StepResult DenseField::step(const Speed& speed, double maxDt) {
     result.maxChange = std::max(result.maxChange, static_cast<double>(slabMaxChange[static_cast<std::size_t>(x)]));
   }
   result.rmsChange = std::sqrt(sumSq / static_cast<double>(mValues.size()));
+  result.rmsChangeNotAtRest = result.rmsChange;  // every point is asked
   const float half = static_cast<float>(0.5 * mDx);
   result.activeSetVoxels = static_cast<std::size_t>(
       std::count_if(mValues.begin(), mValues.end(), [half](float v) { return std::fabs(v) <= half; }));

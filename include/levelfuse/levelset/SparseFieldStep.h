@@ -19,7 +19,8 @@ namespace detail {
 
 /// Phase 1 (section 5, step 1): d psi/dt at every active point, stored in
 /// state.pointValues in record order; returns the largest |d psi/dt| over the
-/// leaves the field answers for (all, unless it is a slab).
+/// leaves the field answers for (all, unless it is a slab). Marks in
+/// state.atRest the leaves where the speed is at rest (speedAtRestIn).
 template <typename Speed>
 double computeRates(SparseFieldState& state, const Speed& speed) {
   LeafTable& table = state.table;
@@ -27,6 +28,7 @@ double computeRates(SparseFieldState& state, const Speed& speed) {
   const openvdb::math::Transform& transform = state.grid->transform();
   const float h = static_cast<float>(state.dx);
   float* rates = state.pointValues.data();
+  state.atRest.assign(table.size(), 0);
 
   forEachRecord(table, state.options.grainSize, [&](std::size_t r) {
     const LeafRecord& record = table[r];
@@ -34,6 +36,7 @@ double computeRates(SparseFieldState& state, const Speed& speed) {
     const openvdb::CoordBBox voxels(record.origin, record.origin.offsetBy(FloatLeaf::DIM - 1));
     if (speedAtRestIn(speed, voxels, transform)) {
       std::fill_n(rates + state.firstActive[r], state.activeCount[r], 0.0f);  // leafMax[r] stays 0
+      state.atRest[r] = 1;
       return;
     }
     const ValueNeighbourhood neighbourhood(table, record);

@@ -26,6 +26,7 @@ struct StepTally {
   std::uint64_t squaredChangeHigh = 0;  ///< the sum of squared changes, 128-bit fixed point
   std::uint64_t squaredChangeLow = 0;
   std::uint64_t points = 0;             ///< active points changed
+  std::uint64_t pointsAtRest = 0;       ///< of those, points the speed left at rest
   std::uint64_t activeSetVoxels = 0;    ///< |L0| after the step
   std::uint64_t movedOut = 0;
   std::uint64_t movedIn = 0;

@@ -72,7 +72,9 @@ struct ReconstructionOptions {
   /// Where the evolution samples the data term; kAuto is resolved to one of the others.
   DataTermSource dataTerm = DataTermSource::kAuto;
   /// A grid has converged when the rms speed of its active values falls below
-  /// this many voxels per unit time (the data term relaxes in about one).
+  /// this many voxels per unit time (the data term relaxes in about one). Values
+  /// the speed leaves at rest (no reading reaches them and the prior is off) are
+  /// not counted: the surface no scan saw is not waited for.
   double tolerance = 0.05;
   /// A grid has also settled when its rms speed has not fallen (by 5%) for
   /// `patience` iterations and no region the scans saw drifts by `drift`
@@ -113,7 +115,7 @@ struct ReconstructionProgress {
   int iteration = 0;       ///< within the grid
   int maxIterations = 0;
   std::size_t activeSetVoxels = 0;  ///< the active set L0 (|psi| <= half a voxel), not the whole band
-  double speed = 0.0;      ///< rms speed of the active values in the last iteration (voxels per unit time)
+  double speed = 0.0;      ///< rms speed of the active values not at rest in the last iteration (voxels per unit time)
   double drift = 0.0;      ///< the largest local drift last measured (voxels per iteration)
   double seconds = 0.0;    ///< since the start
 };

@@ -110,6 +110,7 @@ struct SparseFieldState {
   // serial bookkeeping between passes does not walk the records themselves.
   std::vector<std::uint32_t> activeCount;  ///< |L0| of each leaf
   std::vector<std::uint32_t> firstActive;  ///< each leaf's first slot in pointValues
+  std::vector<std::uint8_t> atRest;         ///< leaves whose points the step's speed left at rest
   std::vector<std::uint8_t> faceRequest;   ///< faces whose missing neighbour the outermost layer needs
   std::vector<std::uint8_t> faceInside;    ///< of those, the faces whose side is the inside
 
@@ -117,6 +118,7 @@ struct SparseFieldState {
   void fitRecordArrays() {
     activeCount.resize(table.size(), 0);
     firstActive.resize(table.size(), 0);
+    atRest.resize(table.size(), 0);
     faceRequest.resize(table.size(), 0);
     faceInside.resize(table.size(), 0);
   }
