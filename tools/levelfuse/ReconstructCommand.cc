@@ -478,12 +478,14 @@ int runReconstruct(ReconstructSettings s) {
   io::OutputSet outputs;
   writeGrids(outputs, result, s);
   if (!shown.trim) result.weight.reset();
-  const Measures measures = measure(made, result, shown, inputs);
+  // The fit is measured for the summary alone: with --quiet nobody reads it.
+  const bool summaryShown = s.json || !s.quiet;
+  const Measures measures = summaryShown ? measure(made, result, shown, inputs) : countsOf(made);
   const std::size_t triangles = writeShownOutputs(outputs, inputs, result, shown, s);
   const Summary summary{s,         reconstructor,  result, inputs, measures, shown.trim,
                         triangles, secondsSoFar(), ranks,  result.levelSet->activeVoxelCount(), {}};
   if (s.json) printJson(summary);
-  else if (!s.quiet) printText(summary);
+  else if (summaryShown) printText(summary);
   return kExitSuccess;
 }
 
@@ -558,7 +560,7 @@ Command addReconstructCommand(CLI::App& app) {
                   "and says which voxel size fits")
       ->check(numberIn(0.0, 1e6, true));
   cmd->add_flag("--json", s->json, "Print the summary as JSON (no progress line)");
-  cmd->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
+  cmd->add_flag("-q,--quiet", s->quiet, "Print nothing but errors (and skip measuring the fit to the scans, which only the summary shows)");
   cmd->footer(
       "Examples:\n"
       "  levelfuse reconstruct bunny/bun.conf -o bunny.vdb --mesh bunny.ply --preview bunny.png\n"
