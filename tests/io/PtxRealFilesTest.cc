@@ -1,6 +1,8 @@
-// Real PTX files: PDAL's test files (github.com/PDAL/PDAL, test/data/ptx, as
-// of its commit 39d9163 of 2022-07-11), copied into tests/data/ptx/pdal with
-// PDAL's BSD licence beside them.
+// Real PTX files, each copied into tests/data/ptx with its licence beside it:
+//  - pdal/: PDAL's test files (github.com/PDAL/PDAL, test/data/ptx, as of its
+//    commit 39d9163 of 2022-07-11; BSD);
+//  - libptx/: libptx's test file (github.com/srajotte/libptx, test/data/points.ptx,
+//    as of its commit 879e72b; MIT).
 
 #include "support/InputErrors.h"
 #include "support/TestSupport.h"
@@ -18,10 +20,12 @@ namespace {
 
 using openvdb::Vec3d;
 
-/// The path of one of PDAL's PTX files.
-std::string pdalFile(const std::string& name) {
-  return (std::filesystem::path(LEVELFUSE_TEST_DATA_DIR) / "ptx" / "pdal" / name).string();
+/// The path of one of the real PTX files, in tests/data/ptx/<source>.
+std::string realFile(const std::string& source, const std::string& name) {
+  return (std::filesystem::path(LEVELFUSE_TEST_DATA_DIR) / "ptx" / source / name).string();
 }
+
+std::string pdalFile(const std::string& name) { return realFile("pdal", name); }
 
 std::vector<PtxScan> readAll(const std::string& path) {
   std::vector<PtxScan> scans;
@@ -95,6 +99,25 @@ TEST(PdalPtxFiles, AScaledTransformIsRefused) {
   test::expectInputError([&] { readAll(path); }, path,
                          "line 6: the scanner's axes (lines 4 to 6) are not orthonormal (their dot products are off "
                          "by up to 3, more than 0.0001): not a rigid motion");
+}
+
+// Two registered scans of Cyclone's export, with colour: the ground beside a
+// scanner 2.3 m above it, each scan with its own pose in the world. The
+// first's 25 columns x 32 rows are one vertical sweep cut into columns: each
+// column goes on down in elevation where the one before it stopped, at one
+// azimuth (24.45 to 24.44 degrees). So its returns lie on no scanner's grid
+// of that size, and the reader says so, naming the scan and its lines.
+TEST(RealPtxFiles, OneSweepCutIntoColumnsIsNoGrid) {
+  const std::string path = realFile("libptx", "points.ptx");
+  const std::vector<PtxScan> scans = readAll(path);
+  ASSERT_EQ(scans.size(), 2u);
+  expectGrid(scans[0], 25, 32, 673);
+  expectGrid(scans[1], 10, 9, 90);
+  EXPECT_EQ(scans[0].colours.size(), 800u);
+  EXPECT_EQ(scans[0].colours[0], (PtxColour{86, 104, 80}));
+  EXPECT_NEAR((scans[0].scannerToWorld.getTranslation() - Vec3d(7.986539, -30.144609, 0.154285)).length(), 0.0, 1e-9);
+  EXPECT_NEAR((scans[1].scannerToWorld.getTranslation() - Vec3d(-16.343402, -4.870179, 2.283744)).length(), 0.0, 1e-9);
+  test::expectInputError([&] { loadPtxScans(path); }, path, "scan 1 (lines 1 to 810): its returns span up to ");
 }
 
 }  // namespace
