@@ -7,7 +7,7 @@
 # memory budget runs on four ranks within it; a rank that fails (bad input, a
 # memory limit it cannot meet, a piece it cannot write, killed mid-run) stops every rank,
 # with a clear message, a non-zero exit and no output, and never hangs; so
-# does Ctrl-C.
+# does Ctrl-C, also when it reaches one rank as the pieces are written.
 #   cli_mpi_test.sh <levelfuse> <mpiexec> <scratch folder>
 set -uo pipefail
 levelfuse=$1
@@ -178,4 +178,23 @@ code=$?
 [ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "Ctrl-C: exit code $code"
 grep -q "interrupted while .* of 4); nothing written" interrupted.err || fail "Ctrl-C: $(cat interrupted.err)"
 [ ! -e interrupted.vdb ] || fail "Ctrl-C: an output was written"
+
+# 6b. Ctrl-C reaching one rank of three as it writes its piece (--pieces): the others
+#     have written theirs, and every piece is let go.
+cat > interruptwriting.sh <<SCRIPT
+#!/usr/bin/env bash
+[ "\${OMPI_COMM_WORLD_RANK:-0}" = 1 ] && export LEVELFUSE_TEST_SIGNAL_AT=writing
+exec "$levelfuse" "\$@"
+SCRIPT
+chmod +x interruptwriting.sh
+mkdir interruptedpieces
+run 3 ./interruptwriting.sh reconstruct scans/scans.json -o interruptedpieces/pieces.vdb --pieces -q \
+  2> interruptedpieces.err
+code=$?
+[ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "Ctrl-C while writing pieces: exit code $code"
+grep -q "interrupted while writing (rank 1 of 3); nothing written" interruptedpieces.err ||
+  fail "Ctrl-C while writing pieces: $(cat interruptedpieces.err)"
+grep -q "rank 1 of 3 could not write its piece (interrupted); no piece written" interruptedpieces.err ||
+  fail "Ctrl-C while writing pieces: the other ranks did not say why: $(cat interruptedpieces.err)"
+[ -z "$(ls -A interruptedpieces)" ] || fail "Ctrl-C while writing pieces: files were left: $(ls -A interruptedpieces)"
 echo "ok"
