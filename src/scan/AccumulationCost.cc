@@ -7,8 +7,11 @@
 
 #include "LeavesReached.h"
 
+#include <openvdb/openvdb.h>
+
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <utility>
 
 namespace levelfuse {
@@ -40,6 +43,25 @@ AccumulationCost accumulationCost(const RangeMapSequence& maps, double voxelSize
   openvdb::BBoxd reached;
   maps([&](const RangeMap& m) { leafMarks += detail::leafMarks(m, voxelSize, reach, reached); });
   return costOfMarks(leafMarks, reached, voxelSize);
+}
+
+std::vector<std::pair<openvdb::Int32, std::size_t>> accumulationColumns(const RangeMapSequence& maps, double voxelSize,
+                                                                        double reach) {
+  // One voxel per leaf node reached (index space divided by the leaf's width).
+  openvdb::MaskTree reachedLeaves;
+  maps([&](const RangeMap& m) {
+    openvdb::tree::ValueAccessor<openvdb::MaskTree> leaves(reachedLeaves);
+    for (const openvdb::Coord& origin : detail::leavesReached(m, voxelSize, reach))
+      leaves.setValueOn(origin >> openvdb::FloatTree::LeafNodeType::LOG2DIM);
+  });
+  std::map<openvdb::Int32, std::size_t> perColumn;
+  for (auto leaf = reachedLeaves.cbeginValueOn(); leaf; ++leaf) {
+    const openvdb::CoordBBox cells = leaf.getBoundingBox();  // one voxel, or a tile of them
+    for (openvdb::Int32 x = cells.min().x(); x <= cells.max().x(); ++x)
+      perColumn[x * static_cast<openvdb::Int32>(openvdb::FloatTree::LeafNodeType::DIM)] +=
+          static_cast<std::size_t>(cells.dim().y()) * static_cast<std::size_t>(cells.dim().z());
+  }
+  return {perColumn.begin(), perColumn.end()};
 }
 
 AccumulationCostOf accumulationCostOf(RangeMapSequence maps) {

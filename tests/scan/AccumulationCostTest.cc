@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <limits>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -59,6 +61,34 @@ TEST(AccumulationCost, OfPackedMapsIsTheSameWhateverTheThreads) {
       EXPECT_EQ(unpacked.leaves, visited.leaves) << reach << ", " << threads;
       EXPECT_EQ(unpacked.bytes, visited.bytes) << reach << ", " << threads;
     }
+}
+
+TEST(AccumulationCost, ColumnsHoldEveryLeafThatAccumulationFills) {
+  // Per column of leaf nodes along x: each leaf the windows reach, once. Every
+  // leaf that accumulation fills is among them, and no column holds more than
+  // the leaves its box spans or the marks count.
+  const std::vector<RangeMap> maps = sphereViews();
+  for (const double voxel : {0.02, 0.05}) {
+    const ForceField field(maps, defaultForceFieldOptions(maps, voxel));
+    const double reach = field.options().dataWindow().reach();
+    const auto columns = accumulationColumns(rangeMapsOf(maps), voxel, reach);
+    std::map<openvdb::Int32, std::size_t> filled;
+    const AccumulatedField accumulated = field.accumulate(voxel);
+    for (auto leaf = accumulated.g->tree().cbeginLeaf(); leaf; ++leaf) ++filled[leaf->origin().x()];
+    std::size_t total = 0;
+    openvdb::Int32 previous = std::numeric_limits<openvdb::Int32>::min();
+    for (const auto& [x, leaves] : columns) {
+      EXPECT_EQ(x % 8, 0) << voxel;
+      EXPECT_GT(x, previous) << "in order of x";
+      previous = x;
+      EXPECT_GE(leaves, filled[x]) << "column " << x << ", voxel " << voxel;
+      EXPECT_GT(leaves, 0u);
+      total += leaves;
+    }
+    EXPECT_EQ(filled.size(), columns.size()) << "a column that no leaf is filled in, or a filled one left out";
+    EXPECT_LE(static_cast<double>(total), accumulationCost(maps, voxel, reach).leaves) << voxel;
+    EXPECT_LT(static_cast<double>(total), 3.0 * static_cast<double>(accumulated.g->tree().leafCount())) << voxel;
+  }
 }
 
 }  // namespace

@@ -11,7 +11,9 @@
 
 #include <levelfuse/scan/RangeMap.h>
 
+#include <cstddef>
 #include <functional>
+#include <utility>
 #include <vector>
 
 namespace levelfuse {
@@ -39,6 +41,14 @@ inline constexpr double kBytesPerAccumulatedLeaf = 4608.0;
 AccumulationCost accumulationCost(const std::vector<RangeMap>& maps, double voxelSize, double reach);
 /// The same, of maps visited one at a time.
 AccumulationCost accumulationCost(const RangeMapSequence& maps, double voxelSize, double reach);
+
+/// The leaf nodes the windows of `maps` reach on a grid of `voxelSize`, each
+/// once, counted per column of leaf nodes: the x origin (voxels) of each
+/// column that has any, and how many, in order of x (balancedSlabs' input):
+/// where along x the data term's leaves, and the surface, lie before any is
+/// accumulated.
+std::vector<std::pair<openvdb::Int32, std::size_t>> accumulationColumns(const RangeMapSequence& maps, double voxelSize,
+                                                                        double reach);
 
 struct PackedScans;
 
