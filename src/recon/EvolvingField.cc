@@ -5,6 +5,8 @@
 #include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/levelset/Refine.h>
 
+#include <utility>
+
 
 namespace levelfuse::detail {
 
@@ -21,6 +23,9 @@ EvolvingField::EvolvingField(SparseField whole) : mWhole(std::make_unique<Sparse
 
 EvolvingField::EvolvingField(const SparseField& whole, const SlabTeam& team)
     : mSlab(std::make_unique<SlabField>(SlabField::fromField(whole, slabOf(whole, team)))), mTeam(&team) {}
+
+EvolvingField::EvolvingField(SlabField slab, const SlabTeam& team)
+    : mSlab(std::make_unique<SlabField>(std::move(slab))), mTeam(&team) {}
 
 EvolvingField::EvolvingField(EvolvingField&&) noexcept = default;
 EvolvingField& EvolvingField::operator=(EvolvingField&&) noexcept = default;
@@ -43,34 +48,39 @@ void EvolvingField::refine(const SparseFieldOptions& engine) {
   mSlab = std::make_unique<SlabField>(refineAcrossTeam(std::move(*mSlab), *mTeam, engine));
 }
 
-openvdb::FloatGrid::Ptr EvolvingField::release(const std::string& name, bool inPieces) {
+EvolvingField::Surface EvolvingField::release(const std::string& name, const Weigh& weigh, bool inPieces) {
   mReleasedStats = stats();
   mReleasedOwnLeaves = ownLeafNodes();
   if (!mSlab) {
-    openvdb::FloatGrid::Ptr levelSet = mWhole->toLevelSet(3.0, name);
+    Surface whole{mWhole->toLevelSet(3.0, name), nullptr};
     mWhole.reset();
-    return levelSet;
+    whole.weight = weigh(*whole.levelSet);
+    return whole;
   }
   // Each process makes its slab's leaves of the level set (the whole
-  // field's there once the ghosts are fresh); the first moves its own in and
-  // adds the others' as they arrive, one process's at a time.
+  // field's there once the ghosts are fresh) and weighs them; the first moves
+  // its own in and adds the others' as they arrive, one process's at a time.
   mTeam->refreshGhosts(*mSlab);
-  openvdb::FloatGrid::Ptr piece = mSlab->toLevelSet(3.0, name);
+  Surface piece{mSlab->toLevelSet(3.0, name), nullptr};
   mReleasedBounds = mSlab->bounds();
-  if (inPieces) {
-    mSlab.reset();
-    return piece;
-  }
-  const openvdb::FloatGrid::Ptr whole = piece->copyWithNewTree();
-  const bool first = mTeam->rank() == 0;
-  PackedLeaves own;
-  if (first) moveLevelSetLeaves(*piece, mSlab->bounds(), *whole);
-  else own = packLevelSetLeaves(*piece, mSlab->bounds());
-  piece.reset();
   mSlab.reset();
-  mTeam->gatherEach(std::move(own), 0, [&](PackedLeaves leaves) { addLevelSetLeaves(*whole, leaves); });
-  if (!first) return nullptr;
-  closeAssembledLevelSet(*whole);
+  piece.weight = weigh(*piece.levelSet);
+  if (inPieces) return piece;
+  const bool first = mTeam->rank() == 0;
+  Surface whole{piece.levelSet->copyWithNewTree(), piece.weight->copyWithNewTree()};
+  PackedLeaves ownLevelSet, ownWeight;
+  if (first) {
+    moveLevelSetLeaves(*piece.levelSet, mReleasedBounds, *whole.levelSet);
+    moveLevelSetLeaves(*piece.weight, mReleasedBounds, *whole.weight);
+  } else {
+    ownLevelSet = packLevelSetLeaves(*piece.levelSet, mReleasedBounds);
+    ownWeight = packLevelSetLeaves(*piece.weight, mReleasedBounds);
+  }
+  piece = Surface();
+  mTeam->gatherEach(std::move(ownLevelSet), 0, [&](PackedLeaves leaves) { addLevelSetLeaves(*whole.levelSet, leaves); });
+  mTeam->gatherEach(std::move(ownWeight), 0, [&](PackedLeaves leaves) { addLevelSetLeaves(*whole.weight, leaves); });
+  if (!first) return Surface();
+  closeAssembledLevelSet(*whole.levelSet);
   return whole;
 }
 

@@ -8,6 +8,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,9 @@ class EvolvingField {
   /// the team has processes, with about as many leaf nodes each. Each finer
   /// grid is cut afresh (refine).
   EvolvingField(const SparseField& whole, const SlabTeam& team);
+  /// This process's slab of `team`'s field, cut before the field was made
+  /// (from this process's slab of the data alone, recon/SharedData.h).
+  EvolvingField(SlabField slab, const SlabTeam& team);
 
   EvolvingField(EvolvingField&&) noexcept;
   EvolvingField& operator=(EvolvingField&&) noexcept;
@@ -44,16 +48,24 @@ class EvolvingField {
   /// leaf nodes share out evenly, and this process takes its new slab
   /// (refineAcrossTeam).
   void refine(const SparseFieldOptions& engine);
-  /// The whole field as an OpenVDB level set (half-width 3, named `name`): on
-  /// a team, at its first process only (null on the others). The field is
-  /// let go, its counts kept: the outputs made from the level set need the
-  /// memory. On a team, each process makes its slab's leaves of the level set
-  /// and the first puts them together (LevelSetPieces.h): it never holds the
-  /// whole field. With `inPieces`, every process of a team returns its
-  /// slab's level set instead, its neighbours' leaves beside its own (the
-  /// voxels that normals at the slab's edge read), for the grids made from it;
-  /// keepOwnPiece then cuts them down to the process's piece.
-  openvdb::FloatGrid::Ptr release(const std::string& name, bool inPieces = false);
+  /// A level set and the weight grid made of it.
+  struct Surface {
+    openvdb::FloatGrid::Ptr levelSet, weight;
+  };
+  /// Makes a level set's weight grid (recon/SurfaceWeight.h).
+  using Weigh = std::function<openvdb::FloatGrid::Ptr(const openvdb::FloatGrid&)>;
+  /// The whole field as an OpenVDB level set (half-width 3, named `name`),
+  /// with its weight grid, `weigh` of it: on a team, at its first process
+  /// only (null on the others). The field is let go, its counts kept: the
+  /// outputs made from the level set need the memory. On a team, each
+  /// process makes its slab's leaves of the level set and weighs them (the
+  /// data it reads are its slab's), and the first puts them together
+  /// (LevelSetPieces.h): it never holds the whole field. With `inPieces`,
+  /// every process of a team returns its slab's level set and weight
+  /// instead, its neighbours' leaves beside its own (the voxels that normals
+  /// at the slab's edge read), for the grids made from it; keepOwnPiece
+  /// then cuts them down to the process's piece.
+  Surface release(const std::string& name, const Weigh& weigh, bool inPieces = false);
   /// After release(name, true): `levelSet` becomes this process's piece of
   /// the whole level set (closeLevelSetPiece, described by
   /// describeLevelSetPiece), and `weight` and `colour` (either may be null)

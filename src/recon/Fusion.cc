@@ -2,6 +2,8 @@
 
 #include <levelfuse/recon/Fusion.h>
 
+#include <levelfuse/recon/SharedData.h>
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -29,6 +31,16 @@ ForceFieldOptions FusionSettings::levelForceOptions(int level) const {
   ForceFieldOptions f = forceFieldOptions(epsilon, levelVoxelSize(level), window);
   f.grainSize = grainSize == 0 ? 0 : 1;
   return f;
+}
+
+void Fusion::restrictToSlab(const SlabBounds& data) {
+  if (levels() != 1)
+    throw std::invalid_argument("Fusion::restrictToSlab: only a fusion of one grid holds a slab of the data (it has " +
+                                std::to_string(levels()) + ")");
+  if (scanCount() > 0)
+    throw std::invalid_argument("Fusion::restrictToSlab: the fusion holds maps already: restrict it before the first");
+  mGrids.front()->restrictToSlab(data.begin, data.end);
+  mDataSlab = data;
 }
 
 void Fusion::addToGrids(const RangeMap& map) {
@@ -75,6 +87,9 @@ PackedScans Fusion::takeScans() {
 SparseField Fusion::linearSolutionField(int level, LinearBand band, const SparseFieldOptions& engine,
                                         const Interrupter& interrupter, const RangeMapSequence& scans) const {
   if (mSummary.readings() == 0) throw std::invalid_argument("Fusion: no reading integrated yet");
+  if (mDataSlab)
+    throw std::invalid_argument("Fusion: it holds one slab of the data (restrictToSlab): only its team's "
+                                "reconstruction makes a linear solution of it");
   if (!scans && mKeep != Keep::kPacked)
     throw std::invalid_argument("Fusion: it keeps no maps (Keep::kNothing): hand in the maps to carve with");
   const DataTermGrids& grids = dataTerm(level);
@@ -109,8 +124,9 @@ std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const Recons
 
 std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
                                         const std::function<void(std::size_t, std::size_t)>& integrated,
-                                        const Interrupter& interrupter) {
-  std::unique_ptr<Fusion> fusion = fusionFor(accumulationCostOf(scans), resolved, Fusion::Keep::kPacked);
+                                        const Interrupter& interrupter, const SlabTeam* team) {
+  std::unique_ptr<Fusion> fusion =
+      fusionOnTeam(accumulationCostOf(scans), scans.unpacked(), resolved, Fusion::Keep::kPacked, team);
   fusion->integrate(std::move(scans.maps), integrated, interrupter);
   return fusion;
 }

@@ -8,6 +8,7 @@
 #include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/SharedData.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 #include <levelfuse/scan/AccumulationCost.h>
 #include <levelfuse/scan/SurfaceColour.h>
@@ -229,26 +230,45 @@ void Reconstructor::requireAccumulationMemory(int level) const {
   levelfuse::requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, level);
 }
 
-SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fusion* fusion,
-                                        const std::function<void(std::size_t)>& carvedWith) const {
-  requireCoarsestGridMemory();
+LinearBand Reconstructor::initialBand() const {
   // Structures thinner than a voxel of a coarse grid are noise against it; the
   // finest grid keeps all it resolves (ForceField.h, LinearBand).
-  const LinearBand band = *mOptions.levels > 1 ? LinearBand::kRebuilt : LinearBand::kZeroCrossings;
-  // Carving asks the fusion's own maps, or this reconstructor's, telling `carvedWith` after each.
-  const RangeMapSequence maps = mFusion ? mFusion->scans() : rangeMapsOf(*mMaps);
-  const RangeMapSequence carving = [&](const RangeMapVisitor& visit) {
+  return *mOptions.levels > 1 ? LinearBand::kRebuilt : LinearBand::kZeroCrossings;
+}
+
+RangeMapSequence Reconstructor::carvingScans(const std::function<void(std::size_t)>& carvedWith) const {
+  // The fusion's own maps, or this reconstructor's.
+  RangeMapSequence maps = mFusion ? mFusion->scans() : rangeMapsOf(*mMaps);
+  return [maps = std::move(maps), carvedWith](const RangeMapVisitor& visit) {
     std::size_t visited = 0;
     maps([&](const RangeMap& m) {
       visit(m);
       if (carvedWith) carvedWith(++visited);
     });
   };
+}
+
+SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fusion* fusion,
+                                        const std::function<void(std::size_t)>& carvedWith) const {
+  requireCoarsestGridMemory();
+  const LinearBand band = initialBand();
+  const RangeMapSequence carving = carvingScans(carvedWith);
   if (fusion) return fusion->linearSolutionField(0, band, mOptions.engine, interrupter, carving);
   requireAccumulationMemory(0);
   const ForceFieldOptions f = forceOptions(0);
   return linearSolutionField(ForceField(mMaps, f).accumulate(voxelSize(0), interrupter), carving,
                              f.dataWindow().reach(), band, mOptions.engine, interrupter);
+}
+
+SlabField Reconstructor::initialSlab(const Interrupter& interrupter, const Fusion& fusion,
+                                     const std::function<void(std::size_t)>& carvedWith, const SlabTeam& team) const {
+  requireCoarsestGridMemory();
+  // This process's slab of the data: the team agrees on the whole data's box.
+  const SlabBounds data = *fusion.dataSlab();
+  const DataTermGrids& grids = fusion.dataTerm(0);
+  return linearSolutionSlabField(AccumulatedField{grids.gGrid(), grids.weightGrid(), 0}, carvingScans(carvedWith),
+                                 grids.window().reach(), initialBand(), slabOfTheData(data, team), ownSlabOf(data),
+                                 mOptions.engine, interrupter);
 }
 
 void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels, const SlabTeam* team) const {
@@ -274,7 +294,15 @@ void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels, co
                     (shared && !assembles ? " or more processes" : ""));
 }
 
+void Reconstructor::requireWholeData(const char* what) const {
+  if (mFusion && mFusion->dataSlab())
+    throw std::invalid_argument(std::string("Reconstructor::") + what +
+                                ": the fusion holds one slab of the data (Fusion::restrictToSlab): only the team's "
+                                "run() reconstructs from it");
+}
+
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
+  requireWholeData("linearSolution");
   if (*mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter, mFusion).stats().activeSetVoxels);
   else requireCoarsestGridMemory();
   if (mFusion)
@@ -287,6 +315,7 @@ openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interru
 
 openvdb::FloatGrid::Ptr Reconstructor::surfaceWeight(const openvdb::FloatGrid& levelSet,
                                                      const Interrupter& interrupter) const {
+  requireWholeData("surfaceWeight");
   const int finest = *mOptions.levels - 1;
   if (mFusion) return levelfuse::surfaceWeight(levelSet, mFusion->dataTerm(finest), interrupter);
   if (mOptions.dataTerm == DataTermSource::kGrids)
@@ -411,9 +440,12 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   std::unique_ptr<Fusion> fused;
   const Fusion* fusion = mFusion;
   if (!fusion && mOptions.dataTerm == DataTermSource::kGrids) {
-    fused = fuseScans(state, report, interrupter);
+    fused = fuseScans(state, report, interrupter, team);
     fusion = fused.get();
   }
+  if (fusion && fusion->dataSlab() && !(team && team->size() > 1))
+    throw std::invalid_argument("reconstruction: the fusion holds one slab of the data (Fusion::restrictToSlab): run "
+                                "it with the team that shares the data");
   state.stage = ReconstructionProgress::Stage::kInitialModel;
   state.scan = 0;
   state.scans = mSummary.scans();
@@ -424,6 +456,12 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   };
   // A team's processes each keep their slab of the initial model, not the whole.
   detail::EvolvingField field = [&] {
+    if (fusion && fusion->dataSlab()) {
+      // Made of this process's slab of the data alone: the team counts the whole.
+      detail::EvolvingField slab(initialSlab(interrupter, *fusion, carvedWith, *team), *team);
+      requireFinestGridMemory(slab.stats().activeSetVoxels, team);
+      return slab;
+    }
     SparseField initial = initialModel(interrupter, fusion, carvedWith);
     requireFinestGridMemory(initial.stats().activeSetVoxels, team);
     if (team && team->size() > 1) return detail::EvolvingField(initial, *team);
@@ -448,8 +486,9 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
 }
 
 std::unique_ptr<Fusion> Reconstructor::fuseScans(ReconstructionProgress& state, const std::function<void()>& report,
-                                                 const Interrupter& interrupter) const {
-  std::unique_ptr<Fusion> fusion = fusionFor(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, Fusion::Keep::kNothing);
+                                                 const Interrupter& interrupter, const SlabTeam* team) const {
+  std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostOf(rangeMapsOf(*mMaps)), rangeMapsOf(*mMaps), mOptions,
+                                               Fusion::Keep::kNothing, team);
   state.stage = ReconstructionProgress::Stage::kIntegrating;
   state.scan = 0;
   state.scans = mMaps->size();
@@ -486,8 +525,12 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
     const LevelReport evolved = evolveLevel(field, data, h, state, report);
     if (finestGrid) {
       // Pieces stay their slab's level set, ghosts and all, until the colour is made (run).
-      result.levelSet = field.release(mOptions.name, mOptions.keepPieces);
-      if (result.levelSet) result.weight = levelfuse::surfaceWeight(*result.levelSet, data, interrupter);
+      detail::EvolvingField::Surface surface = field.release(
+          mOptions.name,
+          [&](const openvdb::FloatGrid& levelSet) { return levelfuse::surfaceWeight(levelSet, data, interrupter); },
+          mOptions.keepPieces);
+      result.levelSet = std::move(surface.levelSet);
+      result.weight = std::move(surface.weight);
     }
     return evolved;
   };

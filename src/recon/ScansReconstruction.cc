@@ -25,11 +25,11 @@ void ScansReconstruction::letTheGridsGo() {
 
 ScansReconstruction prepareReconstruction(PackedScans scans, const ReconstructionOptions& given,
                                           const std::function<void(std::size_t, std::size_t)>& integrated,
-                                          const Interrupter& interrupter) {
+                                          const Interrupter& interrupter, const SlabTeam* team) {
   ScansReconstruction r;
   const ReconstructionOptions resolved = resolveReconstructionOptions(given, scans.summary);
   if (resolved.dataTerm == DataTermSource::kGrids) {
-    r.fusion = fusePackedScans(std::move(scans), resolved, integrated, interrupter);
+    r.fusion = fusePackedScans(std::move(scans), resolved, integrated, interrupter, team);
     r.reconstructor = std::make_unique<Reconstructor>(*r.fusion, resolved);
     r.scans = r.fusion->scans();
     return r;

@@ -15,8 +15,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace levelfuse {
@@ -152,7 +154,8 @@ class BlockClasses {
  public:
   enum : std::uint8_t { kOutside = 0, kInside = 1, kData = 2 };
 
-  explicit BlockClasses(const openvdb::CoordBBox& blocks) : mBox(blocks), mDim(blocks.dim()) {
+  /// The blocks of `blocks` (none if it is empty), each outside.
+  explicit BlockClasses(const openvdb::CoordBBox& blocks) : mBox(blocks), mDim(blocks.empty() ? Coord(0) : blocks.dim()) {
     mClass.assign(static_cast<std::size_t>(mDim.x()) * mDim.y() * mDim.z(), kOutside);
   }
   std::size_t size() const { return mClass.size(); }
@@ -190,11 +193,29 @@ detail::BlockVotes votesOnUnreached(const openvdb::tree::LeafManager<const openv
   return detail::BlockVotes(std::move(origins), std::move(unreached), voxelSize);
 }
 
-/// The blocks around the data (their box, one block wider), those the data reach marked.
-BlockClasses blocksAroundTheData(const openvdb::tree::LeafManager<const openvdb::FloatTree>& dataLeaves) {
+/// The blocks of a slab's data (`data`, in voxels), one block beyond each
+/// bounded face, in blocks along x.
+std::pair<int, int> blocksOfSlab(const SlabBounds& data) {
+  const int dim = static_cast<int>(LeafT::DIM);
+  const auto blockOf = [dim](openvdb::Int32 x) { return static_cast<int>(std::floor(static_cast<double>(x) / dim)); };
+  return {data.hasLower() ? blockOf(data.begin) - 1 : std::numeric_limits<int>::min(),
+          data.hasHigher() ? blockOf(data.end - 1) + 1 : std::numeric_limits<int>::max()};
+}
+
+/// The blocks around the data (their box, one block wider), those the data
+/// reach marked; of a slab's data, the whole data's box cut to the slab's
+/// blocks (blocksOfSlab).
+BlockClasses blocksAroundTheData(const openvdb::tree::LeafManager<const openvdb::FloatTree>& dataLeaves,
+                                 const SlabOfTheData* slab) {
   openvdb::CoordBBox box;
   for (std::size_t i = 0; i < dataLeaves.leafCount(); ++i) box.expand(dataLeaves.leaf(i).origin() >> LeafT::LOG2DIM);
+  if (slab) box = slab->wholeDataBlocks(box);
   box.expand(1);
+  if (slab) {
+    const auto [first, last] = blocksOfSlab(slab->data);
+    box.min().x() = std::max(box.min().x(), first);
+    box.max().x() = std::min(box.max().x(), last);
+  }
   BlockClasses classes(box);
   for (std::size_t i = 0; i < dataLeaves.leafCount(); ++i)
     classes[classes.index(dataLeaves.leaf(i).origin() >> LeafT::LOG2DIM)] = BlockClasses::kData;
@@ -297,10 +318,10 @@ struct AroundTheData {
 /// data's leaves that no window reaches, and the blocks around the data, at
 /// their centres.
 AroundTheData carveAroundTheData(const AccumulatedField& field, const RangeMapSequence& maps, double margin,
-                                 float width, const Interrupter& interrupter) {
+                                 float width, const Interrupter& interrupter, const SlabOfTheData* slab) {
   const openvdb::math::Transform& xform = field.g->transform();
   const openvdb::tree::LeafManager<const openvdb::FloatTree> dataLeaves(field.g->tree());
-  AroundTheData around{blocksAroundTheData(dataLeaves), {}};
+  AroundTheData around{blocksAroundTheData(dataLeaves, slab), {}};
   detail::BlockVotes unreached = votesOnUnreached(dataLeaves, xform.voxelSize()[0]);
   detail::PointVotes centres = votesOnBlockCentres(around.classes, xform);
   maps([&](const RangeMap& map) {
@@ -313,19 +334,19 @@ AroundTheData carveAroundTheData(const AccumulatedField& field, const RangeMapSe
   return around;
 }
 
-}  // namespace
-
-SparseField linearSolutionField(AccumulatedField field, const RangeMapSequence& maps, double margin,
-                                LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
-  if (field.g->tree().leafCount() == 0)
-    throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
+/// The level set the linear solution's sparse field is built from: the
+/// values of step 3 below at the zero crossings (LinearBand::kZeroCrossings)
+/// or rebuilt (kRebuilt); of one slab of the data, with `slab`.
+openvdb::FloatGrid::Ptr linearSolutionGrid(AccumulatedField field, const RangeMapSequence& maps, double margin,
+                                           LinearBand band, const Interrupter& interrupter,
+                                           const SlabOfTheData* slab) {
   const float width = levelSetBackground(3.0, field.g->voxelSize()[0]);
   const openvdb::math::Transform::Ptr xform = field.g->transform().copy();
   const double h = xform->voxelSize()[0];
 
   // 1. The data's leaves and the blocks around them (carveAroundTheData).
   //    The accumulated grids are let go then: what follows needs neither.
-  AroundTheData around = carveAroundTheData(field, maps, margin, width, interrupter);
+  AroundTheData around = carveAroundTheData(field, maps, margin, width, interrupter, slab);
   field = AccumulatedField();
   BlockClasses& classes = around.classes;
   Leaves& leaves = around.leaves;
@@ -349,13 +370,30 @@ SparseField linearSolutionField(AccumulatedField field, const RangeMapSequence& 
     const ParallelInterrupt interrupt(interrupter);
     removeSpecks(*raw, interrupt);
     distancesAtZeroCrossings(*raw, interrupt);
-    return SparseField::fromLevelSet(*raw, engine);
+    return raw;
   }
   // 4. Rebuilt into a true narrow band of Euclidean distances.
   openvdb::FloatGrid::Ptr psi = openvdb::tools::levelSetRebuild(*raw, 0.0f, 3.0f);
   openvdb::tools::changeLevelSetBackground(psi->tree(), width);
   psi->setGridClass(openvdb::GRID_LEVEL_SET);
-  return SparseField::fromLevelSet(*psi, engine);
+  return psi;
+}
+
+}  // namespace
+
+SparseField linearSolutionField(AccumulatedField field, const RangeMapSequence& maps, double margin,
+                                LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
+  if (field.g->tree().leafCount() == 0)
+    throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
+  return SparseField::fromLevelSet(*linearSolutionGrid(std::move(field), maps, margin, band, interrupter, nullptr),
+                                   engine);
+}
+
+SlabField linearSolutionSlabField(AccumulatedField data, const RangeMapSequence& maps, double margin, LinearBand band,
+                                  const SlabOfTheData& slab, const SlabBounds& own, const SparseFieldOptions& engine,
+                                  const Interrupter& interrupter) {
+  return SlabField::fromLevelSet(*linearSolutionGrid(std::move(data), maps, margin, band, interrupter, &slab), own,
+                                 engine);
 }
 
 SparseField linearSolutionField(AccumulatedField data, const std::vector<RangeMap>& maps, double margin,

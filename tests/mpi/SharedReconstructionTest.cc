@@ -2,6 +2,7 @@
 // of every grid each, gives one process's result bit for bit, at rank 0, or
 // in pieces, one at each rank.
 
+#include "recon/RoomFrames.h"
 #include "support/NoisyTorus.h"
 #include "support/TestSupport.h"
 
@@ -16,38 +17,60 @@
 namespace levelfuse {
 namespace {
 
-void expectSharedRunIsOneProcesssRun(DataTermSource source) {
+/// Expects the ranks' run of `reconstructor` to give its one process's
+/// result, at rank 0; returns that result.
+ReconstructionResult expectSharedRunIsOneProcesssRun(const Reconstructor& reconstructor) {
+  const mpi::RankTeam team;
+  const ReconstructionResult alone = reconstructor.run();
+  const ReconstructionResult shared = reconstructor.run({}, {}, &team);
+  EXPECT_EQ(alone.levels.size(), shared.levels.size());
+  for (std::size_t l = 0; l < std::min(alone.levels.size(), shared.levels.size()); ++l) {
+    EXPECT_EQ(alone.levels[l].iterations, shared.levels[l].iterations) << "grid " << l << ", rank " << team.rank();
+    EXPECT_EQ(alone.levels[l].activeSetVoxels, shared.levels[l].activeSetVoxels) << "grid " << l;
+    EXPECT_EQ(alone.levels[l].bandVoxels, shared.levels[l].bandVoxels) << "grid " << l;
+    EXPECT_EQ(team.total(shared.levels[l].ownLeafNodes), alone.levels[l].ownLeafNodes) << "grid " << l;
+  }
+  if (team.rank() != 0) {
+    EXPECT_FALSE(shared.levelSet || shared.weight) << "only the first rank holds the result";
+    return alone;
+  }
+  EXPECT_TRUE(shared.levelSet && shared.weight);
+  if (!shared.levelSet || !shared.weight) return alone;
+  std::string why;
+  EXPECT_TRUE(test::identical(*alone.levelSet, *shared.levelSet, &why)) << why;
+  EXPECT_TRUE(test::sameTreeBytes(*alone.levelSet, *shared.levelSet)) << "the trees' tiles or nodes differ";
+  EXPECT_TRUE(test::identical(*alone.weight, *shared.weight, &why)) << why;
+  return alone;
+}
+
+/// The noisy torus on 3 grids, the data term from `source`.
+void expectTheTorusIsOneProcesss(DataTermSource source) {
   ReconstructionOptions options;
   options.voxelSize = 0.02;
   options.levels = 3;
   options.dataTerm = source;
-  const Reconstructor reconstructor(test::noisyTorusScans(), options);
-  const mpi::RankTeam team;
-  const ReconstructionResult alone = reconstructor.run();
-  const ReconstructionResult shared = reconstructor.run({}, {}, &team);
-  ASSERT_EQ(alone.levels.size(), shared.levels.size());
-  for (std::size_t l = 0; l < alone.levels.size(); ++l) {
-    EXPECT_EQ(alone.levels[l].iterations, shared.levels[l].iterations) << "grid " << l << ", rank " << team.rank();
-    EXPECT_EQ(alone.levels[l].activeSetVoxels, shared.levels[l].activeSetVoxels) << "grid " << l;
-    EXPECT_EQ(alone.levels[l].bandVoxels, shared.levels[l].bandVoxels) << "grid " << l;
-  }
-  if (team.rank() != 0) {
-    EXPECT_FALSE(shared.levelSet) << "only the first rank holds the result";
-    return;
-  }
-  ASSERT_TRUE(shared.levelSet && shared.weight);
-  std::string why;
-  EXPECT_TRUE(test::identical(*alone.levelSet, *shared.levelSet, &why)) << why;
-  EXPECT_TRUE(test::identical(*alone.weight, *shared.weight, &why)) << why;
+  const ReconstructionResult alone = expectSharedRunIsOneProcesssRun(Reconstructor(test::noisyTorusScans(), options));
   EXPECT_GT(alone.levels.back().iterations, 4);
 }
 
 TEST(SharedReconstruction, TheDataTermFromTheMapsGivesOneProcesssSurface) {
-  expectSharedRunIsOneProcesssRun(DataTermSource::kPerMap);
+  expectTheTorusIsOneProcesss(DataTermSource::kPerMap);
 }
 
 TEST(SharedReconstruction, TheDataTermFromGridsGivesOneProcesssSurface) {
-  expectSharedRunIsOneProcesssRun(DataTermSource::kGrids);
+  expectTheTorusIsOneProcesss(DataTermSource::kGrids);
+}
+
+TEST(SharedReconstruction, DepthFramesGiveOneProcesssSurfaceWithEachRankHoldingItsSlabOfTheData) {
+  // Depth frames of a room, one grid, the data term from grids: each rank
+  // integrates the frames within its slab (and the voxels it reads beyond)
+  // alone, and makes its slab of the initial model from them.
+  ReconstructionOptions options;
+  options.voxelSize = 0.02;
+  options.dataTerm = DataTermSource::kGrids;
+  const Reconstructor reconstructor(roomFrames().reconstruction, options);
+  ASSERT_EQ(*reconstructor.options().levels, 1);
+  expectSharedRunIsOneProcesssRun(reconstructor);
 }
 
 TEST(SharedReconstruction, EachRankKeepsItsPieceOfOneProcesssSurface) {

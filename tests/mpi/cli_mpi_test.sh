@@ -51,6 +51,28 @@ else
   echo "the bunny's scans are not at $bunny: its part of the test is left out"
 fi
 
+# 1a. Depth frames (one grid, the data term from grids): each rank integrates its slab of the data
+#     alone and makes its slab of the initial model from it; the outputs are one process's, byte for
+#     byte. Forty synthetic frames of the torus, and 7-Scenes' fifty when the shared data are beside
+#     the repository.
+"$levelfuse" synth --shape torus --pinhole --views 40 --resolution 100 --noise 0.1 -o frames >/dev/null ||
+  fail "synth frames"
+frameRuns=("frames/scans.json")
+sevenScenes="$here/../../../shared/data/7scenes"
+[ -d "$sevenScenes" ] && frameRuns+=("$sevenScenes --voxel-size 0.02")
+for k in "${!frameRuns[@]}"; do
+  # shellcheck disable=SC2086 # the run's input and options, split on purpose
+  "$levelfuse" reconstruct ${frameRuns[$k]} -o "frames$k-1.vdb" --mesh "frames$k-1.ply" -q ||
+    fail "frames ${frameRuns[$k]}, one process"
+  for ranks in 2 4; do
+    # shellcheck disable=SC2086
+    run "$ranks" "$levelfuse" reconstruct ${frameRuns[$k]} -o "frames$k-$ranks.vdb" --mesh "frames$k-$ranks.ply" -q ||
+      fail "frames ${frameRuns[$k]}, $ranks ranks exited with $?"
+    cmp "frames$k-1.vdb" "frames$k-$ranks.vdb" || fail "frames ${frameRuns[$k]}, $ranks ranks: the .vdb differs"
+    cmp "frames$k-1.ply" "frames$k-$ranks.ply" || fail "frames ${frameRuns[$k]}, $ranks ranks: the mesh differs"
+  done
+done
+
 # 1b. Pieces (--pieces): each of 3 ranks writes its own piece of the level set; together they
 #     are one process's level set (their CSG union), and each says which piece it is.
 run 3 "$levelfuse" reconstruct scans/scans.json -o pieces.vdb --pieces --json > pieces.json || fail "pieces: exit $?"

@@ -3,12 +3,16 @@
 // one process (support/ThreadTeam.h), so the path runs under AddressSanitizer
 // too; tests/mpi runs it on the ranks of an MPI job.
 
+#include "RoomFrames.h"
 #include "support/MemoryBudgetScope.h"
 #include "support/NoisyTorus.h"
 #include "support/TestSupport.h"
 #include "support/ThreadTeam.h"
 
+#include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/SharedData.h>
+#include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/Synth.h>
 
 #include <gtest/gtest.h>
@@ -25,6 +29,26 @@ namespace {
 
 using openvdb::Vec3d;
 
+/// Expects `mine`, a rank's result of a team's run, to be `alone`'s (the
+/// first rank's surface and weight, the others' none), grid by grid.
+void expectOneProcesssResult(const ReconstructionResult& alone, const ReconstructionResult& mine, int rank) {
+  ASSERT_EQ(alone.levels.size(), mine.levels.size());
+  for (std::size_t l = 0; l < alone.levels.size(); ++l) {
+    EXPECT_EQ(alone.levels[l].iterations, mine.levels[l].iterations) << "grid " << l << ", rank " << rank;
+    EXPECT_EQ(alone.levels[l].activeSetVoxels, mine.levels[l].activeSetVoxels) << "grid " << l << ", rank " << rank;
+    EXPECT_EQ(alone.levels[l].bandVoxels, mine.levels[l].bandVoxels) << "grid " << l << ", rank " << rank;
+  }
+  if (rank > 0) {
+    EXPECT_FALSE(mine.levelSet || mine.weight) << "only the first rank holds the result";
+    return;
+  }
+  ASSERT_TRUE(mine.levelSet && mine.weight);
+  std::string why;
+  EXPECT_TRUE(test::identical(*alone.levelSet, *mine.levelSet, &why)) << why;
+  EXPECT_TRUE(test::sameTreeBytes(*alone.levelSet, *mine.levelSet)) << "the trees' tiles or nodes differ";
+  EXPECT_TRUE(test::identical(*alone.weight, *mine.weight, &why)) << why;
+}
+
 void expectTeamRunIsOneProcesssRun(DataTermSource source, int ranks) {
   ReconstructionOptions options;
   options.voxelSize = 0.02;
@@ -36,18 +60,7 @@ void expectTeamRunIsOneProcesssRun(DataTermSource source, int ranks) {
   test::runOnThreadTeam(ranks, [&](const SlabTeam& team) {
     shared[static_cast<std::size_t>(team.rank())] = reconstructor.run({}, {}, &team);
   });
-  for (int r = 0; r < ranks; ++r) {
-    const ReconstructionResult& mine = shared[static_cast<std::size_t>(r)];
-    ASSERT_EQ(alone.levels.size(), mine.levels.size());
-    for (std::size_t l = 0; l < alone.levels.size(); ++l) {
-      EXPECT_EQ(alone.levels[l].iterations, mine.levels[l].iterations) << "grid " << l << ", rank " << r;
-      EXPECT_EQ(alone.levels[l].activeSetVoxels, mine.levels[l].activeSetVoxels) << "grid " << l << ", rank " << r;
-      EXPECT_EQ(alone.levels[l].bandVoxels, mine.levels[l].bandVoxels) << "grid " << l << ", rank " << r;
-    }
-    if (r > 0) {
-      EXPECT_FALSE(mine.levelSet) << "only the first rank holds the result";
-    }
-  }
+  for (int r = 0; r < ranks; ++r) expectOneProcesssResult(alone, shared[static_cast<std::size_t>(r)], r);
   // Every grid is cut afresh: the ranks' shares of the finest grid's leaf
   // nodes are about even (whole columns of leaves, cut before the grid evolved).
   std::size_t leaves = 0, most = 0;
@@ -57,12 +70,6 @@ void expectTeamRunIsOneProcesssRun(DataTermSource source, int ranks) {
   }
   EXPECT_EQ(leaves, alone.levels.back().ownLeafNodes);
   EXPECT_LT(static_cast<double>(most), 1.4 * static_cast<double>(leaves) / ranks);
-  const ReconstructionResult& first = shared.front();
-  ASSERT_TRUE(first.levelSet && first.weight);
-  std::string why;
-  EXPECT_TRUE(test::identical(*alone.levelSet, *first.levelSet, &why)) << why;
-  EXPECT_TRUE(test::sameTreeBytes(*alone.levelSet, *first.levelSet)) << "the trees' tiles or nodes differ";
-  EXPECT_TRUE(test::identical(*alone.weight, *first.weight, &why)) << why;
   EXPECT_GT(alone.levels.back().iterations, 4);
 }
 
@@ -72,6 +79,88 @@ TEST(TeamReconstruction, TwoRanksWithTheDataTermFromTheMapsGiveOneProcesssSurfac
 
 TEST(TeamReconstruction, ThreeRanksWithTheDataTermFromGridsGiveOneProcesssSurface) {
   expectTeamRunIsOneProcesssRun(DataTermSource::kGrids, 3);
+}
+
+/// Depth frames of a room at `voxelSize`: one grid, the data term from grids.
+ReconstructionOptions roomOptions(double voxelSize) {
+  ReconstructionOptions options;
+  options.voxelSize = voxelSize;
+  options.dataTerm = DataTermSource::kGrids;
+  return options;
+}
+
+TEST(TeamReconstruction, RanksThatEachHoldTheirSlabOfTheDataGiveOneProcesssSurface) {
+  // Depth frames of a room, one grid: each rank integrates the frames only
+  // within its slab and the voxels it reads beyond, and makes its slab of the
+  // initial model of those data alone; the surface and its weight are one
+  // process's, bit for bit, with the cuts of 2, 3 and 4 ranks at 2 cm, and of
+  // 4 at 1 cm.
+  const std::vector<RangeMap> frames = roomFrames().reconstruction;
+  for (const double voxelSize : {0.02, 0.01}) {
+    const Reconstructor reconstructor(frames, roomOptions(voxelSize));
+    ASSERT_EQ(*reconstructor.options().levels, 1);
+    const ReconstructionResult alone = reconstructor.run();
+    EXPECT_GT(alone.levels.back().iterations, 2);
+    for (const int ranks : voxelSize > 0.015 ? std::vector<int>{2, 3, 4} : std::vector<int>{4}) {
+      std::vector<ReconstructionResult> shared(static_cast<std::size_t>(ranks));
+      test::runOnThreadTeam(ranks, [&](const SlabTeam& team) {
+        shared[static_cast<std::size_t>(team.rank())] = reconstructor.run({}, {}, &team);
+      });
+      for (int r = 0; r < ranks; ++r) {
+        SCOPED_TRACE("voxel size " + std::to_string(voxelSize) + ", " + std::to_string(ranks) + " ranks");
+        expectOneProcesssResult(alone, shared[static_cast<std::size_t>(r)], r);
+      }
+    }
+  }
+}
+
+TEST(TeamReconstruction, AFusionOfOneSlabOfTheDataHoldsItsShareAndReconstructsOnItsTeam) {
+  // The converter's way: each rank fuses the packed frames into its slab of
+  // the data (fusePackedScans with the team), then reconstructs on the team.
+  const std::vector<RangeMap> frames = roomFrames().reconstruction;
+  const ReconstructionOptions options = roomOptions(0.01);
+  PackedScans packed;
+  for (const RangeMap& map : frames) packed.add(RangeMap(map));
+  const ReconstructionOptions resolved = resolveReconstructionOptions(options, packed.summary);
+  const std::unique_ptr<Fusion> whole = fusePackedScans(packed, resolved);
+  const ReconstructionResult alone = Reconstructor(*whole, options).run();
+  constexpr int kRanks = 3;
+  std::vector<ReconstructionResult> shared(kRanks);
+  std::vector<std::size_t> dataBytes(kRanks);
+  std::vector<SlabBounds> dataSlabs(kRanks);
+  test::runOnThreadTeam(kRanks, [&](const SlabTeam& team) {
+    const std::unique_ptr<Fusion> mine = fusePackedScans(packed, resolved, {}, {}, &team);
+    const std::size_t r = static_cast<std::size_t>(team.rank());
+    ASSERT_TRUE(mine->dataSlab());
+    dataSlabs[r] = *mine->dataSlab();
+    dataBytes[r] = mine->dataTerm(0).memoryBytes();
+    const Reconstructor reconstructor(*mine, options);
+    EXPECT_THROW(reconstructor.linearSolution(), std::invalid_argument) << "one slab of the data is no linear solution";
+    shared[r] = reconstructor.run({}, {}, &team);
+  });
+  for (int r = 0; r < kRanks; ++r) expectOneProcesssResult(alone, shared[static_cast<std::size_t>(r)], r);
+  // The slabs' data follow one another, each reaching its neighbours' by the margin.
+  EXPECT_FALSE(dataSlabs.front().hasLower());
+  EXPECT_FALSE(dataSlabs.back().hasHigher());
+  for (int r = 1; r < kRanks; ++r)
+    EXPECT_EQ(ownSlabOf(dataSlabs[static_cast<std::size_t>(r - 1)]).end, ownSlabOf(dataSlabs[static_cast<std::size_t>(r)]).begin);
+  // Each holds a part of the data term. Its margins are wide beside a room
+  // this small: the middle rank's slab is 13 columns of leaf nodes, its data
+  // 23 (measured: the ranks hold 0.48, 0.67 and 0.48 of the whole's bytes).
+  const double wholeBytes = static_cast<double>(whole->dataTerm(0).memoryBytes());
+  double sum = 0.0;
+  for (int r = 0; r < kRanks; ++r) {
+    const double share = static_cast<double>(dataBytes[static_cast<std::size_t>(r)]) / wholeBytes;
+    EXPECT_GT(share, 0.2) << "rank " << r;
+    EXPECT_LT(share, 0.75) << "rank " << r;
+    sum += share;
+  }
+  EXPECT_LT(sum, 1.75);
+  // Without its team, a fusion of one slab reconstructs nothing.
+  test::runOnThreadTeam(2, [&](const SlabTeam& team) {
+    const std::unique_ptr<Fusion> mine = fusePackedScans(packed, resolved, {}, {}, &team);
+    if (team.rank() == 0) EXPECT_THROW(Reconstructor(*mine, options).run(), std::invalid_argument);
+  });
 }
 
 TEST(TeamReconstruction, ARankThatFailsStopsTheOthers) {

@@ -133,9 +133,10 @@ ScansReconstruction prepare(Inputs& in, const ReconstructSettings& s, ProgressBa
   try {
     if (resolveReconstructionOptions(s.options, in.scans.summary).dataTerm == DataTermSource::kGrids)
       enterPhase("integrating");
+    // Under mpirun the ranks share the evolution, and each may integrate its slab of the data alone.
     return prepareReconstruction(
         std::move(in.scans), s.options, [&](std::size_t done, std::size_t total) { bar.integrating(done, total); },
-        cancellationInterrupter());
+        cancellationInterrupter(), s.linear ? nullptr : jobTeam());
   } catch (const std::invalid_argument& e) {
     throw ofTheInputs(s, e);
   } catch (const InsufficientMemory& e) {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/recon/FusionSettings.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/scan/DataTermGrids.h>
@@ -26,10 +27,13 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace levelfuse {
+
+class SlabTeam;
 
 class Fusion {
  public:
@@ -56,6 +60,14 @@ class Fusion {
   void integrate(std::vector<PackedRangeMap> maps,
                  const std::function<void(std::size_t, std::size_t)>& integrated = {},
                  const Interrupter& interrupter = {});
+
+  /// From now on the fusion's grid takes terms within `data` alone
+  /// (DataTermGrids::restrictToSlab): the part of the data term one process
+  /// of a team reads (recon/SharedData.h). A fusion of one grid, before its
+  /// first map; throws std::invalid_argument otherwise.
+  void restrictToSlab(const SlabBounds& data);
+  /// The x range of the data the grid holds (restrictToSlab), or none: all.
+  const std::optional<SlabBounds>& dataSlab() const { return mDataSlab; }
 
   std::size_t scanCount() const { return mSummary.scans(); }
   const ScanSummary& summary() const { return mSummary; }
@@ -99,6 +111,7 @@ class Fusion {
   std::vector<std::unique_ptr<DataTermGrids>> mGrids;  ///< per level, coarsest first
   std::vector<PackedRangeMap> mPacked;
   ScanSummary mSummary;
+  std::optional<SlabBounds> mDataSlab;
 };
 
 /// An empty fusion of the resolved options' grids (fusionSettingsOf), once
@@ -111,8 +124,11 @@ std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const Recons
 /// once and then kept packed by the fusion. `integrated`, if
 /// set, is told after each map how many of how many are in; Interrupted if
 /// `interrupter` asks to stop between maps.
+/// On a `team` that shares the data in slabs (recon/SharedData.h), the
+/// fusion holds this process's slab of the data alone (restrictToSlab), and
+/// only the team's run() reconstructs from it.
 std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
                                         const std::function<void(std::size_t, std::size_t)>& integrated = {},
-                                        const Interrupter& interrupter = {});
+                                        const Interrupter& interrupter = {}, const SlabTeam* team = nullptr);
 
 }  // namespace levelfuse

@@ -242,7 +242,11 @@ class Reconstructor {
   /// result is one process's, bit for bit, and only the team's first process
   /// holds it (the level set, weight and colour are null on the others), or,
   /// with options keepPieces, every process holds its piece of it. The
-  /// scans, the data term and the initial model are every process's whole.
+  /// scans are every process's whole. So are the data term and the initial
+  /// model, but in a run of one grid from grids of the data term (depth
+  /// frames): there each process integrates the maps within its slab of the
+  /// data alone (recon/SharedData.h), and makes its slab of the initial model
+  /// from that part.
   ReconstructionResult run(const ProgressCallback& progress = {}, const Interrupter& interrupter = {},
                            const SlabTeam* team = nullptr) const;
 
@@ -286,14 +290,26 @@ class Reconstructor {
   /// Throws InsufficientMemory if the coarsest grid's box would not fit.
   void requireCoarsestGridMemory() const;
   /// The maps integrated into a fusion of every grid level (progress reported scan by scan).
+  /// On a `team` that shares the data in slabs (recon/SharedData.h), the
+  /// fusion holds this process's slab of the data alone.
   std::unique_ptr<Fusion> fuseScans(ReconstructionProgress& state, const std::function<void()>& report,
-                                    const Interrupter& interrupter) const;
+                                    const Interrupter& interrupter, const SlabTeam* team) const;
   /// The linear solution on the coarsest grid, as a sparse field: from the
   /// fusion's coarsest grid if it is given, else accumulated from the scans.
   /// `carvedWith`, if set, is told after each scan carving asks how many it
   /// has asked in the round (carving asks them all twice).
   SparseField initialModel(const Interrupter& interrupter, const Fusion* fusion = nullptr,
                            const std::function<void(std::size_t)>& carvedWith = {}) const;
+  /// The same, this process's slab of it, from a fusion of this process's slab
+  /// of the data (Fusion::dataSlab): `team` agrees on the whole data's box.
+  SlabField initialSlab(const Interrupter& interrupter, const Fusion& fusion,
+                        const std::function<void(std::size_t)>& carvedWith, const SlabTeam& team) const;
+  /// How the initial model's narrow band is made: rebuilt on a coarse grid.
+  LinearBand initialBand() const;
+  /// The maps that carving asks, `carvedWith` told after each how many it has asked.
+  RangeMapSequence carvingScans(const std::function<void(std::size_t)>& carvedWith) const;
+  /// Throws std::invalid_argument, naming `what`, if the fusion holds one slab of the data alone.
+  void requireWholeData(const char* what) const;
   /// Evolves `field`, of voxel size h, under the data term and the prior
   /// until it converges, settles or reaches the iteration limit (section 6).
   template <typename Field>

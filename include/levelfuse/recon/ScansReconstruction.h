@@ -42,10 +42,13 @@ struct ScansReconstruction {
 /// the scans are integrated here, `integrated` told after each how many of how
 /// many are in. Throws std::invalid_argument for unusable options,
 /// InsufficientMemory for grids that would not fit, Interrupted if
-/// `interrupter` stops the integration.
+/// `interrupter` stops the integration. For a `team` that will share the
+/// reconstruction (Reconstructor::run), the fusion holds this process's slab
+/// of the data alone where the team shares the data in slabs
+/// (recon/SharedData.h).
 ScansReconstruction prepareReconstruction(PackedScans scans, const ReconstructionOptions& given,
                                           const std::function<void(std::size_t, std::size_t)>& integrated = {},
-                                          const Interrupter& interrupter = {});
+                                          const Interrupter& interrupter = {}, const SlabTeam* team = nullptr);
 
 /// Whether meshes and previews leave out the surface no scan observed
 /// (recon/SurfaceWeight.h): as `asked`, else for scenes only (scans of a

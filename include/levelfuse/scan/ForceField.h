@@ -10,6 +10,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/DataWindow.h>
@@ -18,6 +19,7 @@
 #include <openvdb/openvdb.h>
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -76,6 +78,27 @@ enum class LinearBand {
   kRebuilt,
 };
 
+/// One slab of the data, as a process of a team holds it when the team
+/// shares the data slab by slab (recon/SharedData.h): the data term
+/// accumulated within `data` alone (DataTermGrids::restrictToSlab), and what
+/// the processes agree on, the box of every process's data.
+struct SlabOfTheData {
+  SlabBounds data;
+  /// The box of the blocks (leaf-node-sized cells, index space divided by 8)
+  /// that every process's data reach, from this process's: a reduction over
+  /// the team (an empty box where a process has no data).
+  std::function<openvdb::CoordBBox(const openvdb::CoordBBox&)> wholeDataBlocks;
+};
+
+/// How far into a slab of the data (SlabOfTheData) its linear solution may
+/// differ from the whole data's, in voxels from each face the data end at:
+/// the blocks beside a face take the data beyond it for carved space and may
+/// carve (one block, 8 voxels); a speck beside them reaches 7 voxels further,
+/// and its neighbours one more (kSpeckVoxels); a distance at a zero crossing
+/// reads one voxel more. Beyond it every value and active voxel is the whole
+/// data's, bit for bit (tested).
+inline constexpr int kLinearSolutionSlabMargin = 24;
+
 /// The linear solution of an accumulated data term (ForceField::accumulate,
 /// or DataTermGrids' gGrid and weightGrid) as a sparse field with the
 /// engine's settings `engine`, ready to evolve, its narrow band made as `band`
@@ -90,6 +113,15 @@ enum class LinearBand {
 SparseField linearSolutionField(AccumulatedField data, const RangeMapSequence& maps, double margin,
                                 LinearBand band, const SparseFieldOptions& engine = {},
                                 const Interrupter& interrupter = {});
+/// The same of one slab of the data (`slab`), as the slab `own` of the whole
+/// data's sparse field (SlabField::fromLevelSet): exact where `own` lies
+/// kLinearSolutionSlabMargin voxels and the layers' reach within the data.
+/// The blocks carving decides are the whole data's box cut to the slab's data
+/// and one block beyond; a slab with no data, or no surface, is empty. Every
+/// process of the team calls it: the box is agreed on before anything else.
+SlabField linearSolutionSlabField(AccumulatedField data, const RangeMapSequence& maps, double margin, LinearBand band,
+                                  const SlabOfTheData& slab, const SlabBounds& own,
+                                  const SparseFieldOptions& engine = {}, const Interrupter& interrupter = {});
 /// The same, of a vector of range maps.
 SparseField linearSolutionField(AccumulatedField data, const std::vector<RangeMap>& maps, double margin,
                                 LinearBand band, const SparseFieldOptions& engine = {},

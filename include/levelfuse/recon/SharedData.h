@@ -1,0 +1,79 @@
+// levelfuse: the data term shared by a team, slab by slab.
+//
+// When the processes of a team (levelset/SlabTeam.h, e.g. the ranks of an MPI
+// job) share a reconstruction of one grid whose data term comes from grids
+// (depth frames, scenes: many scans), each integrates the scans only within
+// its slab of x and the voxels its slab reads beyond (dataSlabOf), and makes
+// its initial model from that part alone: no process holds the whole data
+// term. The slabs are cut before any scan is integrated, where the leaf
+// nodes the readings' windows reach share out evenly (accumulationColumns):
+// those leaves hold the data term's work and memory, and the surface.
+#pragma once
+
+#include <levelfuse/levelset/SlabField.h>
+#include <levelfuse/levelset/SlabTeam.h>
+#include <levelfuse/recon/Fusion.h>
+#include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/scan/AccumulationCost.h>
+#include <levelfuse/scan/ForceField.h>
+#include <levelfuse/scan/RangeMap.h>
+
+#include <openvdb/openvdb.h>
+
+#include <memory>
+
+namespace levelfuse {
+
+/// Voxels a slab's data reach past each face it shares with a neighbour. The
+/// slab's own leaves of the initial model need to be the whole data's: the
+/// linear solution of a slab of the data is, but within
+/// kLinearSolutionSlabMargin (24) of the data's faces, and the sparse
+/// field's layers read 4 voxels beyond (the layer rule's passes): 28. The
+/// evolution reads the data term at the slab's ghosts (a column of leaf
+/// nodes, 8 voxels) and around them (subcell positions within a voxel, and
+/// the voxels around those): 10. Four columns of leaf nodes.
+inline constexpr openvdb::Int32 kSharedDataMargin = 4 * kLeafNodeWidth;
+
+/// The x range of the data the slab `own` reads: kSharedDataMargin past each
+/// face it shares with a neighbour.
+SlabBounds dataSlabOf(const SlabBounds& own);
+/// The slab whose data are `data` (the inverse of dataSlabOf).
+SlabBounds ownSlabOf(const SlabBounds& data);
+
+/// Whether a run with the `resolved` options on `team` shares its data term
+/// in slabs: a team of more than one process, the data term from grids, one
+/// grid. (Coarse-to-fine runs cut each finer grid afresh as it comes, and
+/// keep the whole data term on every process.)
+bool sharesDataInSlabs(const ReconstructionOptions& resolved, const SlabTeam* team);
+
+/// This process's part of the data of a team that shares them in slabs.
+struct SharedDataSlab {
+  SlabBounds own;       ///< its slab of the field
+  SlabBounds data;      ///< the data it integrates (dataSlabOf)
+  double share = 1.0;   ///< the part of the data's leaf nodes that lie in `data`
+};
+
+/// This process's part of `team`'s data: x cut where the leaf nodes that the
+/// windows of `maps` reach on the grid of the `resolved` options share out
+/// evenly (balancedSlabs of accumulationColumns), alike on every process
+/// that visits the same maps. Throws std::invalid_argument if the data span
+/// fewer columns of leaf nodes than the team has processes.
+SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const ReconstructionOptions& resolved,
+                              const SlabTeam& team);
+
+/// An empty fusion of the `resolved` options' grids for the maps whose cost
+/// `costOf` finds (fusionFor), keeping `keep` of them: on a `team` that
+/// shares the data in slabs (sharesDataInSlabs), of this process's slab of
+/// the data (Fusion::restrictToSlab), whose memory is checked for its share
+/// of the data alone. `maps` are visited once, to cut the slabs, only then.
+std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostOf& costOf, const RangeMapSequence& maps,
+                                     const ReconstructionOptions& resolved, Fusion::Keep keep, const SlabTeam* team);
+
+/// The box of every process's box `own` (an empty box for none), on every process.
+openvdb::CoordBBox teamBox(const openvdb::CoordBBox& own, const SlabTeam& team);
+
+/// This process's slab `data` of `team`'s data, as the linear solution of it
+/// asks (linearSolutionSlabField): the team agrees on the box of the whole data.
+SlabOfTheData slabOfTheData(const SlabBounds& data, const SlabTeam& team);
+
+}  // namespace levelfuse
