@@ -71,6 +71,7 @@
 #include <levelfuse/recon/HeldOutFrames.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/ScansReconstruction.h>
+#include <levelfuse/recon/SharedData.h>
 #include <levelfuse/recon/SurfaceRoughness.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 
