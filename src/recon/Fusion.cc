@@ -109,9 +109,14 @@ ReconstructionResult Fusion::reconstruct(const ReconstructionOptions& options, c
 }
 
 std::size_t Fusion::memoryBytes() const {
-  std::size_t bytes = sizeof(*this);
-  for (const std::unique_ptr<DataTermGrids>& grids : mGrids) bytes += grids->memoryBytes();
+  std::size_t bytes = sizeof(*this) + dataTermBytes();
   for (const PackedRangeMap& p : mPacked) bytes += p.memoryBytes();
+  return bytes;
+}
+
+std::size_t Fusion::dataTermBytes() const {
+  std::size_t bytes = 0;
+  for (const std::unique_ptr<DataTermGrids>& grids : mGrids) bytes += grids->memoryBytes();
   return bytes;
 }
 

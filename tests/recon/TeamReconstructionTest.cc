@@ -93,23 +93,20 @@ TEST(TeamReconstruction, RanksThatEachHoldTheirSlabOfTheDataGiveOneProcesssSurfa
   // Depth frames of a room, one grid: each rank integrates the frames only
   // within its slab and the voxels it reads beyond, and makes its slab of the
   // initial model of those data alone; the surface and its weight are one
-  // process's, bit for bit, with the cuts of 2, 3 and 4 ranks at 2 cm, and of
-  // 4 at 1 cm.
-  const std::vector<RangeMap> frames = roomFrames().reconstruction;
-  for (const double voxelSize : {0.02, 0.01}) {
-    const Reconstructor reconstructor(frames, roomOptions(voxelSize));
-    ASSERT_EQ(*reconstructor.options().levels, 1);
-    const ReconstructionResult alone = reconstructor.run();
-    EXPECT_GT(alone.levels.back().iterations, 2);
-    for (const int ranks : voxelSize > 0.015 ? std::vector<int>{2, 3, 4} : std::vector<int>{4}) {
-      std::vector<ReconstructionResult> shared(static_cast<std::size_t>(ranks));
-      test::runOnThreadTeam(ranks, [&](const SlabTeam& team) {
-        shared[static_cast<std::size_t>(team.rank())] = reconstructor.run({}, {}, &team);
-      });
-      for (int r = 0; r < ranks; ++r) {
-        SCOPED_TRACE("voxel size " + std::to_string(voxelSize) + ", " + std::to_string(ranks) + " ranks");
-        expectOneProcesssResult(alone, shared[static_cast<std::size_t>(r)], r);
-      }
+  // process's, bit for bit, with the cuts of 2, 3 and 4 ranks (at 1 cm, the
+  // next test).
+  const Reconstructor reconstructor(roomFrames().reconstruction, roomOptions(0.02));
+  ASSERT_EQ(*reconstructor.options().levels, 1);
+  const ReconstructionResult alone = reconstructor.run();
+  EXPECT_GT(alone.levels.back().iterations, 2);
+  for (const int ranks : {2, 3, 4}) {
+    std::vector<ReconstructionResult> shared(static_cast<std::size_t>(ranks));
+    test::runOnThreadTeam(ranks, [&](const SlabTeam& team) {
+      shared[static_cast<std::size_t>(team.rank())] = reconstructor.run({}, {}, &team);
+    });
+    for (int r = 0; r < ranks; ++r) {
+      SCOPED_TRACE(std::to_string(ranks) + " ranks");
+      expectOneProcesssResult(alone, shared[static_cast<std::size_t>(r)], r);
     }
   }
 }
@@ -146,20 +143,22 @@ TEST(TeamReconstruction, AFusionOfOneSlabOfTheDataHoldsItsShareAndReconstructsOn
     EXPECT_EQ(ownSlabOf(dataSlabs[static_cast<std::size_t>(r - 1)]).end, ownSlabOf(dataSlabs[static_cast<std::size_t>(r)]).begin);
   // Each holds a part of the data term. Its margins are wide beside a room
   // this small: the middle rank's slab is 13 columns of leaf nodes, its data
-  // 23 (measured: the ranks hold 0.48, 0.67 and 0.48 of the whole's bytes).
+  // 19 (measured: the ranks hold 0.46, 0.61 and 0.45 of the whole's bytes).
   const double wholeBytes = static_cast<double>(whole->dataTerm(0).memoryBytes());
   double sum = 0.0;
   for (int r = 0; r < kRanks; ++r) {
     const double share = static_cast<double>(dataBytes[static_cast<std::size_t>(r)]) / wholeBytes;
     EXPECT_GT(share, 0.2) << "rank " << r;
-    EXPECT_LT(share, 0.75) << "rank " << r;
+    EXPECT_LT(share, 0.7) << "rank " << r;
     sum += share;
   }
-  EXPECT_LT(sum, 1.75);
+  EXPECT_LT(sum, 1.65);
   // Without its team, a fusion of one slab reconstructs nothing.
   test::runOnThreadTeam(2, [&](const SlabTeam& team) {
     const std::unique_ptr<Fusion> mine = fusePackedScans(packed, resolved, {}, {}, &team);
-    if (team.rank() == 0) EXPECT_THROW(Reconstructor(*mine, options).run(), std::invalid_argument);
+    if (team.rank() == 0) {
+      EXPECT_THROW(Reconstructor(*mine, options).run(), std::invalid_argument);
+    }
   });
 }
 

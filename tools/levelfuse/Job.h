@@ -47,6 +47,7 @@ struct RankFacts {
   std::uint64_t engineBytes = 0;  ///< its sparse field's, at the largest
   std::uint64_t leafNodes = 0;    ///< its own leaf nodes of the finest grid
   std::uint64_t ghostBytes = 0;   ///< the ghosts it sent its neighbours, every grid and iteration
+  std::uint64_t dataTermBytes = 0;  ///< its grids of the data term (0 with the data term from the maps)
 };
 /// The bytes of ghosts this rank has sent its neighbours so far (0 outside a job).
 std::uint64_t ghostBytesSent();

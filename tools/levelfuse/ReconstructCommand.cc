@@ -269,7 +269,11 @@ struct Summary {
   std::vector<RankFacts> ranks;  ///< in an MPI job, what each rank's share cost
   std::uint64_t bandVoxels = 0;     ///< the level set's active voxels, every piece's
   std::vector<std::string> pieces;  ///< with --pieces, every rank's file
+  std::uint64_t dataTermBytes = 0;  ///< this process's grids of the data term (0 from the maps)
 };
+
+/// The memory of the grids of the data term `made` holds (0 with the data term from the maps).
+std::uint64_t dataTermBytesOf(const ScansReconstruction& made) { return made.fusion ? made.fusion->dataTermBytes() : 0; }
 
 /// JSON of the fit to the points, null if it was not measured.
 nlohmann::json fitJson(const std::optional<DataFit>& fit) {
@@ -305,6 +309,7 @@ void printJson(const Summary& r) {
                    {"grids", levels},
                    {"narrow_band_voxels", r.bandVoxels},
                    {"peak_engine_bytes", r.result.peakEngineBytes},
+                   {"data_term_bytes", r.dataTermBytes},
                    {"peak_memory_bytes", peakResidentBytes()},
                    {"fit", fitJson(r.measures.fit)},
                    {"seconds", r.seconds},
@@ -320,7 +325,8 @@ void printJson(const Summary& r) {
                        {"peak_memory_bytes", f.peakBytes},
                        {"peak_engine_bytes", f.engineBytes},
                        {"leaf_nodes", f.leafNodes},
-                       {"ghost_bytes_sent", f.ghostBytes}});
+                       {"ghost_bytes_sent", f.ghostBytes},
+                       {"data_term_bytes", f.dataTermBytes}});
     j["ranks"] = ranks;
   }
   if (r.inputs.truth && r.measures.truthRms >= 0.0)
@@ -380,7 +386,8 @@ void printText(const Summary& r) {
               << (l.converged ? "converged" : l.settled ? "settled" : "iteration limit") << "), "
               << withCommas(l.activeSetVoxels) << " voxels in the active set, " << fixed(l.seconds, 3) << " s\n";
   std::cout << "  surface: " << withCommas(r.bandVoxels)
-            << " narrow-band voxels; memory: engine " << mebibytes(r.result.peakEngineBytes) << ", process peak "
+            << " narrow-band voxels; memory: engine " << mebibytes(r.result.peakEngineBytes)
+            << (r.dataTermBytes > 0 ? ", data term " + mebibytes(r.dataTermBytes) : std::string()) << ", process peak "
             << mebibytes(peakResidentBytes()) << (r.ranks.size() > 1 ? " (rank 0)" : "") << "\n";
   if (r.ranks.size() > 1) {
     std::uint64_t iterations = 0;
@@ -389,7 +396,9 @@ void printText(const Summary& r) {
     std::cout << "  " << r.ranks.size() << " MPI ranks, one slab of every grid each:\n";
     for (std::size_t k = 0; k < r.ranks.size(); ++k)
       std::cout << "    rank " << k << ": " << withCommas(r.ranks[k].leafNodes) << " leaf nodes of the finest grid, engine "
-                << mebibytes(r.ranks[k].engineBytes) << ", process peak " << mebibytes(r.ranks[k].peakBytes) << ", "
+                << mebibytes(r.ranks[k].engineBytes)
+                << (r.ranks[k].dataTermBytes > 0 ? ", data term " + mebibytes(r.ranks[k].dataTermBytes) : std::string())
+                << ", process peak " << mebibytes(r.ranks[k].peakBytes) << ", "
                 << fixed(r.ranks[k].seconds, 3) << " s to the end of the evolution, "
                 << mebibytes(r.ranks[k].ghostBytes) << " of ghosts sent (" << mebibytes(r.ranks[k].ghostBytes / iterations)
                 << " an iteration)\n";
@@ -444,7 +453,8 @@ int finishInPieces(const ReconstructSettings& s, const ScansReconstruction& made
   writePieceWithTheOthers(result, s);
   if (!leadsTheJob()) return kExitSuccess;
   const Measures counts = countsOf(made);
-  Summary summary{s, *made.reconstructor, result, inputs, counts, false, 0, seconds, ranks, bandVoxels, {}};
+  Summary summary{s,       *made.reconstructor, result, inputs, counts, false, 0, seconds,
+                  ranks,   bandVoxels,          {},     dataTermBytesOf(made)};
   for (int rank = 0; rank < jobRanks(); ++rank) summary.pieces.push_back(pieceFileName(s.piecesOf, rank, jobRanks()));
   if (s.json) printJson(summary);
   else if (!s.quiet) printText(summary);
@@ -464,12 +474,13 @@ int runReconstruct(ReconstructSettings s) {
   const Presentation shown = presentationOf(reconstructor, s);
   if (s.linear && !leadsTheJob()) return kExitSuccess;  // the linear solution is not shared
   ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
+  const std::uint64_t dataTermBytes = dataTermBytesOf(made);
   std::vector<RankFacts> ranks;
   if (!s.linear)
     ranks = gatherRankFacts(RankFacts{std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
                                       peakResidentBytes(), result.peakEngineBytes,
                                       result.levels.empty() ? 0 : result.levels.back().ownLeafNodes,
-                                      ghostBytesSent()});
+                                      ghostBytesSent(), dataTermBytes});
   const auto secondsSoFar = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
   if (s.pieces) return finishInPieces(s, made, result, inputs, ranks, secondsSoFar());
   if (!leadsTheJob()) return kExitSuccess;
@@ -484,7 +495,8 @@ int runReconstruct(ReconstructSettings s) {
   const Measures measures = summaryShown ? measure(made, result, shown, inputs) : countsOf(made);
   const std::size_t triangles = writeShownOutputs(outputs, inputs, result, shown, s);
   const Summary summary{s,         reconstructor,  result, inputs, measures, shown.trim,
-                        triangles, secondsSoFar(), ranks,  result.levelSet->activeVoxelCount(), {}};
+                        triangles, secondsSoFar(), ranks,  result.levelSet->activeVoxelCount(), {},
+                        dataTermBytes};
   if (s.json) printJson(summary);
   else if (summaryShown) printText(summary);
   return kExitSuccess;

@@ -101,6 +101,8 @@ class Fusion {
 
   /// Memory held (bytes): the grids and the packed maps.
   std::size_t memoryBytes() const;
+  /// Memory held by the grids of the data term alone (bytes).
+  std::size_t dataTermBytes() const;
 
  private:
   /// Adds the map's data term to every grid and its facts to the summary.

@@ -27,12 +27,12 @@ namespace levelfuse {
 /// Voxels a slab's data reach past each face it shares with a neighbour. The
 /// slab's own leaves of the initial model need to be the whole data's: the
 /// linear solution of a slab of the data is, but within
-/// kLinearSolutionSlabMargin (24) of the data's faces, and the sparse
-/// field's layers read 4 voxels beyond (the layer rule's passes): 28. The
+/// kLinearSolutionSlabMargin (17) of the data's faces, and the sparse
+/// field's layers read 4 voxels beyond (the layer rule's passes): 21. The
 /// evolution reads the data term at the slab's ghosts (a column of leaf
 /// nodes, 8 voxels) and around them (subcell positions within a voxel, and
-/// the voxels around those): 10. Four columns of leaf nodes.
-inline constexpr openvdb::Int32 kSharedDataMargin = 4 * kLeafNodeWidth;
+/// the voxels around those): 10. Three columns of leaf nodes.
+inline constexpr openvdb::Int32 kSharedDataMargin = 3 * kLeafNodeWidth;
 
 /// The x range of the data the slab `own` reads: kSharedDataMargin past each
 /// face it shares with a neighbour.

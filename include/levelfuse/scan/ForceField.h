@@ -92,12 +92,12 @@ struct SlabOfTheData {
 
 /// How far into a slab of the data (SlabOfTheData) its linear solution may
 /// differ from the whole data's, in voxels from each face the data end at:
-/// the blocks beside a face take the data beyond it for carved space and may
-/// carve (one block, 8 voxels); a speck beside them reaches 7 voxels further,
-/// and its neighbours one more (kSpeckVoxels); a distance at a zero crossing
-/// reads one voxel more. Beyond it every value and active voxel is the whole
-/// data's, bit for bit (tested).
-inline constexpr int kLinearSolutionSlabMargin = 24;
+/// the blocks beside a face take the data beyond it for carved space, and
+/// whether they carve depends on it (one block, 8 voxels); a speck reaching
+/// them spans at most 7 voxels more, and its neighbours one more
+/// (kSpeckVoxels); a distance at a zero crossing reads a voxel beyond. Beyond
+/// it every value and active voxel is the whole data's, bit for bit (tested).
+inline constexpr int kLinearSolutionSlabMargin = 8 + 8 + 1;
 
 /// The linear solution of an accumulated data term (ForceField::accumulate,
 /// or DataTermGrids' gGrid and weightGrid) as a sparse field with the
