@@ -111,6 +111,40 @@ TEST(TeamReconstruction, RanksThatEachHoldTheirSlabOfTheDataGiveOneProcesssSurfa
   }
 }
 
+TEST(TeamReconstruction, RanksThatHoldTheirSlabOfTheDataKeepPiecesOfOneProcesssSurface) {
+  // Each of 3 ranks integrates its slab of the room's frames alone and keeps
+  // its piece of the output: the level set one process makes, clipped to
+  // the piece, tiles and nodes alike, weighed as one process weighs it.
+  const std::vector<RangeMap> frames = roomFrames().reconstruction;
+  ReconstructionOptions options = roomOptions(0.02);
+  const ReconstructionResult alone = Reconstructor(frames, options).run();
+  options.keepPieces = true;
+  const Reconstructor inPieces(frames, options);
+  std::vector<ReconstructionResult> shared(3);
+  test::runOnThreadTeam(3, [&](const SlabTeam& team) {
+    shared[static_cast<std::size_t>(team.rank())] = inPieces.run({}, {}, &team);
+  });
+  openvdb::Index64 voxels = 0;
+  for (int r = 0; r < 3; ++r) {
+    const ReconstructionResult& mine = shared[static_cast<std::size_t>(r)];
+    ASSERT_TRUE(mine.levelSet && mine.weight) << "rank " << r;
+    SlabBounds slab;
+    if (r > 0) slab.begin = mine.levelSet->metaValue<openvdb::Int32>("levelfuse_piece_begin_x");
+    if (r < 2) slab.end = mine.levelSet->metaValue<openvdb::Int32>("levelfuse_piece_end_x");
+    const openvdb::FloatGrid::Ptr clipped = test::clippedToSlab(*alone.levelSet, slab);
+    std::string why;
+    EXPECT_TRUE(test::identical(*clipped, *mine.levelSet, &why)) << "rank " << r << ": " << why;
+    EXPECT_TRUE(test::sameTreeBytes(*clipped, *mine.levelSet)) << "rank " << r;
+    const openvdb::FloatGrid::ConstAccessor weight = alone.weight->getConstAccessor();
+    std::size_t otherWeights = 0;
+    for (auto w = mine.weight->cbeginValueOn(); w; ++w) otherWeights += *w != weight.getValue(w.getCoord());
+    EXPECT_EQ(otherWeights, 0u) << "rank " << r;
+    EXPECT_EQ(mine.weight->activeVoxelCount(), mine.levelSet->activeVoxelCount()) << "rank " << r;
+    voxels += mine.levelSet->activeVoxelCount();
+  }
+  EXPECT_EQ(voxels, alone.levelSet->activeVoxelCount());
+}
+
 TEST(TeamReconstruction, AFusionOfOneSlabOfTheDataHoldsItsShareAndReconstructsOnItsTeam) {
   // The converter's way: each rank fuses the packed frames into its slab of
   // the data (fusePackedScans with the team), then reconstructs on the team.
