@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The converter under mpirun (tests/mpi/CMakeLists.txt): the same .vdb and
 # mesh, byte for byte, from 1, 2 and 4 ranks (a synthetic torus, and the
-# Stanford bunny when ../shared is beside the repository); pieces (--pieces)
+# Stanford bunny when ../shared is beside the repository), also from depth
+# frames, whose data term each rank holds in part (synthetic frames, and
+# 7-Scenes' when ../shared is there); pieces (--pieces)
 # whose union is one process's level set, and whose mesh (levelfuse mesh of
 # every piece) is one process's; a job too large for one process's
 # memory budget runs on four ranks within it; a rank that fails (bad input, a
