@@ -74,6 +74,13 @@ for k in "${!frameRuns[@]}"; do
     cmp "frames$k-1.ply" "frames$k-$ranks.ply" || fail "frames ${frameRuns[$k]}, $ranks ranks: the mesh differs"
   done
 done
+# More ranks than the frames' data have columns of leaf nodes: every rank says so, and nothing is written.
+run 4 "$levelfuse" reconstruct frames/scans.json --voxel-size 0.5 -o coarse.vdb -q 2> coarse.err &&
+  fail "4 ranks sharing 2 columns of data exited 0"
+grep -q "fewer than the 4 processes that would share them: use fewer processes" coarse.err ||
+  fail "4 ranks sharing 2 columns of data: $(cat coarse.err)"
+[ ! -e coarse.vdb ] || fail "4 ranks sharing 2 columns of data wrote coarse.vdb"
+
 # Each rank holds its slab's part of the data term, and 24 voxels beyond each cut: in 7-Scenes'
 # room at 2 cm (25 columns of leaf nodes across, the margins 3 columns a side) the ranks of 2
 # held 0.85 and 0.76 of one process's data term, those of 4 from 0.26 to 0.78 (a mean of 0.53).
