@@ -302,7 +302,6 @@ void Reconstructor::requireWholeData(const char* what) const {
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
-  requireWholeData("linearSolution");
   if (*mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter, mFusion).stats().activeSetVoxels);
   else requireCoarsestGridMemory();
   if (mFusion)

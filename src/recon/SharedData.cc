@@ -5,10 +5,6 @@
 #include <levelfuse/recon/FusionSettings.h>
 #include <levelfuse/scan/AccumulationCost.h>
 
-#include <cmath>
-#include <stdexcept>
-#include <string>
-
 namespace levelfuse {
 
 SlabBounds dataSlabOf(const SlabBounds& own) {
@@ -35,10 +31,6 @@ SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const Reconstruction
   const int finest = grids.levels - 1;
   const auto columns = accumulationColumns(maps, grids.levelVoxelSize(finest),
                                            grids.levelForceOptions(finest).dataWindow().reach());
-  if (columns.size() < static_cast<std::size_t>(team.size()))
-    throw std::invalid_argument("the data span " + std::to_string(columns.size()) + " columns of leaf nodes (" +
-                                std::to_string(kLeafNodeWidth) + " voxels each) along x, fewer than the " +
-                                std::to_string(team.size()) + " processes that would share them: use fewer processes");
   SharedDataSlab slab;
   slab.own = balancedSlabs(columns, team.size()).at(static_cast<std::size_t>(team.rank()));
   slab.data = dataSlabOf(slab.own);

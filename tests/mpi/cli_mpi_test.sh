@@ -77,7 +77,7 @@ done
 # More ranks than the frames' data have columns of leaf nodes: every rank says so, and nothing is written.
 run 4 "$levelfuse" reconstruct frames/scans.json --voxel-size 0.5 -o coarse.vdb -q 2> coarse.err &&
   fail "4 ranks sharing 2 columns of data exited 0"
-grep -q "fewer than the 4 processes that would share them: use fewer processes" coarse.err ||
+grep -q "spans 2 columns of leaf nodes, too few for 4 slabs: use fewer processes" coarse.err ||
   fail "4 ranks sharing 2 columns of data: $(cat coarse.err)"
 [ ! -e coarse.vdb ] || fail "4 ranks sharing 2 columns of data wrote coarse.vdb"
 

@@ -57,7 +57,7 @@ struct SharedDataSlab {
 /// windows of `maps` reach on the grid of the `resolved` options share out
 /// evenly (balancedSlabs of accumulationColumns), alike on every process
 /// that visits the same maps. Throws std::invalid_argument if the data span
-/// fewer columns of leaf nodes than the team has processes.
+/// fewer columns of leaf nodes than the team has processes (balancedSlabs).
 SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const ReconstructionOptions& resolved,
                               const SlabTeam& team);
 
