@@ -131,7 +131,7 @@ std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionO
                                         const std::function<void(std::size_t, std::size_t)>& integrated,
                                         const Interrupter& interrupter, const SlabTeam* team) {
   std::unique_ptr<Fusion> fusion =
-      fusionOnTeam(accumulationCostOf(scans), scans.unpacked(), resolved, Fusion::Keep::kPacked, team);
+      fusionOnTeam(accumulationCostOf(scans), scans.unpacked(), resolved, Fusion::Keep::kPacked, team, interrupter);
   fusion->integrate(std::move(scans.maps), integrated, interrupter);
   return fusion;
 }

@@ -487,7 +487,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
 std::unique_ptr<Fusion> Reconstructor::fuseScans(ReconstructionProgress& state, const std::function<void()>& report,
                                                  const Interrupter& interrupter, const SlabTeam* team) const {
   std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostOf(rangeMapsOf(*mMaps)), rangeMapsOf(*mMaps), mOptions,
-                                               Fusion::Keep::kNothing, team);
+                                               Fusion::Keep::kNothing, team, interrupter);
   state.stage = ReconstructionProgress::Stage::kIntegrating;
   state.scan = 0;
   state.scans = mMaps->size();

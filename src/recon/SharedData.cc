@@ -44,9 +44,16 @@ SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const Reconstruction
 }
 
 std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostOf& costOf, const RangeMapSequence& maps,
-                                     const ReconstructionOptions& resolved, Fusion::Keep keep, const SlabTeam* team) {
+                                     const ReconstructionOptions& resolved, Fusion::Keep keep, const SlabTeam* team,
+                                     const Interrupter& interrupter) {
   if (!sharesDataInSlabs(resolved, team)) return fusionFor(costOf, resolved, keep);
-  const SharedDataSlab slab = sharedDataSlab(maps, resolved, *team);
+  const RangeMapSequence asked = [&](const RangeMapVisitor& visit) {
+    maps([&](const RangeMap& map) {
+      checkInterrupter(interrupter);
+      visit(map);
+    });
+  };
+  const SharedDataSlab slab = sharedDataSlab(asked, resolved, *team);
   // The leaves' lists and the grids grow with the leaves the slab's data hold.
   const AccumulationCostOf shareOfCost = [&](double voxelSize, double reach) {
     AccumulationCost cost = costOf(voxelSize, reach);

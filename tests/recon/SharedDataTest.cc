@@ -6,6 +6,7 @@
 
 #include "RoomFrames.h"
 #include "support/TestSupport.h"
+#include "support/ThreadTeam.h"
 
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/recon/SharedData.h>
@@ -142,6 +143,27 @@ TEST(SharedData, ASlabBeyondTheDataIsEmpty) {
   const SlabField far = slabOfTheLinearSolution(scene, dataSlabOf(own), own, wholeBlocks);
   EXPECT_EQ(far.stats().activeSetVoxels, 0u);
   EXPECT_EQ(far.stats().leafNodes, 0u);
+}
+
+TEST(SharedData, CuttingTheSlabsStopsWhenAsked) {
+  // The pass over the frames that cuts the slabs, before any is integrated,
+  // asks the interrupter before each frame.
+  const std::vector<RangeMap> frames = roomFrames().reconstruction;
+  ReconstructionOptions options;
+  options.voxelSize = 0.02;
+  options.dataTerm = DataTermSource::kGrids;
+  const ReconstructionOptions resolved = resolveReconstructionOptions(options, ScanSummary(frames));
+  std::vector<int> asked(2, 0);
+  EXPECT_THROW(test::runOnThreadTeam(2,
+                                     [&](const SlabTeam& team) {
+                                       int& mine = asked[static_cast<std::size_t>(team.rank())];
+                                       fusionOnTeam(accumulationCostOf(rangeMapsOf(frames)), rangeMapsOf(frames),
+                                                    resolved, Fusion::Keep::kNothing, &team,
+                                                    [&mine] { return ++mine > 3; });
+                                     }),
+               Interrupted);
+  EXPECT_EQ(asked[0], 4);
+  EXPECT_EQ(asked[1], 4);
 }
 
 TEST(SharedData, TheDataOfASlabReachTheMarginPastEachCut) {

@@ -10,6 +10,7 @@
 // those leaves hold the data term's work and memory, and the surface.
 #pragma once
 
+#include <levelfuse/core/Interrupter.h>
 #include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/recon/Fusion.h>
@@ -65,9 +66,11 @@ SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const Reconstruction
 /// `costOf` finds (fusionFor), keeping `keep` of them: on a `team` that
 /// shares the data in slabs (sharesDataInSlabs), of this process's slab of
 /// the data (Fusion::restrictToSlab), whose memory is checked for its share
-/// of the data alone. `maps` are visited once, to cut the slabs, only then.
+/// of the data alone. `maps` are visited once, to cut the slabs, only then,
+/// and `interrupter` is asked before each (Interrupted).
 std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostOf& costOf, const RangeMapSequence& maps,
-                                     const ReconstructionOptions& resolved, Fusion::Keep keep, const SlabTeam* team);
+                                     const ReconstructionOptions& resolved, Fusion::Keep keep, const SlabTeam* team,
+                                     const Interrupter& interrupter = {});
 
 /// The box of every process's box `own` (an empty box for none), on every process.
 openvdb::CoordBBox teamBox(const openvdb::CoordBBox& own, const SlabTeam& team);
