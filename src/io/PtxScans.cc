@@ -45,7 +45,7 @@ std::vector<RangeMap> loadPtxScans(const std::string& path, const ScanLoadOption
   readPtxScans(
       path,
       [&](PtxScan&& scan) {
-        scans.deliver(rangeMapFromPtxScan(scan, options.ptxSigma, path, stem + " scan " + std::to_string(scan.index)));
+        scans.offer(rangeMapFromPtxScan(scan, options.ptxSigma, path, stem + " scan " + std::to_string(scan.index)));
         reportLoaded(options.progress, scans.delivered(), scans.delivered());
       },
       options.interrupter);

@@ -7,6 +7,7 @@
 #include <levelfuse/io/Scans.h>
 
 #include <cstddef>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -14,8 +15,12 @@ namespace levelfuse::io {
 
 class ScanDelivery {
  public:
-  explicit ScanDelivery(const ScanLoadOptions& options) : mTake(options.take) {}
-  /// Hands `map` over, or keeps it.
+  explicit ScanDelivery(const ScanLoadOptions& options) : mTake(options.take), mWanted(options.wanted) {}
+  /// Hands `map`, the next scan, over or keeps it, if it is wanted (ScanLoadOptions::wanted).
+  void offer(RangeMap&& map) {
+    if (!mWanted || mWanted(mOffered++)) deliver(std::move(map));
+  }
+  /// Hands `map` over, or keeps it: a scan already found wanted.
   void deliver(RangeMap&& map) {
     ++mDelivered;
     if (mTake) mTake(std::move(map));
@@ -27,21 +32,26 @@ class ScanDelivery {
 
  private:
   const ScanTaker& mTake;
+  const std::function<bool(std::size_t)>& mWanted;
   std::vector<RangeMap> mMaps;
-  std::size_t mDelivered = 0;
+  std::size_t mDelivered = 0, mOffered = 0;
 };
 
-/// Reads `count` frames, `read(i)` making the i-th, in parallel a batch
+/// Reads the wanted ones (ScanLoadOptions::wanted, asked of every frame
+/// first) of `count` frames, `read(i)` making the i-th, in parallel a batch
 /// ahead of the calling thread, which hands them over in order, telling the
 /// progress after each and asking the interrupter before each (takeMadeAhead:
 /// of the frames that cannot be read, the first in order throws).
 template <typename Read>
 void deliverFrames(std::size_t count, const Read& read, ScanDelivery& scans, const ScanLoadOptions& options) {
+  std::vector<std::size_t> wanted;
+  for (std::size_t i = 0; i < count; ++i)
+    if (!options.wanted || options.wanted(i)) wanted.push_back(i);
   takeMadeAhead<RangeMap>(
-      count, read,
+      wanted.size(), [&](std::size_t k) { return read(wanted[k]); },
       [&](std::size_t, RangeMap&& frame) {
         scans.deliver(std::move(frame));
-        reportLoaded(options.progress, scans.delivered(), count);
+        reportLoaded(options.progress, scans.delivered(), wanted.size());
       },
       options.interrupter);
 }

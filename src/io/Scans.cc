@@ -61,12 +61,12 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
   return scans.kept();
 }
 
-/// The scans of a reader that reads them all first, handed over if the options take them.
+/// The scans of a reader that reads them all first, those wanted handed over if the options take them.
 std::vector<RangeMap> handedOver(std::vector<RangeMap> maps, const ScanLoadOptions& options) {
-  if (!options.take) return maps;
+  if (!options.take && !options.wanted) return maps;
   ScanDelivery scans(options);
-  for (RangeMap& m : maps) scans.deliver(std::move(m));
-  return {};
+  for (RangeMap& m : maps) scans.offer(std::move(m));
+  return scans.kept();
 }
 
 }  // namespace

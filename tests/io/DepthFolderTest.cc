@@ -12,6 +12,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace levelfuse::io {
 namespace {
@@ -42,6 +44,43 @@ TEST(SevenScenesFolder, FramesOfASyntheticPlaneLandOnIt) {
     EXPECT_LT(test::farthestFromPlane(m, 2.0), 2e-3) << m.name();  // millimetre depth steps, stretched by the tilt
   }
   EXPECT_EQ(maps[2].name(), "frame-000002.depth.png");
+}
+
+TEST(SevenScenesFolder, AFrameNotWantedIsNotRead) {
+  // The loader asks about every frame first, in order, and reads only those
+  // wanted: frame 1, without its pose, is never opened.
+  TempDir dir;
+  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kCamera, 16, 12, 2.0);
+  std::filesystem::remove(dir.path("scene/frame-000001.pose.txt"));
+  ScanLoadOptions options;
+  std::vector<std::size_t> asked;
+  options.wanted = [&](std::size_t frame) {
+    asked.push_back(frame);
+    return frame != 1;
+  };
+  const std::vector<RangeMap> maps = loadScans(dir.path("scene"), options);
+  EXPECT_EQ(asked, (std::vector<std::size_t>{0, 1, 2}));
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_EQ(maps[0].name(), "frame-000000.depth.png");
+  EXPECT_EQ(maps[1].name(), "frame-000002.depth.png");
+  options.wanted = {};
+  expectInputError([&] { loadScans(dir.path("scene"), options); }, dir.path("scene/frame-000001.depth.png"),
+                   "no pose beside it");
+}
+
+TEST(Manifest, AScanNotWantedIsNeitherKeptNorHandedOver) {
+  TempDir dir;
+  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kCamera, 16, 12, 2.0);
+  const std::string manifest = writeScanSet(dir.path("set"), loadScans(dir.path("scene")));
+  ScanLoadOptions options;
+  options.wanted = [](std::size_t scan) { return scan != 0; };
+  const std::vector<RangeMap> kept = loadScans(manifest, options);
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_EQ(kept[0].name(), "scan1.pfm");
+  std::vector<std::string> taken;
+  options.take = [&](RangeMap&& map) { taken.push_back(map.name()); };
+  EXPECT_TRUE(loadScans(manifest, options).empty());
+  EXPECT_EQ(taken, (std::vector<std::string>{"scan1.pfm", "scan2.pfm"}));
 }
 
 TEST(SevenScenesFolder, StrideMaximumDepthAndScale) {

@@ -7,6 +7,7 @@
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/scan/RangeMap.h>
 
+#include <cstddef>
 #include <functional>
 #include <limits>
 #include <string>
@@ -50,6 +51,13 @@ struct ScanLoadOptions {
     ptxSigma = sigma;
     pointSigma = sigma;
   }
+
+  /// If set, asked once for every scan, in order, with its place among the
+  /// scans of the path (from 0): a scan it turns down is neither handed over
+  /// nor kept. The frames of a folder are asked before any is read, and
+  /// those turned down are not read; other scans are asked as each is read.
+  /// (The processes of a team each read their part of the scans.)
+  std::function<bool(std::size_t)> wanted;
 
   /// If set, each scan is handed over as soon as it is read instead of
   /// collected, and loadScans returns none: a folder of depth frames is then
