@@ -389,6 +389,30 @@ void RangeMap::sights(const Vec3d* x, std::size_t count, double margin, Sight* o
   }
 }
 
+bool RangeMap::mayBeSeenIn(const openvdb::BBoxd& box) const {
+  if (mKind == Kind::kSpherical) return true;
+  // A camera's projection of a box wholly in front of it is the hull of its
+  // corners' projections (parallel rays': always); sightAtPixel sees the
+  // pixels' span [0, width - 1] x [0, height - 1].
+  double u0 = HUGE_VAL, v0 = HUGE_VAL, u1 = -HUGE_VAL, v1 = -HUGE_VAL;
+  int inFront = 0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3d x((corner & 1) ? box.max().x() : box.min().x(), (corner & 2) ? box.max().y() : box.min().y(),
+                  (corner & 4) ? box.max().z() : box.min().z());
+    const Vec3d p = mWorldToMap.transform(x);
+    if (mKind == Kind::kPinhole && !(p.z() > 0.0)) continue;
+    ++inFront;
+    const openvdb::math::Vec2d uv = project(p);
+    u0 = std::min(u0, uv.x());
+    v0 = std::min(v0, uv.y());
+    u1 = std::max(u1, uv.x());
+    v1 = std::max(v1, uv.y());
+  }
+  if (inFront == 0) return false;  // wholly behind the camera
+  if (inFront < 8) return true;    // across the camera's plane: its projection is unbounded
+  return !(u1 < 0.0 || v1 < 0.0 || u0 > mWidth - 1 || v0 > mHeight - 1);
+}
+
 RangeMap::Sight RangeMap::sightAtPixel(double u, double v, double along, double margin) const {
   if (!(u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1)) return Sight::kOutside;
   // The four pixels around x must agree: near a depth discontinuity or a

@@ -1,11 +1,14 @@
 // What a range map says of a whole leaf node at once (detail::leafSight), of
 // many points at once (RangeMap::sights) and carving's votes on blocks
-// (detail::BlockVotes): never other than what it says of each voxel.
+// (detail::BlockVotes): never other than what it says of each voxel; and
+// the boxes a map says it cannot see (RangeMap::mayBeSeenIn) are outside its
+// sight at every point.
 
 #include "../../src/scan/CarvingVotes.h"
 #include "../../src/scan/LeavesReached.h"
 
 #include <levelfuse/geometry/Shapes.h>
+#include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/RangeMap.h>
 #include <levelfuse/scan/Synth.h>
 
@@ -16,6 +19,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace levelfuse {
@@ -345,6 +349,47 @@ TEST(BlockVotes, TheVotesOnBlocksAreTheVotesOnEachVoxel) {
   // Both answers occur: the test can tell them apart.
   EXPECT_GT(inside, 1000u);
   EXPECT_GT(voxels.size() - inside, 1000u);
+}
+
+/// Boxes 0.4 m a side over 8 m around the origin: where `map` says it may
+/// not see a box, every point of it (a 7 x 7 x 7 lattice, corners included)
+/// is outside its sight; its packed shell answers alike. Returns how many
+/// boxes it may not see, and how many it may.
+std::pair<int, int> boxesTold(const RangeMap& map) {
+  const PackedRangeMap packed{RangeMap(map)};
+  std::pair<int, int> told{0, 0};
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j)
+      for (int k = 0; k < 20; ++k) {
+        const Vec3d corner = Vec3d(i, j, k) * 0.4 - Vec3d(4.0);
+        const openvdb::BBoxd box(corner, corner + Vec3d(0.4));
+        const bool may = map.mayBeSeenIn(box);
+        EXPECT_EQ(packed.shell().mayBeSeenIn(box), may) << map.name() << " box at " << box.min();
+        ++(may ? told.second : told.first);
+        if (may) continue;
+        for (int i = 0; i <= 6; ++i)
+          for (int j = 0; j <= 6; ++j)
+            for (int k = 0; k <= 6; ++k) {
+              const Vec3d p = box.min() + box.extents() * Vec3d(i, j, k) / 6.0;
+              if (map.sight(p, kMargin) != Sight::kOutside) {
+                ADD_FAILURE() << map.name() << " says it cannot see the box at " << box.min() << ", but sees " << p;
+                return told;
+              }
+            }
+      }
+  return told;
+}
+
+TEST(MayBeSeenIn, ABoxAMapCannotSeeIsOutsideItsSightEverywhere) {
+  const auto [cameraCannot, cameraMay] = boxesTold(wallWithABox());
+  EXPECT_GT(cameraCannot, 1000) << "behind the camera and beside its pixels";
+  EXPECT_GT(cameraMay, 300) << "its view";
+  const auto [raysCannot, raysMay] = boxesTold(tiltedPlaneAlongZ());
+  EXPECT_GT(raysCannot, 1000) << "beside the patch of parallel rays";
+  EXPECT_GT(raysMay, 300) << "along the rays, both ways";
+  const auto [scannerCannot, scannerMay] = boxesTold(roomAroundAScanner(false));
+  EXPECT_EQ(scannerCannot, 0) << "a spherical scanner is not asked: it may see any box";
+  EXPECT_EQ(scannerMay, 20 * 20 * 20);
 }
 
 }  // namespace

@@ -25,6 +25,10 @@ class PackedRangeMap {
   /// The map, identical bit for bit to the one packed.
   RangeMap unpack() const;
 
+  /// The map without its per-pixel arrays (no readings): its kind, size,
+  /// projection, pose and name, what RangeMap::mayBeSeenIn asks.
+  const RangeMap& shell() const { return mShell; }
+
   /// Memory held (bytes), the compressed arrays and the rest of the map.
   std::size_t memoryBytes() const;
 

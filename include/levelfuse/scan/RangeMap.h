@@ -247,6 +247,13 @@ class RangeMap {
   /// four by more than `margin` (depths along the optical axis for a pinhole),
   /// unknown where they disagree.
   Sight sight(const openvdb::Vec3d& x, double margin) const;
+  /// False only where sight() says kOutside at every point of the world box
+  /// `box`, whatever the readings: the box lies behind the camera, or beside
+  /// its pixels. A map for which it is false says nothing of the box (space
+  /// carving there needs no reading of it). True for spherical maps, and
+  /// for a box that reaches behind a camera and in front of it. Asks the map's
+  /// projection and pose alone (a PackedRangeMap's shell answers).
+  bool mayBeSeenIn(const openvdb::BBoxd& box) const;
   /// sight(x[i], margin) into out[i] for `count` points: the same answers,
   /// with the points' projections worked out together before their readings
   /// are read (carving asks a block's voxels so).

@@ -20,6 +20,15 @@ class ScanSummary {
 
   /// Adds one scan.
   void add(const RangeMap& map);
+  /// Adds every scan of `other`: the summary of both sets of scans, whatever
+  /// their order (the medians are of the values, the box is the union).
+  void add(const ScanSummary& other);
+
+  /// The summary as numbers, e.g. to send to another process, and back
+  /// (fromNumbers(s.numbers()) is s); fromNumbers throws std::invalid_argument
+  /// for numbers that are no summary's.
+  std::vector<double> numbers() const;
+  static ScanSummary fromNumbers(const std::vector<double>& numbers);
 
   std::size_t scans() const { return mSigmas.size(); }
   /// Readings over all scans.
