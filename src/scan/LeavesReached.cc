@@ -99,10 +99,15 @@ std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double rea
   return leaves;
 }
 
-double leafMarks(const RangeMap& m, double voxelSize, double reach, openvdb::BBoxd& reached) {
+double leafMarks(const RangeMap& m, double voxelSize, double reach, openvdb::BBoxd& reached, double xMin,
+                 double xMax) {
   double marks = 0.0;
   const double leaf = voxelSize * kLeafDim;
-  forEachTileBox(m, reach, [&](const openvdb::BBoxd& box) {
+  forEachTileBox(m, reach, [&](openvdb::BBoxd box) {
+    // A box reaching infinity keeps its NaN or infinite bounds: its marks stay unbounded.
+    if (box.max().x() < xMin || box.min().x() > xMax) return;
+    box.min().x() = std::max(box.min().x(), xMin);
+    box.max().x() = std::min(box.max().x(), xMax);
     reached.expand(box);
     double cells = 1.0;  // in doubles: a box may span more leaves than an int counts
     for (int axis = 0; axis < 3; ++axis)

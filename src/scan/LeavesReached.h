@@ -9,6 +9,7 @@
 #include <openvdb/math/BBox.h>
 #include <openvdb/math/Coord.h>
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -27,7 +28,9 @@ std::vector<openvdb::Coord> leavesReached(const RangeMap& map, double voxelSize,
 /// upper bound of the leaves it returns, and the measure of its work; cheap
 /// (no grid), so that a window or a camera that would reach absurdly far is
 /// seen before the marking starts. Expands `reached` by the tiles' boxes.
-double leafMarks(const RangeMap& map, double voxelSize, double reach, openvdb::BBoxd& reached);
+/// With `xMin` and `xMax` (world), of the boxes cut to that range of x alone.
+double leafMarks(const RangeMap& map, double voxelSize, double reach, openvdb::BBoxd& reached,
+                 double xMin = -HUGE_VAL, double xMax = HUGE_VAL);
 
 /// Whether readings of the spans' map can reach the leaf at `origin` within
 /// `reach`: false if the leaf's depths and the readings of the usable cells

@@ -11,6 +11,9 @@
 
 #include <levelfuse/scan/RangeMap.h>
 
+#include <openvdb/openvdb.h>
+
+#include <cmath>
 #include <cstddef>
 #include <functional>
 #include <utility>
@@ -39,8 +42,41 @@ inline constexpr double kBytesPerAccumulatedLeaf = 4608.0;
 /// The cost of accumulating the data term of `maps` on a grid of `voxelSize`
 /// whose windows reach `reach` (world units) from their readings.
 AccumulationCost accumulationCost(const std::vector<RangeMap>& maps, double voxelSize, double reach);
-/// The same, of maps visited one at a time.
-AccumulationCost accumulationCost(const RangeMapSequence& maps, double voxelSize, double reach);
+/// The same, of maps visited one at a time; with `xMin` and `xMax` (world),
+/// within that range of x alone (accumulationCostWithin).
+AccumulationCost accumulationCost(const RangeMapSequence& maps, double voxelSize, double reach,
+                                  double xMin = -HUGE_VAL, double xMax = HUGE_VAL);
+
+/// Where the windows of range maps reach on a grid, found map by map before
+/// any is accumulated: the leaf nodes they reach (detail::leavesReached),
+/// each once, and each map's first and last column of them.
+class ReachedLeaves {
+ public:
+  /// The first and last x origin (voxels) of the columns of leaf nodes a map
+  /// reaches; first > last if it reaches none.
+  struct Span {
+    openvdb::Int32 first = 1, last = 0;
+    bool empty() const { return first > last; }
+  };
+
+  ReachedLeaves(double voxelSize, double reach) : mVoxelSize(voxelSize), mReach(reach) {}
+  /// Adds the leaves `map`'s windows reach; returns its span.
+  Span add(const RangeMap& map);
+  /// Adds the leaves of `other` (the same grid's), e.g. another process's.
+  void add(const ReachedLeaves& other);
+  /// The leaf nodes reached, one voxel each (index space divided by the leaf's width).
+  const openvdb::MaskTree& leaves() const { return mLeaves; }
+  openvdb::MaskTree& leaves() { return mLeaves; }
+  /// How many leaf nodes are reached per column: the x origin (voxels) of each
+  /// column that has any, and how many, in order of x (balancedSlabs' input).
+  std::vector<std::pair<openvdb::Int32, std::size_t>> columns() const;
+  /// The box of the leaf nodes reached (voxels): empty if none.
+  openvdb::CoordBBox voxelBox() const;
+
+ private:
+  double mVoxelSize, mReach;
+  openvdb::MaskTree mLeaves;
+};
 
 /// The leaf nodes the windows of `maps` reach on a grid of `voxelSize`, each
 /// once, counted per column of leaf nodes: the x origin (voxels) of each
@@ -60,5 +96,15 @@ AccumulationCostOf accumulationCostOf(RangeMapSequence maps);
 /// Of packed maps, unpacked a few at a time in parallel; the same cost, bit
 /// for bit, as visiting them one at a time. `scans` must outlive the function.
 AccumulationCostOf accumulationCostOf(const PackedScans& scans);
+/// The cost of accumulating a set of maps within the world x range from
+/// `xMin` to `xMax` alone (a slab of the data): the marks and the box of the
+/// tiles' boxes cut to it. All of x from -HUGE_VAL to HUGE_VAL.
+using AccumulationCostWithin = std::function<AccumulationCost(double voxelSize, double reach, double xMin, double xMax)>;
+/// Of maps visited one at a time.
+AccumulationCostWithin accumulationCostWithin(RangeMapSequence maps);
+/// Of packed maps, unpacked a few at a time in parallel. `scans` must outlive the function.
+AccumulationCostWithin accumulationCostWithin(const PackedScans& scans);
+/// The cost within all of x.
+AccumulationCostOf overAllOfX(AccumulationCostWithin costWithin);
 
 }  // namespace levelfuse
