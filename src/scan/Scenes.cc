@@ -4,6 +4,8 @@
 #include <levelfuse/scan/Synth.h>
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 #include <stdexcept>
 
 namespace levelfuse::synth {
@@ -150,6 +152,38 @@ Scene roomScene(const shapes::Room& room, const SceneOptions& options) {
   }
   const auto distance = [&room](const Vec3d& p) { return room(p); };
   renderAll(scene, views, spherical, 1.0,
+            [&](const View& v, const Noise& n, double sigma) { return renderDistanceFunction(distance, v, n, sigma); });
+  return scene;
+}
+
+double streetSignedDistance(const Vec3d& x, double firstBay, double lastBay) {
+  const double facade = 1.0 - x.y(), ground = x.z() + 1.2;
+  // The nearest bay: every 2 m from the first.
+  const double bayX = std::clamp(firstBay + 2.0 * std::round((x.x() - firstBay) / 2.0), firstBay, lastBay);
+  const Vec3d q(std::fabs(x.x() - bayX) - 0.3, std::fabs(x.y() - 0.9) - 0.15, std::fabs(x.z() + 0.2) - 0.5);
+  const Vec3d outside(std::max(q.x(), 0.0), std::max(q.y(), 0.0), std::max(q.z(), 0.0));
+  const double bay = outside.length() + std::min(std::max(q.x(), std::max(q.y(), q.z())), 0.0);
+  return std::min({facade, ground, bay});
+}
+
+Scene streetScene(const SceneOptions& options) {
+  Scene scene;
+  scene.size = 1.8;
+  scene.sizeName = "the cameras' distance to the façade";
+  SceneOptions cameras = options;
+  cameras.scanner = RangeMap::Kind::kPinhole;
+  const int count = options.views > 0 ? options.views : 40;
+  const double length = 0.5 * (count - 1);
+  const int width = options.resolution, height = std::max(2, options.resolution * 3 / 4);
+  std::vector<View> views;
+  for (int i = 0; i < count; ++i) {
+    const double x = 0.5 * i - 0.5 * length;
+    views.push_back(pinholeView(Vec3d(x, -0.8, -0.2), Vec3d(x, 1.0, -0.6), 60.0, width, height,
+                                "street frame " + std::to_string(i)));
+  }
+  const double firstBay = -2.0 * std::floor(0.25 * length);
+  const auto distance = [&](const Vec3d& p) { return streetSignedDistance(p, firstBay, -firstBay); };
+  renderAll(scene, views, cameras, 1.0,
             [&](const View& v, const Noise& n, double sigma) { return renderDistanceFunction(distance, v, n, sigma); });
   return scene;
 }

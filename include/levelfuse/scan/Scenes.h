@@ -52,6 +52,20 @@ Scene analyticScene(const shapes::AnalyticShape& shape, const SceneOptions& opti
 /// height, is its standard deviation at 1 m). The views option is ignored.
 Scene roomScene(const shapes::Room& room, const SceneOptions& options = {});
 
+/// A street: a façade along x whose face is the plane y = 1 (solid beyond
+/// it), with bays 60 cm wide standing 15 cm out of it every 2 m, on ground
+/// solid below z = -1.2; negative inside solid, 1-Lipschitz. The façade and
+/// the ground are unbounded; the bays stand from x = `firstBay` to `lastBay`.
+double streetSignedDistance(const openvdb::Vec3d& x, double firstBay, double lastBay);
+
+/// Depth frames along a street (streetSignedDistance), one every 50 cm from
+/// eyes 1.8 m before the façade, each looking at it square on and a little
+/// down (60 degrees across, `resolution` x 3/4 of it pixels): each frame sees
+/// about 2 m of façade and ground, and the street grows with the frames
+/// (`views`, 40 by default: 20 m). `noise` is a fraction of the cameras'
+/// distance to the façade; no truth.
+Scene streetScene(const SceneOptions& options = {});
+
 /// Range maps of a triangle mesh from views spread evenly around it.
 Scene meshScene(const std::vector<openvdb::Vec3d>& points, const std::vector<openvdb::Vec3I>& triangles,
                 const SceneOptions& options = {});
