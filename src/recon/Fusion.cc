@@ -129,10 +129,12 @@ std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const Recons
 
 std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
                                         const std::function<void(std::size_t, std::size_t)>& integrated,
-                                        const Interrupter& interrupter, const SlabTeam* team) {
-  std::unique_ptr<Fusion> fusion =
-      fusionOnTeam(accumulationCostOf(scans), scans.unpacked(), resolved, Fusion::Keep::kPacked, team, interrupter);
+                                        const Interrupter& interrupter, const SlabTeam* team,
+                                        const SharedDataSlab* cut) {
+  std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostWithin(scans), scans.unpacked(), resolved,
+                                                Fusion::Keep::kPacked, team, interrupter, cut);
   fusion->integrate(std::move(scans.maps), integrated, interrupter);
+  fusion->adoptSummary(std::move(scans.summary));
   return fusion;
 }
 

@@ -486,7 +486,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
 
 std::unique_ptr<Fusion> Reconstructor::fuseScans(ReconstructionProgress& state, const std::function<void()>& report,
                                                  const Interrupter& interrupter, const SlabTeam* team) const {
-  std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostOf(rangeMapsOf(*mMaps)), rangeMapsOf(*mMaps), mOptions,
+  std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostWithin(rangeMapsOf(*mMaps)), rangeMapsOf(*mMaps), mOptions,
                                                Fusion::Keep::kNothing, team, interrupter);
   state.stage = ReconstructionProgress::Stage::kIntegrating;
   state.scan = 0;

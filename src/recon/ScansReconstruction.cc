@@ -25,11 +25,12 @@ void ScansReconstruction::letTheGridsGo() {
 
 ScansReconstruction prepareReconstruction(PackedScans scans, const ReconstructionOptions& given,
                                           const std::function<void(std::size_t, std::size_t)>& integrated,
-                                          const Interrupter& interrupter, const SlabTeam* team) {
+                                          const Interrupter& interrupter, const SlabTeam* team,
+                                          const SharedDataSlab* cut) {
   ScansReconstruction r;
   const ReconstructionOptions resolved = resolveReconstructionOptions(given, scans.summary);
   if (resolved.dataTerm == DataTermSource::kGrids) {
-    r.fusion = fusePackedScans(std::move(scans), resolved, integrated, interrupter, team);
+    r.fusion = fusePackedScans(std::move(scans), resolved, integrated, interrupter, team, cut);
     r.reconstructor = std::make_unique<Reconstructor>(*r.fusion, resolved);
     r.scans = r.fusion->scans();
     return r;

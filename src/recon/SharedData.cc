@@ -5,6 +5,8 @@
 #include <levelfuse/recon/FusionSettings.h>
 #include <levelfuse/scan/AccumulationCost.h>
 
+#include <cmath>
+
 namespace levelfuse {
 
 SlabBounds dataSlabOf(const SlabBounds& own) {
@@ -25,44 +27,48 @@ bool sharesDataInSlabs(const ReconstructionOptions& resolved, const SlabTeam* te
   return team && team->size() > 1 && resolved.dataTerm == DataTermSource::kGrids && resolved.levels == 1;
 }
 
-SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const ReconstructionOptions& resolved,
-                              const SlabTeam& team) {
+ReachedLeaves reachedLeavesOf(const ReconstructionOptions& resolved) {
   const FusionSettings grids = fusionSettingsOf(resolved);
   const int finest = grids.levels - 1;
-  const auto columns = accumulationColumns(maps, grids.levelVoxelSize(finest),
-                                           grids.levelForceOptions(finest).dataWindow().reach());
-  SharedDataSlab slab;
-  slab.own = balancedSlabs(columns, team.size()).at(static_cast<std::size_t>(team.rank()));
-  slab.data = dataSlabOf(slab.own);
-  std::size_t all = 0, within = 0;
-  for (const auto& [x, leaves] : columns) {
-    all += leaves;
-    if (slab.data.contains(x)) within += leaves;
-  }
-  slab.share = static_cast<double>(within) / static_cast<double>(all);
-  return slab;
+  return ReachedLeaves(grids.levelVoxelSize(finest), grids.levelForceOptions(finest).dataWindow().reach());
 }
 
-std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostOf& costOf, const RangeMapSequence& maps,
+std::vector<SharedDataSlab> sharedDataSlabs(const ReachedLeaves& reached, int processes) {
+  std::vector<SharedDataSlab> slabs;
+  for (const SlabBounds& own : balancedSlabs(reached.columns(), processes)) slabs.push_back({own, dataSlabOf(own)});
+  return slabs;
+}
+
+SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const ReconstructionOptions& resolved,
+                              const SlabTeam& team) {
+  ReachedLeaves reached = reachedLeavesOf(resolved);
+  maps([&](const RangeMap& map) { reached.add(map); });
+  return sharedDataSlabs(reached, team.size()).at(static_cast<std::size_t>(team.rank()));
+}
+
+std::pair<double, double> worldRangeOf(const SlabBounds& slab, double voxelSize) {
+  // Voxel x spans x - 1/2 to x + 1/2 voxels.
+  return {slab.hasLower() ? (slab.begin - 0.5) * voxelSize : -HUGE_VAL,
+          slab.hasHigher() ? (slab.end - 0.5) * voxelSize : HUGE_VAL};
+}
+
+std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostWithin& costWithin, const RangeMapSequence& maps,
                                      const ReconstructionOptions& resolved, Fusion::Keep keep, const SlabTeam* team,
-                                     const Interrupter& interrupter) {
-  if (!sharesDataInSlabs(resolved, team)) return fusionFor(costOf, resolved, keep);
+                                     const Interrupter& interrupter, const SharedDataSlab* cut) {
+  if (!sharesDataInSlabs(resolved, team)) return fusionFor(overAllOfX(costWithin), resolved, keep);
   const RangeMapSequence asked = [&](const RangeMapVisitor& visit) {
     maps([&](const RangeMap& map) {
       checkInterrupter(interrupter);
       visit(map);
     });
   };
-  const SharedDataSlab slab = sharedDataSlab(asked, resolved, *team);
-  // The leaves' lists and the grids grow with the leaves the slab's data hold.
-  const AccumulationCostOf shareOfCost = [&](double voxelSize, double reach) {
-    AccumulationCost cost = costOf(voxelSize, reach);
-    cost.leafMarks *= slab.share;
-    cost.leaves *= slab.share;
-    cost.bytes *= slab.share;
-    return cost;
+  const SharedDataSlab slab = cut ? *cut : sharedDataSlab(asked, resolved, *team);
+  // The leaves' lists and the grids grow with the data within the slab.
+  const auto [xMin, xMax] = worldRangeOf(slab.data, *resolved.voxelSize);
+  const AccumulationCostOf slabCost = [&, xMin = xMin, xMax = xMax](double voxelSize, double reach) {
+    return costWithin(voxelSize, reach, xMin, xMax);
   };
-  std::unique_ptr<Fusion> fusion = fusionFor(shareOfCost, resolved, keep);
+  std::unique_ptr<Fusion> fusion = fusionFor(slabCost, resolved, keep);
   fusion->restrictToSlab(slab.data);
   return fusion;
 }

@@ -157,7 +157,7 @@ TEST(SharedData, CuttingTheSlabsStopsWhenAsked) {
   EXPECT_THROW(test::runOnThreadTeam(2,
                                      [&](const SlabTeam& team) {
                                        int& mine = asked[static_cast<std::size_t>(team.rank())];
-                                       fusionOnTeam(accumulationCostOf(rangeMapsOf(frames)), rangeMapsOf(frames),
+                                       fusionOnTeam(accumulationCostWithin(rangeMapsOf(frames)), rangeMapsOf(frames),
                                                     resolved, Fusion::Keep::kNothing, &team,
                                                     [&mine] { return ++mine > 3; });
                                      }),

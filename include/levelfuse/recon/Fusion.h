@@ -34,6 +34,7 @@
 namespace levelfuse {
 
 class SlabTeam;
+struct SharedDataSlab;
 
 class Fusion {
  public:
@@ -69,6 +70,11 @@ class Fusion {
   /// The x range of the data the grid holds (restrictToSlab), or none: all.
   const std::optional<SlabBounds>& dataSlab() const { return mDataSlab; }
 
+  /// From now on the fusion's summary is `whole`'s, the summary of every scan
+  /// of a reconstruction of which it integrated a part: a process of a team
+  /// that read the scans its slab needs (recon/TeamScans.h) derives the
+  /// team's settings, and counts the team's scans.
+  void adoptSummary(ScanSummary whole) { mSummary = std::move(whole); }
   std::size_t scanCount() const { return mSummary.scans(); }
   const ScanSummary& summary() const { return mSummary; }
   const FusionSettings& settings() const { return mSettings; }
@@ -128,9 +134,12 @@ std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const Recons
 /// `interrupter` asks to stop between maps.
 /// On a `team` that shares the data in slabs (recon/SharedData.h), the
 /// fusion holds this process's slab of the data alone (restrictToSlab), and
-/// only the team's run() reconstructs from it.
+/// only the team's run() reconstructs from it: the slab `cut` when it is
+/// given (planTeamScans), found from `scans` otherwise. The fusion's summary
+/// is `scans`' (adoptSummary): the team's, where this process holds a part.
 std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
                                         const std::function<void(std::size_t, std::size_t)>& integrated = {},
-                                        const Interrupter& interrupter = {}, const SlabTeam* team = nullptr);
+                                        const Interrupter& interrupter = {}, const SlabTeam* team = nullptr,
+                                        const SharedDataSlab* cut = nullptr);
 
 }  // namespace levelfuse

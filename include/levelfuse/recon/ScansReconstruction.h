@@ -9,6 +9,7 @@
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/SharedData.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/RangeMap.h>
 
@@ -45,10 +46,13 @@ struct ScansReconstruction {
 /// `interrupter` stops the integration. For a `team` that will share the
 /// reconstruction (Reconstructor::run), the fusion holds this process's slab
 /// of the data alone where the team shares the data in slabs
-/// (recon/SharedData.h).
+/// (recon/SharedData.h): the slab `cut` if it is given. `scans` may be a
+/// part of the team's scans, their summary the whole team's (a team's
+/// process reading the scans its slab needs: recon/TeamScans.h).
 ScansReconstruction prepareReconstruction(PackedScans scans, const ReconstructionOptions& given,
                                           const std::function<void(std::size_t, std::size_t)>& integrated = {},
-                                          const Interrupter& interrupter = {}, const SlabTeam* team = nullptr);
+                                          const Interrupter& interrupter = {}, const SlabTeam* team = nullptr,
+                                          const SharedDataSlab* cut = nullptr);
 
 /// Whether meshes and previews leave out the surface no scan observed
 /// (recon/SurfaceWeight.h): as `asked`, else for scenes only (scans of a

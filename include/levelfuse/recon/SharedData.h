@@ -22,6 +22,8 @@
 #include <openvdb/openvdb.h>
 
 #include <memory>
+#include <utility>
+#include <vector>
 
 namespace levelfuse {
 
@@ -49,28 +51,42 @@ bool sharesDataInSlabs(const ReconstructionOptions& resolved, const SlabTeam* te
 
 /// This process's part of the data of a team that shares them in slabs.
 struct SharedDataSlab {
-  SlabBounds own;       ///< its slab of the field
-  SlabBounds data;      ///< the data it integrates (dataSlabOf)
-  double share = 1.0;   ///< the part of the data's leaf nodes that lie in `data`
+  SlabBounds own;   ///< its slab of the field
+  SlabBounds data;  ///< the data it integrates (dataSlabOf)
 };
 
-/// This process's part of `team`'s data: x cut where the leaf nodes that the
-/// windows of `maps` reach on the grid of the `resolved` options share out
-/// evenly (balancedSlabs of accumulationColumns), alike on every process
-/// that visits the same maps. Throws std::invalid_argument if the data span
-/// fewer columns of leaf nodes than the team has processes (balancedSlabs).
+/// Every process's part of the data of a team of `processes` that shares them
+/// in slabs, in rank order: x cut where the leaf nodes `reached` (the windows
+/// of all the team's maps on the grid of the run) share out evenly
+/// (balancedSlabs of their columns). Throws std::invalid_argument if they
+/// span fewer columns of leaf nodes than the team has processes
+/// (balancedSlabs).
+std::vector<SharedDataSlab> sharedDataSlabs(const ReachedLeaves& reached, int processes);
+
+/// This process's part of `team`'s data (sharedDataSlabs), the leaves
+/// reached found from `maps` on the grid of the `resolved` options: alike on
+/// every process that visits the same maps.
 SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const ReconstructionOptions& resolved,
                               const SlabTeam& team);
 
+/// The leaf nodes the windows reach on the grid of the `resolved` options, to
+/// be added to (ReachedLeaves): the grid's finest voxel size and the window's reach.
+ReachedLeaves reachedLeavesOf(const ReconstructionOptions& resolved);
+
+/// The world x range of the voxels of `slab` (centred on multiples of
+/// `voxelSize`), from -HUGE_VAL to HUGE_VAL where it is unbounded.
+std::pair<double, double> worldRangeOf(const SlabBounds& slab, double voxelSize);
+
 /// An empty fusion of the `resolved` options' grids for the maps whose cost
-/// `costOf` finds (fusionFor), keeping `keep` of them: on a `team` that
+/// `costWithin` finds (fusionFor), keeping `keep` of them: on a `team` that
 /// shares the data in slabs (sharesDataInSlabs), of this process's slab of
-/// the data (Fusion::restrictToSlab), whose memory is checked for its share
-/// of the data alone. `maps` are visited once, to cut the slabs, only then,
-/// and `interrupter` is asked before each (Interrupted).
-std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostOf& costOf, const RangeMapSequence& maps,
+/// the data (Fusion::restrictToSlab), whose memory is checked for the data
+/// within it alone. The slab is `cut` if given (found beforehand, e.g. by
+/// planTeamScans), else found from `maps` (sharedDataSlab), which are then
+/// visited once, with `interrupter` asked before each (Interrupted).
+std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostWithin& costWithin, const RangeMapSequence& maps,
                                      const ReconstructionOptions& resolved, Fusion::Keep keep, const SlabTeam* team,
-                                     const Interrupter& interrupter = {});
+                                     const Interrupter& interrupter = {}, const SharedDataSlab* cut = nullptr);
 
 /// The box of every process's box `own` (an empty box for none), on every process.
 openvdb::CoordBBox teamBox(const openvdb::CoordBBox& own, const SlabTeam& team);
