@@ -72,6 +72,7 @@
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/ScansReconstruction.h>
 #include <levelfuse/recon/SharedData.h>
+#include <levelfuse/recon/TeamScans.h>
 #include <levelfuse/recon/SurfaceRoughness.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 

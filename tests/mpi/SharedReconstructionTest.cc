@@ -3,16 +3,21 @@
 // in pieces, one at each rank.
 
 #include "recon/RoomFrames.h"
+#include "recon/StreetFrames.h"
 #include "support/NoisyTorus.h"
 #include "support/TestSupport.h"
 
 #include <levelfuse/mpi/RankTeam.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/ScansReconstruction.h>
+#include <levelfuse/recon/TeamScans.h>
+#include <levelfuse/scan/PackedRangeMap.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <string>
+#include <vector>
 
 namespace levelfuse {
 namespace {
@@ -100,6 +105,43 @@ TEST(SharedReconstruction, EachRankKeepsItsPieceOfOneProcesssSurface) {
   EXPECT_EQ(otherWeights, 0u) << "rank " << team.rank();
   EXPECT_EQ(team.total(mine.levelSet->activeVoxelCount()), alone.levelSet->activeVoxelCount());
   EXPECT_EQ(team.total(mine.weight->activeVoxelCount()), alone.weight->activeVoxelCount());
+}
+
+TEST(SharedReconstruction, RanksThatReadTheFramesTheirSlabNeedsGiveOneProcesssPieces) {
+  // Frames along a street: the ranks read them in turn, agree on the
+  // settings and the cuts, and each then holds the frames its slab needs
+  // (recon/TeamScans.h); each keeps its piece of one process's surface.
+  const std::vector<RangeMap> frames = streetFrames();
+  ReconstructionOptions options;
+  options.voxelSize = 0.04;
+  options.dataTerm = DataTermSource::kGrids;
+  const ReconstructionResult alone = Reconstructor(frames, options).run();
+  options.keepPieces = true;
+  const mpi::RankTeam team;
+  PackedScans read;
+  std::vector<std::size_t> first;
+  for (std::size_t n = 0; n < frames.size(); ++n)
+    if (readFirstBy(n, team.rank(), team.size())) {
+      read.add(RangeMap(frames[n]));
+      first.push_back(n);
+    }
+  const ScanSummary whole = teamSummary(read.summary, team);
+  const TeamScanPlan plan =
+      planTeamScans(read, first, frames.size(), resolveReconstructionOptions(options, whole), false, team);
+  ASSERT_TRUE(plan.slab);
+  PackedScans needed;
+  for (std::size_t n : plan.needed) needed.add(RangeMap(frames[n]));
+  needed.summary = whole;
+  EXPECT_LT(needed.maps.size(), frames.size() * 3 / 4) << "rank " << team.rank() << " holds most frames";
+  EXPECT_EQ(team.total(needed.maps.size() > 0 ? 1 : 0), static_cast<std::uint64_t>(team.size()));
+  ScansReconstruction made = prepareReconstruction(std::move(needed), options, {}, {}, &team, &*plan.slab);
+  const ReconstructionResult mine = made.reconstructor->run({}, {}, &team);
+  ASSERT_TRUE(mine.levelSet) << "rank " << team.rank();
+  const openvdb::FloatGrid::Ptr clipped = test::clippedToSlab(*alone.levelSet, plan.slab->own);
+  std::string why;
+  EXPECT_TRUE(test::identical(*clipped, *mine.levelSet, &why)) << "rank " << team.rank() << ": " << why;
+  EXPECT_TRUE(test::sameTreeBytes(*clipped, *mine.levelSet)) << "rank " << team.rank();
+  EXPECT_EQ(team.total(mine.levelSet->activeVoxelCount()), alone.levelSet->activeVoxelCount());
 }
 
 }  // namespace
