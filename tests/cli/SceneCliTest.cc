@@ -93,6 +93,30 @@ TEST_F(SceneCli, DepthFramesGiveATrimmedMeshByDefaultAndAClosedOneOnRequest) {
   EXPECT_EQ(jsonOf(whole)["triangles"], all);
 }
 
+TEST_F(SceneCli, AStreetOfDepthFramesIsAScene) {
+  // synth --shape street: depth frames along a façade, half a metre apart;
+  // reconstructed, the surface lies on the readings.
+  const CliRun synth = levelfuse("synth --shape street --views 12 --resolution 48 --noise 0.003 --json -o " +
+                                 path("street"));
+  ASSERT_EQ(synth.exitCode, 0) << synth.output;
+  const nlohmann::json made = nlohmann::json::parse(synth.output);
+  EXPECT_EQ(made["views"], 12);
+  EXPECT_EQ(made["projection"], "pinhole");
+  EXPECT_NEAR(made["noise_sigma"].get<double>(), 0.0054, 1e-9);
+  const CliRun run = levelfuse("reconstruct " + path("street/scans.json") + " --voxel-size 0.03 --json --mesh " +
+                               path("street.ply"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  const nlohmann::json summary = nlohmann::json::parse(run.output);
+  EXPECT_EQ(summary["scans"], 12);
+  EXPECT_EQ(summary["levels"], 1) << "depth frames: one grid";
+  EXPECT_TRUE(summary["trimmed_unseen"]) << "a scene";
+  EXPECT_LT(summary["fit"]["median"].get<double>(), 0.01);
+  const CliRun spherical = levelfuse("synth --shape street --scanner spherical -o " + path("lidar"));
+  EXPECT_NE(spherical.exitCode, 0);
+  EXPECT_NE(spherical.output.find("the street is filmed by depth cameras"), std::string::npos) << spherical.output;
+  EXPECT_FALSE(fs::exists(path("lidar")));
+}
+
 TEST_F(SceneCli, TheLinearSolutionIsTrimmedToo) {
   const std::string frames = depthFolder();
   const CliRun trimmed = levelfuse("reconstruct " + frames + " --linear --voxel-size 0.05 --json --mesh " +

@@ -64,7 +64,7 @@ void readMeshPly(const std::string& path, std::vector<Vec3d>& points, std::vecto
 }
 
 RangeMap::Kind scannerOf(const SynthSettings& s) {
-  if (s.pinhole || s.scanner == "pinhole") return RangeMap::Kind::kPinhole;
+  if (s.pinhole || s.scanner == "pinhole" || s.shape == "street") return RangeMap::Kind::kPinhole;
   return s.scanner == "spherical" || s.shape == "room" ? RangeMap::Kind::kSpherical : RangeMap::Kind::kOrthographic;
 }
 
@@ -90,6 +90,8 @@ void paintHalves(std::vector<RangeMap>& maps) {
 int runSynth(const SynthSettings& s) {
   if (s.shape == "room" && (s.pinhole || s.scanner != "parallel") && s.scanner != "spherical")
     throw std::invalid_argument("synth: the room is scanned by spherical scanners (--scanner spherical)");
+  if (s.shape == "street" && s.scanner != "parallel" && s.scanner != "pinhole")
+    throw std::invalid_argument("synth: the street is filmed by depth cameras (--scanner pinhole)");
   synth::SceneOptions options;
   options.views = s.views;
   options.resolution = s.resolution;
@@ -106,6 +108,8 @@ int runSynth(const SynthSettings& s) {
     scene = synth::meshScene(points, triangles, options);
   } else if (s.shape == "room") {
     scene = synth::roomScene(shapes::Room{}, options);
+  } else if (s.shape == "street") {
+    scene = synth::streetScene(options);
   } else {
     using Kind = shapes::AnalyticShape::Kind;
     const Kind kind = s.shape == "sphere" ? Kind::kSphere : s.shape == "torus" ? Kind::kTorus : Kind::kMug;
@@ -149,11 +153,14 @@ Command addSynthCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("synth", "Make synthetic range scans of a sphere, torus, mug, room or mesh");
   cmd->add_option("--shape", s->shape,
                   "Analytic shape (its truth goes into the manifest); the room (6 x 4 x 2.5 m, with a table, a "
-                  "ball, a ring and a pillar) is scanned from three tripods by spherical scanners")
-      ->check(CLI::IsMember({"sphere", "torus", "mug", "room"}))
+                  "ball, a ring and a pillar) is scanned from three tripods by spherical scanners; the street (a "
+                  "façade with bays, on the ground, half a metre more of it per view) is filmed by depth cameras "
+                  "moving along it, each seeing about 2 m")
+      ->check(CLI::IsMember({"sphere", "torus", "mug", "room", "street"}))
       ->capture_default_str();
   cmd->add_option("--mesh", s->mesh, "Scan a triangle mesh (.ply) instead")->check(CLI::ExistingFile);
-  cmd->add_option("--views", s->views, "Number of views (default 6; 10 for the mug)")->check(CLI::Range(1, 1000));
+  cmd->add_option("--views", s->views, "Number of views (default 6; 10 for the mug; 40 for the street)")
+      ->check(CLI::Range(1, 1000));
   cmd->add_option("--resolution", s->resolution,
                   "Pixels along each side of a view (spherical scanners: rays across the shape; the room's: rays "
                   "per quarter turn)")
@@ -187,7 +194,8 @@ Command addSynthCommand(CLI::App& app) {
       "  levelfuse synth --shape mug --noise 0.5 -o mug-scans         # Fig. 14\n"
       "  levelfuse synth --shape mug --outliers 0.01 -o mug-outliers  # Fig. 15\n"
       "  levelfuse synth --mesh part.ply --views 12 --pinhole -o part-scans\n"
-      "  levelfuse synth --shape room --noise 0.0004 -o room-scans   # three tripods, 1 mm at 1 m");
+      "  levelfuse synth --shape room --noise 0.0004 -o room-scans   # three tripods, 1 mm at 1 m\n"
+      "  levelfuse synth --shape street --views 400 --resolution 160 --noise 0.003 -o street  # 200 m of depth video");
   return {cmd, [s] { return runSynth(*s); }};
 }
 
