@@ -3,7 +3,8 @@
 # mesh, byte for byte, from 1, 2 and 4 ranks (a synthetic torus, and the
 # Stanford bunny when ../shared is beside the repository), also from depth
 # frames, whose data term each rank holds in part (synthetic frames, and
-# 7-Scenes' when ../shared is there); pieces (--pieces)
+# 7-Scenes' when ../shared is there), and frames along a street, of which each
+# rank holds those its slab needs; pieces (--pieces)
 # whose union is one process's level set, and whose mesh (levelfuse mesh of
 # every piece) is one process's; a job too large for one process's
 # memory budget runs on four ranks within it; a rank that fails (bad input, a
@@ -95,6 +96,30 @@ for name, ranks, mean in ((sys.argv[2], 2, 0.9), (sys.argv[3], 4, 0.65)):
     assert sum(held) / ranks < mean * whole, (name, whole, held)
 PY
 fi
+
+# 1c. Frames along a street (levelfuse synth --shape street), each seeing about 2 m of it: the
+#     ranks read the frames in turn, then each holds those its slab needs (their windows reach
+#     its slab of the data, or their lines of sight the blocks carving decides there). The
+#     outputs are one process's; rank 0, which measures and writes the whole surface, holds
+#     every frame; with --pieces no rank holds them all (measured with 4 ranks: 24, 30, 30
+#     and 24 of the 80), and the pieces are those of the run without --pieces.
+"$levelfuse" synth --shape street --views 80 --resolution 96 --noise 0.003 -o street >/dev/null || fail "synth street"
+"$levelfuse" reconstruct street/scans.json --voxel-size 0.02 -o street-1.vdb --mesh street-1.ply -q ||
+  fail "street, one process"
+for ranks in 2 4; do
+  run "$ranks" "$levelfuse" reconstruct street/scans.json --voxel-size 0.02 -o "street-$ranks.vdb" \
+    --mesh "street-$ranks.ply" --json > "street-$ranks.json" || fail "street, $ranks ranks exited with $?"
+  cmp street-1.vdb "street-$ranks.vdb" || fail "street, $ranks ranks: the .vdb differs"
+  cmp street-1.ply "street-$ranks.ply" || fail "street, $ranks ranks: the mesh differs"
+done
+run 4 "$levelfuse" reconstruct street/scans.json --voxel-size 0.02 -o street-pieces.vdb --pieces --json \
+  > street-pieces.json || fail "street in pieces exited with $?"
+python3 - street-4.json street-pieces.json <<'PY' || fail "street: the frames each rank held"
+import json, sys
+whole, pieces = ([r["scans_held"] for r in json.load(open(name))["ranks"]] for name in sys.argv[1:])
+assert whole[0] == 80 and all(0 < n < 48 for n in whole[1:]), whole
+assert all(0 < n < 48 for n in pieces) and sum(pieces) < 2 * 80, pieces
+PY
 
 # 1b. Pieces (--pieces): each of 3 ranks writes its own piece of the level set; together they
 #     are one process's level set (their CSG union), and each says which piece it is.

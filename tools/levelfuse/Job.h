@@ -48,6 +48,7 @@ struct RankFacts {
   std::uint64_t leafNodes = 0;    ///< its own leaf nodes of the finest grid
   std::uint64_t ghostBytes = 0;   ///< the ghosts it sent its neighbours, every grid and iteration
   std::uint64_t dataTermBytes = 0;  ///< its grids of the data term (0 with the data term from the maps)
+  std::uint64_t scansHeld = 0;      ///< the scans it held (those its slab needs, where the ranks share the data)
 };
 /// The bytes of ghosts this rank has sent its neighbours so far (0 outside a job).
 std::uint64_t ghostBytesSent();

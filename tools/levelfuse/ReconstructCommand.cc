@@ -20,6 +20,8 @@
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/ScansReconstruction.h>
+#include <levelfuse/recon/SharedData.h>
+#include <levelfuse/recon/TeamScans.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 
 #include <nlohmann/json.hpp>
@@ -27,13 +29,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace levelfuse::cli {
@@ -92,14 +97,32 @@ void checkSettings(ReconstructSettings& s) {
   s.options.minIterations = std::min(s.options.minIterations, s.options.maxIterations);
 }
 
-/// The scans of every input, and the truth a synthetic manifest records.
+/// What the data and the options cannot give (a window wider than the data, a
+/// grid that would not fit) is said of the inputs.
+std::runtime_error ofTheInputs(const ReconstructSettings& s, const std::exception& e) {
+  return std::runtime_error(joined(s.inputs) + ": " + e.what());
+}
+
+/// Every file the job writes: with --pieces, every rank's piece.
+std::vector<std::string> jobOutputs(const ReconstructSettings& s) {
+  if (!s.pieces) return {s.output, s.mesh, s.preview};
+  std::vector<std::string> pieces;
+  for (int rank = 0; rank < jobRanks(); ++rank) pieces.push_back(pieceFileName(s.piecesOf, rank, jobRanks()));
+  return pieces;
+}
+
+/// The scans of the inputs this process holds, and the truth a synthetic manifest records.
 struct Inputs {
   PackedScans scans;                  ///< read one at a time and held packed
+  std::vector<std::size_t> numbers;   ///< of each scan held, its number among all the inputs' (from 0)
+  std::size_t scanCount = 0;          ///< the scans of all the inputs, read or not
   std::optional<RangeMap> firstScan;  ///< a scene's preview looks from its camera
   std::optional<shapes::AnalyticShape> truth;
 };
 
-Inputs loadInputs(const ReconstructSettings& s, ProgressBar& bar) {
+/// Reads the scans of the inputs that `wanted` picks by their number among
+/// all the inputs' scans (from 0, in order), every scan if it is not given.
+Inputs loadInputs(const ReconstructSettings& s, ProgressBar& bar, const std::function<bool(std::size_t)>& wanted = {}) {
   enterPhase("loading");
   io::ScanLoadOptions load;
   if (!s.towardScanner.empty()) load.stanford.towardScanner = parseVec3(s.towardScanner);
@@ -110,33 +133,102 @@ Inputs loadInputs(const ReconstructSettings& s, ProgressBar& bar) {
   load.interrupter = cancellationInterrupter();
   load.progress = [&](std::size_t read, std::size_t total) { bar.loading(read, total); };
   Inputs in;
+  // Each input numbers its scans from 0, asking for every one in order; the
+  // scans wanted are then handed over in order.
+  std::size_t asked = 0;
+  std::deque<std::size_t> coming;
+  load.wanted = [&](std::size_t scan) {
+    asked = std::max(asked, scan + 1);
+    const std::size_t number = in.scanCount + scan;
+    if (wanted && !wanted(number)) return false;
+    coming.push_back(number);
+    return true;
+  };
   load.take = [&](RangeMap&& map) {
-    if (!in.firstScan) in.firstScan = map;
+    if (!in.firstScan && coming.front() == 0) in.firstScan = map;
+    in.numbers.push_back(coming.front());
+    coming.pop_front();
     in.scans.add(std::move(map));
   };
   for (const std::string& input : s.inputs) {
     io::loadScans(input, load);
+    in.scanCount += asked;
+    asked = 0;
     if (std::filesystem::path(input).extension() == ".json" && !in.truth) in.truth = io::loadManifestTruth(input);
   }
   // The scan files the inputs named are inputs too.
-  requireOutputs({s.output, s.mesh, s.preview}, io::inputsRead());
+  requireOutputs(jobOutputs(s), io::inputsRead());
   return in;
 }
 
-/// What the data and the options cannot give (a window wider than the data, a
-/// grid that would not fit) is said of the inputs.
-std::runtime_error ofTheInputs(const ReconstructSettings& s, const std::exception& e) {
-  return std::runtime_error(joined(s.inputs) + ": " + e.what());
+/// Scans held, each with its number among all the inputs' scans.
+using NumberedScans = std::vector<std::pair<std::size_t, PackedRangeMap>>;
+
+/// Moves the scans of `part` that `isNeeded` picks into `into`; the others are let go.
+void moveScansNeeded(Inputs& part, const std::function<bool(std::size_t)>& isNeeded, NumberedScans& into) {
+  for (std::size_t i = 0; i < part.numbers.size(); ++i)
+    if (isNeeded(part.numbers[i])) into.emplace_back(part.numbers[i], std::move(part.scans.maps[i]));
+  part.scans = PackedScans();
 }
 
-ScansReconstruction prepare(Inputs& in, const ReconstructSettings& s, ProgressBar& bar) {
+/// `scans` in the order of their numbers, with the summary of all the inputs' scans `whole`.
+PackedScans inNumberOrder(NumberedScans scans, const ScanSummary& whole, std::vector<std::size_t>& numbers) {
+  std::stable_sort(scans.begin(), scans.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  PackedScans ordered;
+  ordered.summary = whole;
+  for (auto& [number, map] : scans) {
+    numbers.push_back(number);
+    ordered.maps.push_back(std::move(map));
+  }
+  return ordered;
+}
+
+/// The scans of the inputs this rank of an MPI `team` needs: the ranks
+/// read the scans in turn, agree on the settings from all of them, and,
+/// where they share the data in slabs, each keeps the scans its slab needs
+/// and reads those it lacks (recon/TeamScans.h). `cut` is set to this
+/// rank's slab of the data where they share it.
+Inputs loadTeamInputs(const ReconstructSettings& s, ProgressBar& bar, const SlabTeam& team,
+                      std::optional<SharedDataSlab>& cut) {
+  Inputs first = loadInputs(s, bar, [&](std::size_t scan) { return readFirstBy(scan, team.rank(), team.size()); });
+  const ScanSummary whole = teamSummary(first.scans.summary, team);
+  // The rank that measures and writes the whole surface needs every scan for the fit and the colour.
+  const TeamScanPlan plan = [&] {
+    try {
+      return planTeamScans(first.scans, first.numbers, first.scanCount, resolveReconstructionOptions(s.options, whole),
+                           leadsTheJob() && !s.pieces, team, cancellationInterrupter());
+    } catch (const std::invalid_argument& e) {
+      throw ofTheInputs(s, e);
+    }
+  }();
+  cut = plan.slab;
+  const auto isNeeded = [&](std::size_t scan) {
+    return std::binary_search(plan.needed.begin(), plan.needed.end(), scan);
+  };
+  // Those read first that this rank does not need go before it reads those it lacks.
+  const std::vector<std::size_t> readFirst = first.numbers;
+  NumberedScans needed;
+  moveScansNeeded(first, isNeeded, needed);
+  Inputs rest = loadInputs(s, bar, [&](std::size_t scan) {
+    return isNeeded(scan) && !std::binary_search(readFirst.begin(), readFirst.end(), scan);
+  });
+  moveScansNeeded(rest, isNeeded, needed);
+  Inputs in;
+  in.scans = inNumberOrder(std::move(needed), whole, in.numbers);
+  in.scanCount = first.scanCount;
+  in.truth = std::move(first.truth);
+  in.firstScan = std::move(first.firstScan);  // scan 0, which the first rank reads first
+  return in;
+}
+
+ScansReconstruction prepare(Inputs& in, const ReconstructSettings& s, ProgressBar& bar, const SharedDataSlab* cut) {
   try {
     if (resolveReconstructionOptions(s.options, in.scans.summary).dataTerm == DataTermSource::kGrids)
       enterPhase("integrating");
     // Under mpirun the ranks share the evolution, and each may integrate its slab of the data alone.
     return prepareReconstruction(
         std::move(in.scans), s.options, [&](std::size_t done, std::size_t total) { bar.integrating(done, total); },
-        cancellationInterrupter(), s.linear ? nullptr : jobTeam());
+        cancellationInterrupter(), s.linear ? nullptr : jobTeam(), cut);
   } catch (const std::invalid_argument& e) {
     throw ofTheInputs(s, e);
   } catch (const InsufficientMemory& e) {
@@ -326,7 +418,8 @@ void printJson(const Summary& r) {
                        {"peak_engine_bytes", f.engineBytes},
                        {"leaf_nodes", f.leafNodes},
                        {"ghost_bytes_sent", f.ghostBytes},
-                       {"data_term_bytes", f.dataTermBytes}});
+                       {"data_term_bytes", f.dataTermBytes},
+                       {"scans_held", f.scansHeld}});
     j["ranks"] = ranks;
   }
   if (r.inputs.truth && r.measures.truthRms >= 0.0)
@@ -398,6 +491,7 @@ void printText(const Summary& r) {
       std::cout << "    rank " << k << ": " << withCommas(r.ranks[k].leafNodes) << " leaf nodes of the finest grid, engine "
                 << mebibytes(r.ranks[k].engineBytes)
                 << (r.ranks[k].dataTermBytes > 0 ? ", data term " + mebibytes(r.ranks[k].dataTermBytes) : std::string())
+                << ", " << withCommas(r.ranks[k].scansHeld) << (r.ranks[k].scansHeld == 1 ? " scan" : " scans")
                 << ", process peak " << mebibytes(r.ranks[k].peakBytes) << ", "
                 << fixed(r.ranks[k].seconds, 3) << " s to the end of the evolution, "
                 << mebibytes(r.ranks[k].ghostBytes) << " of ghosts sent (" << mebibytes(r.ranks[k].ghostBytes / iterations)
@@ -468,8 +562,12 @@ int runReconstruct(ReconstructSettings s) {
   // In an MPI job every rank reconstructs; the first one alone prints, and
   // measures and writes what the ranks made together.
   ProgressBar bar(!s.quiet && !s.json && leadsTheJob());
-  Inputs inputs = loadInputs(s, bar);
-  ScansReconstruction made = prepare(inputs, s, bar);
+  // Under mpirun the ranks read the scans in turn, then each those it needs.
+  const SlabTeam* team = s.linear ? nullptr : jobTeam();
+  std::optional<SharedDataSlab> cut;
+  Inputs inputs = team ? loadTeamInputs(s, bar, *team, cut) : loadInputs(s, bar);
+  const std::size_t scansHeld = inputs.scans.maps.size();
+  ScansReconstruction made = prepare(inputs, s, bar, cut ? &*cut : nullptr);
   const Reconstructor& reconstructor = *made.reconstructor;
   const Presentation shown = presentationOf(reconstructor, s);
   if (s.linear && !leadsTheJob()) return kExitSuccess;  // the linear solution is not shared
@@ -480,7 +578,7 @@ int runReconstruct(ReconstructSettings s) {
     ranks = gatherRankFacts(RankFacts{std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
                                       peakResidentBytes(), result.peakEngineBytes,
                                       result.levels.empty() ? 0 : result.levels.back().ownLeafNodes,
-                                      ghostBytesSent(), dataTermBytes});
+                                      ghostBytesSent(), dataTermBytes, scansHeld});
   const auto secondsSoFar = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
   if (s.pieces) return finishInPieces(s, made, result, inputs, ranks, secondsSoFar());
   if (!leadsTheJob()) return kExitSuccess;
