@@ -18,6 +18,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <utility>
 
 namespace levelfuse::io {
@@ -81,6 +82,9 @@ DepthNoise depthNoiseOf(const Entry& e) {
 std::vector<RangeMap> loadTumEntry(const Entry& e, const ScanLoadOptions& defaults) {
   ScanLoadOptions o = defaults;
   o.progress = {};  // a manifest reports its entries, not the frames within one
+  // The manifest hands its scans over, in the order of its entries, and asks which are wanted.
+  o.take = {};
+  o.wanted = {};
   if (e.has("depth_scale")) o.depthScale = e.positive("depth_scale", 0.0);
   o.maxDepth = e.positive("max_depth", defaults.maxDepth);
   const double stride = e.number("frame_stride", 1.0);
@@ -154,6 +158,28 @@ void colourEntry(const Entry& e, std::vector<RangeMap>& maps, std::size_t first)
 
 }  // namespace
 
+namespace {
+
+/// Whether an entry of `format` makes one scan: one not wanted (ScanLoadOptions::wanted) is not read.
+bool makesOneScan(const std::string& format) {
+  for (const char* one : {"stanford-ply", "depth-png", "depth-pfm", "depth-exr", "points", "kitti-bin",
+                          "orthographic-pfm", "spherical-pfm"})
+    if (format == one) return true;
+  return false;
+}
+
+/// Of the scans from `first` on, keeps those `wanted` picks, asking it of each in
+/// order with the number of scans asked before (`asked`, counted on).
+void keepWanted(std::vector<RangeMap>& maps, std::size_t first, const std::function<bool(std::size_t)>& wanted,
+                std::size_t& asked) {
+  std::size_t kept = first;
+  for (std::size_t m = first; m < maps.size(); ++m)
+    if (wanted(asked++)) maps[kept++] = std::move(maps[m]);
+  maps.erase(maps.begin() + static_cast<std::ptrdiff_t>(kept), maps.end());
+}
+
+}  // namespace
+
 std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOptions& defaults) {
   const Interrupter& interrupter = defaults.interrupter;
   const json root = parseManifest(path);
@@ -162,10 +188,15 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
   if (root["scans"].empty()) throw InputError(path, "'scans' is empty");
 
   std::vector<RangeMap> maps;
+  std::size_t asked = 0;  // scans the options' wanted was asked of
   for (std::size_t i = 0; i < root["scans"].size(); ++i) {
     checkInterrupter(interrupter);
     const Entry e(path, root["scans"][i], i);
     const std::string format = e.string("format");
+    if (defaults.wanted && makesOneScan(format) && !defaults.wanted(asked++)) {
+      reportLoaded(defaults.progress, i + 1, root["scans"].size());
+      continue;
+    }
     const std::size_t first = maps.size();
     if (format == "stanford-conf") {
       StanfordScanOptions stanford = stanfordOptions(e);
@@ -249,6 +280,7 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       for (std::size_t m = first; m < maps.size(); ++m)
         maps[m].setMissesAreEmpty(e["misses_are_empty"].get<bool>(), static_cast<int>(reach));
     }
+    if (defaults.wanted && !makesOneScan(format)) keepWanted(maps, first, defaults.wanted, asked);
     reportLoaded(defaults.progress, i + 1, root["scans"].size());
   }
   return maps;

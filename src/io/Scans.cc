@@ -69,6 +69,14 @@ std::vector<RangeMap> handedOver(std::vector<RangeMap> maps, const ScanLoadOptio
   return scans.kept();
 }
 
+/// The scans of a reader that asked which are wanted itself (a manifest), handed over if the options take them.
+std::vector<RangeMap> handedOverAsWanted(std::vector<RangeMap> maps, const ScanLoadOptions& options) {
+  if (!options.take) return maps;
+  ScanDelivery scans(options);
+  for (RangeMap& m : maps) scans.deliver(std::move(m));
+  return {};
+}
+
 }  // namespace
 
 void checkDepthOptions(const ScanLoadOptions& options, const std::string& source) {
@@ -104,7 +112,7 @@ std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& 
     stanford.progress = options.progress;
     return handedOver(loadStanfordScans(path, stanford), options);
   }
-  if (extension == ".json") return handedOver(loadManifest(path, options), options);
+  if (extension == ".json") return handedOverAsWanted(loadManifest(path, options), options);
   if (extension == ".ptx") return loadPtxScans(path, options);
   throw InputError(path, "not a kind of scan levelfuse reads: give a Stanford .conf file, a JSON manifest "
                          "(.json), a PTX file (.ptx) or a folder of depth frames (7-Scenes or TUM RGB-D)");

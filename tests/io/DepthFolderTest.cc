@@ -68,10 +68,11 @@ TEST(SevenScenesFolder, AFrameNotWantedIsNotRead) {
                    "no pose beside it");
 }
 
-TEST(Manifest, AScanNotWantedIsNeitherKeptNorHandedOver) {
+TEST(Manifest, AScanNotWantedIsNeitherReadNorKeptNorHandedOver) {
   TempDir dir;
   test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kCamera, 16, 12, 2.0);
   const std::string manifest = writeScanSet(dir.path("set"), loadScans(dir.path("scene")));
+  writeText(dir.path("set/scan0.pfm"), "not a PFM: an entry not wanted is not read");
   ScanLoadOptions options;
   options.wanted = [](std::size_t scan) { return scan != 0; };
   const std::vector<RangeMap> kept = loadScans(manifest, options);
@@ -152,6 +153,22 @@ TEST(ManifestDepthEntries, ATumFolder) {
   ASSERT_EQ(maps.size(), 2u);
   EXPECT_NEAR(maps[1].scannerPosition().x(), 0.1, 1e-9);
   EXPECT_NEAR(maps[1].reading(7, 5), 2.0, 1e-3);
+  // Taken as read, and of those wanted alone: the manifest's order and numbers, the folder's frames among them.
+  writeText(dir.path("m.json"), R"({ "scans": [ { "format": "tum", "folder": "tum" },
+    { "format": "depth-png", "file": "tum/depth/10.000000.png", "intrinsics": {"fx": 525, "fy": 525, "cx": 319.5, "cy": 239.5},
+      "pose": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1] } ] })");
+  ScanLoadOptions options;
+  std::vector<std::size_t> asked;
+  options.wanted = [&](std::size_t scan) {
+    asked.push_back(scan);
+    return scan % 2 == 0;
+  };
+  std::vector<std::string> taken;
+  options.take = [&](RangeMap&& map) { taken.push_back(map.name()); };
+  EXPECT_TRUE(loadScans(dir.path("m.json"), options).empty());
+  EXPECT_EQ(asked, (std::vector<std::size_t>{0, 1, 2, 3, 4}));
+  ASSERT_EQ(taken.size(), 3u);
+  EXPECT_EQ(taken[2], "10.000000.png") << "the entry after the folder's frames comes after them";
   writeText(dir.path("m.json"), R"({ "scans": [ { "format": "tum", "folder": "tum", "frame_stride": 0.5 } ] })");
   expectInputError([&] { loadManifest(dir.path("m.json")); }, dir.path("m.json"),
                    "scans[0]: 'frame_stride' must be a whole number, 1 to 1000000");

@@ -62,7 +62,10 @@ namespace levelfuse::io {
 /// entry (e.g. "scans[2]: 'pose' needs 16 numbers") or the scan file at fault.
 /// The depth scale (if not 0) and maximum depth of `defaults` apply to the
 /// depth entries that do not give their own; its interrupter is asked before
-/// each entry and scan (Interrupted).
+/// each entry and scan (Interrupted). With `defaults.wanted`, the scans it
+/// picks alone: an entry of one scan not wanted is not read, the scans of an
+/// entry of several (a .conf, a TUM folder, a PTX file) are read and those not
+/// wanted dropped.
 std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOptions& defaults = {});
 
 /// The manifest's "truth", if it records one.
