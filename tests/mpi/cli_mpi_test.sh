@@ -183,6 +183,13 @@ code=$?
 [ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "bad input: exit code $code"
 grep -q "bad.json: scans\[0\]: unknown format 'nope'" bad.err || fail "bad input: no message naming the file"
 [ ! -e bad.vdb ] || fail "bad input: an output was written"
+# A frame that only one rank reads first (the ranks read the frames in turn): that rank ends the job.
+cp -r street brokenstreet && head -c 100 street/scan3.pfm > brokenstreet/scan3.pfm
+run 2 "$levelfuse" reconstruct brokenstreet/scans.json --voxel-size 0.02 -o broken.vdb 2> broken.err
+code=$?
+[ "$code" -ne 0 ] && [ "$code" -ne 124 ] || fail "a frame one rank reads: exit code $code"
+grep -q "scan3.pfm.*(rank 1 of 2)" broken.err || fail "a frame one rank reads: $(cat broken.err)"
+[ ! -e broken.vdb ] || fail "a frame one rank reads: an output was written"
 
 # 3. One rank of two cannot have the memory its grids need: it says so, and the job stops.
 cat > limited.sh <<SCRIPT
