@@ -54,7 +54,7 @@ bool addReached(const PackedLeaves& packed, ReachedLeaves& whole) {
   for (std::size_t at = 1; at < numbers.size(); at += 6) {
     const openvdb::CoordBBox box(openvdb::Coord(numbers[at], numbers[at + 1], numbers[at + 2]),
                                  openvdb::Coord(numbers[at + 3], numbers[at + 4], numbers[at + 5]));
-    whole.leaves().sparseFill(box, true, true);
+    whole.add(box);
   }
   return numbers[0] != 0;
 }

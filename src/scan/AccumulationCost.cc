@@ -58,8 +58,6 @@ ReachedLeaves::Span ReachedLeaves::add(const RangeMap& map) {
   return span;
 }
 
-void ReachedLeaves::add(const ReachedLeaves& other) { mLeaves.topologyUnion(other.mLeaves); }
-
 std::vector<std::pair<openvdb::Int32, std::size_t>> ReachedLeaves::columns() const {
   std::map<openvdb::Int32, std::size_t> perColumn;
   for (auto leaf = mLeaves.cbeginValueOn(); leaf; ++leaf) {

@@ -62,11 +62,10 @@ class ReachedLeaves {
   ReachedLeaves(double voxelSize, double reach) : mVoxelSize(voxelSize), mReach(reach) {}
   /// Adds the leaves `map`'s windows reach; returns its span.
   Span add(const RangeMap& map);
-  /// Adds the leaves of `other` (the same grid's), e.g. another process's.
-  void add(const ReachedLeaves& other);
+  /// Adds the leaf nodes of the box `leaves` (in the units of leaves()), e.g. another process's.
+  void add(const openvdb::CoordBBox& leaves) { mLeaves.sparseFill(leaves, true, true); }
   /// The leaf nodes reached, one voxel each (index space divided by the leaf's width).
   const openvdb::MaskTree& leaves() const { return mLeaves; }
-  openvdb::MaskTree& leaves() { return mLeaves; }
   /// How many leaf nodes are reached per column: the x origin (voxels) of each
   /// column that has any, and how many, in order of x (balancedSlabs' input).
   std::vector<std::pair<openvdb::Int32, std::size_t>> columns() const;
