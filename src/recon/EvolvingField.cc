@@ -105,6 +105,11 @@ std::size_t EvolvingField::ownLeafNodes() const {
   return mWhole ? mWhole->stats().leafNodes : mReleasedOwnLeaves;
 }
 
+std::optional<SlabBounds> EvolvingField::slabBounds() const {
+  if (mSlab) return mSlab->bounds();
+  return std::nullopt;
+}
+
 SparseFieldStats EvolvingField::stats() const {
   if (mWhole) return mWhole->stats();
   if (!mSlab) return mReleasedStats;

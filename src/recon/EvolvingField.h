@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,8 @@ class EvolvingField {
   SparseFieldStats stats() const;
   /// The leaf nodes this process answers for: its slab's own, or the whole field's.
   std::size_t ownLeafNodes() const;
+  /// This process's slab of a team's field; none for the whole field.
+  std::optional<SlabBounds> slabBounds() const;
 
  private:
   std::unique_ptr<SparseField> mWhole;

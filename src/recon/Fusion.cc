@@ -11,6 +11,17 @@
 
 namespace levelfuse {
 
+namespace {
+
+/// The empty grids of the data term of `level` of `settings`.
+std::unique_ptr<DataTermGrids> emptyDataTerm(const FusionSettings& settings, int level) {
+  const ForceFieldOptions f = settings.levelForceOptions(level);
+  return std::make_unique<DataTermGrids>(settings.levelVoxelSize(level), f.dataWindow(), f.positionVariance,
+                                         f.grainSize);
+}
+
+}  // namespace
+
 Fusion::Fusion(const FusionSettings& settings, Keep keep) : mSettings(settings), mKeep(keep) {
   if (!(settings.voxelSize >= kSmallestVoxelSize) || !std::isfinite(settings.voxelSize))
     throw std::invalid_argument("Fusion: the voxel size must be finite and at least " +
@@ -19,10 +30,8 @@ Fusion::Fusion(const FusionSettings& settings, Keep keep) : mSettings(settings),
     throw std::invalid_argument("Fusion: the number of grids (levels) must be 1 to 12");
   if (!(settings.epsilon > 0.0) || !std::isfinite(settings.epsilon))
     throw std::invalid_argument("Fusion: the window width epsilon must be positive: about the maps' noise sigma");
-  for (int level = 0; level < settings.levels; ++level) {
-    const ForceFieldOptions f = settings.levelForceOptions(level);
-    mGrids.push_back(std::make_unique<DataTermGrids>(voxelSize(level), f.dataWindow(), f.positionVariance, f.grainSize));
-  }
+  for (int level = 0; level < settings.levels; ++level) mGrids.push_back(emptyDataTerm(settings, level));
+  mDeferred.assign(static_cast<std::size_t>(settings.levels), false);
 }
 
 double FusionSettings::levelVoxelSize(int level) const { return std::ldexp(voxelSize, levels - 1 - level); }
@@ -43,8 +52,31 @@ void Fusion::restrictToSlab(const SlabBounds& data) {
   mDataSlab = data;
 }
 
+void Fusion::deferLevel(int level) {
+  if (level < 1 || level >= levels())
+    throw std::invalid_argument("Fusion::deferLevel: grid " + std::to_string(level) + " of " +
+                                std::to_string(levels()) + " (the coarsest makes the initial model)");
+  if (scanCount() > 0)
+    throw std::invalid_argument("Fusion::deferLevel: the fusion holds maps already: defer a grid before the first");
+  mDeferred[static_cast<std::size_t>(level)] = true;
+}
+
+std::unique_ptr<DataTermGrids> Fusion::dataTermWithin(int level, const SlabBounds& data, const Interrupter& interrupter,
+                                                      const RangeMapSequence& scans) const {
+  if (!scans && mKeep != Keep::kPacked)
+    throw std::invalid_argument("Fusion: it keeps no maps (Keep::kNothing): hand in the maps to integrate");
+  std::unique_ptr<DataTermGrids> grids = emptyDataTerm(mSettings, level);
+  grids->restrictToSlab(data.begin, data.end);
+  (scans ? scans : this->scans())([&](const RangeMap& map) {
+    checkInterrupter(interrupter);
+    grids->integrate(map);
+  });
+  return grids;
+}
+
 void Fusion::addToGrids(const RangeMap& map) {
-  for (const std::unique_ptr<DataTermGrids>& grids : mGrids) grids->integrate(map);
+  for (std::size_t level = 0; level < mGrids.size(); ++level)
+    if (!mDeferred[level]) mGrids[level]->integrate(map);
   mSummary.add(map);
 }
 
@@ -90,6 +122,9 @@ SparseField Fusion::linearSolutionField(int level, LinearBand band, const Sparse
   if (mDataSlab)
     throw std::invalid_argument("Fusion: it holds one slab of the data (restrictToSlab): only its team's "
                                 "reconstruction makes a linear solution of it");
+  if (deferred(level))
+    throw std::invalid_argument("Fusion: grid " + std::to_string(level) +
+                                " was deferred (deferLevel): only its team's reconstruction integrates it");
   if (!scans && mKeep != Keep::kPacked)
     throw std::invalid_argument("Fusion: it keeps no maps (Keep::kNothing): hand in the maps to carve with");
   const DataTermGrids& grids = dataTerm(level);
@@ -121,10 +156,14 @@ std::size_t Fusion::dataTermBytes() const {
 }
 
 std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved,
-                                  Fusion::Keep keep) {
+                                  Fusion::Keep keep, bool deferFinerGrids) {
   const FusionSettings settings = fusionSettingsOf(resolved);
-  for (int level = 0; level < settings.levels; ++level) requireAccumulationMemory(costOf, resolved, level);
-  return std::make_unique<Fusion>(settings, keep);
+  const int checked = deferFinerGrids ? 1 : settings.levels;
+  for (int level = 0; level < checked; ++level) requireAccumulationMemory(costOf, resolved, level);
+  std::unique_ptr<Fusion> fusion = std::make_unique<Fusion>(settings, keep);
+  if (deferFinerGrids)
+    for (int level = 1; level < settings.levels; ++level) fusion->deferLevel(level);
+  return fusion;
 }
 
 std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,

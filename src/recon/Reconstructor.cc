@@ -295,10 +295,10 @@ void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels, co
 }
 
 void Reconstructor::requireWholeData(const char* what) const {
-  if (mFusion && mFusion->dataSlab())
+  if (mFusion && mFusion->forATeam())
     throw std::invalid_argument(std::string("Reconstructor::") + what +
-                                ": the fusion holds one slab of the data (Fusion::restrictToSlab): only the team's "
-                                "run() reconstructs from it");
+                                ": the fusion holds one slab of the data or defers a grid (Fusion::restrictToSlab, "
+                                "deferLevel): only the team's run() reconstructs from it");
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
@@ -442,9 +442,9 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
     fused = fuseScans(state, report, interrupter, team);
     fusion = fused.get();
   }
-  if (fusion && fusion->dataSlab() && !(team && team->size() > 1))
-    throw std::invalid_argument("reconstruction: the fusion holds one slab of the data (Fusion::restrictToSlab): run "
-                                "it with the team that shares the data");
+  if (fusion && fusion->forATeam() && !(team && team->size() > 1))
+    throw std::invalid_argument("reconstruction: the fusion holds one slab of the data or defers a grid "
+                                "(Fusion::restrictToSlab, deferLevel): run it with the team that shares the data");
   state.stage = ReconstructionProgress::Stage::kInitialModel;
   state.scan = 0;
   state.scans = mSummary.scans();
@@ -534,10 +534,15 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
     return evolved;
   };
   LevelReport done;
-  if (fusion)
+  if (fusion && fusion->deferred(level)) {
+    const std::unique_ptr<DataTermGrids> slabData = dataTermOfSlab(level, field, *fusion, state, report, interrupter);
+    done = evolveAndWeigh(*slabData);
+    done.slabDataTermBytes = slabData->memoryBytes();
+  } else if (fusion) {
     done = evolveAndWeigh(fusion->dataTerm(level));
-  else
+  } else {
     done = evolveAndWeigh(ForceField(mMaps, forceOptions(level)));
+  }
   const SparseFieldStats stats = field.stats();
   done.activeSetVoxels = stats.activeSetVoxels;
   done.bandVoxels = stats.bandVoxels;
@@ -546,6 +551,26 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
   done.voxelSize = h;
   done.seconds = std::chrono::duration<double>(Clock::now() - levelStart).count();
   return done;
+}
+
+std::unique_ptr<DataTermGrids> Reconstructor::dataTermOfSlab(int level, const detail::EvolvingField& field,
+                                                             const Fusion& fusion, ReconstructionProgress& state,
+                                                             const std::function<void()>& report,
+                                                             const Interrupter& interrupter) const {
+  const std::optional<SlabBounds> own = field.slabBounds();
+  if (!own) throw std::invalid_argument("reconstruction: a deferred grid's data term is integrated by a team");
+  const SlabBounds data = dataSlabOf(*own);
+  // The fusion's maps if it keeps them, else this reconstructor's (a fusion made by run()).
+  const RangeMapSequence scans = mFusion ? RangeMapSequence{} : rangeMapsOf(*mMaps);
+  const auto [xMin, xMax] = worldRangeOf(data, voxelSize(level));
+  const AccumulationCostWithin costWithin =
+      mFusion ? accumulationCostWithin(fusion.scans()) : accumulationCostWithin(rangeMapsOf(*mMaps));
+  levelfuse::requireAccumulationMemory(
+      [&, xMin = xMin, xMax = xMax](double h, double reach) { return costWithin(h, reach, xMin, xMax); }, mOptions,
+      level);
+  state.stage = ReconstructionProgress::Stage::kIntegrating;
+  report();
+  return fusion.dataTermWithin(level, data, interrupter, scans);
 }
 
 void Reconstructor::describeRun(openvdb::FloatGrid& out, int iterations) const {

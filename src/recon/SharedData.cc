@@ -27,6 +27,10 @@ bool sharesDataInSlabs(const ReconstructionOptions& resolved, const SlabTeam* te
   return team && team->size() > 1 && resolved.dataTerm == DataTermSource::kGrids && resolved.levels == 1;
 }
 
+bool defersFinerGrids(const ReconstructionOptions& resolved, const SlabTeam* team) {
+  return team && team->size() > 1 && resolved.dataTerm == DataTermSource::kGrids && *resolved.levels > 1;
+}
+
 ReachedLeaves reachedLeavesOf(const ReconstructionOptions& resolved) {
   const FusionSettings grids = fusionSettingsOf(resolved);
   const int finest = grids.levels - 1;
@@ -55,7 +59,8 @@ std::pair<double, double> worldRangeOf(const SlabBounds& slab, double voxelSize)
 std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostWithin& costWithin, const RangeMapSequence& maps,
                                      const ReconstructionOptions& resolved, Fusion::Keep keep, const SlabTeam* team,
                                      const Interrupter& interrupter, const SharedDataSlab* cut) {
-  if (!sharesDataInSlabs(resolved, team)) return fusionFor(overAllOfX(costWithin), resolved, keep);
+  if (!sharesDataInSlabs(resolved, team))
+    return fusionFor(overAllOfX(costWithin), resolved, keep, defersFinerGrids(resolved, team));
   const RangeMapSequence asked = [&](const RangeMapVisitor& visit) {
     maps([&](const RangeMap& map) {
       checkInterrupter(interrupter);

@@ -24,6 +24,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -69,6 +70,26 @@ class Fusion {
   void restrictToSlab(const SlabBounds& data);
   /// The x range of the data the grid holds (restrictToSlab), or none: all.
   const std::optional<SlabBounds>& dataSlab() const { return mDataSlab; }
+  /// From now on grid `level` takes no terms: the processes of a team that
+  /// share a coarse-to-fine reconstruction each integrate it within their
+  /// slab of it once it is cut (dataTermWithin). Before the first map;
+  /// throws std::invalid_argument otherwise, or for the coarsest grid, whose
+  /// data make the initial model.
+  void deferLevel(int level);
+  /// Whether grid `level` was deferred (deferLevel).
+  bool deferred(int level) const { return mDeferred.at(static_cast<std::size_t>(level)); }
+  /// Whether only a team's reconstruction can use the fusion: it holds one
+  /// slab of the data (restrictToSlab) or defers a grid (deferLevel).
+  bool forATeam() const {
+    return mDataSlab.has_value() || std::find(mDeferred.begin(), mDeferred.end(), true) != mDeferred.end();
+  }
+  /// The data term of grid `level` within the slab `data` alone
+  /// (DataTermGrids::restrictToSlab), of `scans` (by default, the maps
+  /// kept), unpacked a few at a time: the whole grid's terms there, bit for
+  /// bit. Throws std::invalid_argument without maps; Interrupted if
+  /// `interrupter` asks to stop between maps.
+  std::unique_ptr<DataTermGrids> dataTermWithin(int level, const SlabBounds& data, const Interrupter& interrupter = {},
+                                                const RangeMapSequence& scans = {}) const;
 
   /// From now on the fusion's summary is `whole`'s, the summary of every scan
   /// of a reconstruction of which it integrated a part: a process of a team
@@ -120,13 +141,16 @@ class Fusion {
   std::vector<PackedRangeMap> mPacked;
   ScanSummary mSummary;
   std::optional<SlabBounds> mDataSlab;
+  std::vector<bool> mDeferred;  ///< per level: integrated later, within a slab (deferLevel)
 };
 
 /// An empty fusion of the resolved options' grids (fusionSettingsOf), once
 /// requireAccumulationMemory has found that the data term of the scans whose
-/// cost `costOf` finds fits on every grid (InsufficientMemory if not).
+/// cost `costOf` finds fits on every grid (InsufficientMemory if not); with
+/// `deferFinerGrids`, every grid but the coarsest deferred (Fusion::deferLevel)
+/// and not checked.
 std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved,
-                                  Fusion::Keep keep);
+                                  Fusion::Keep keep, bool deferFinerGrids = false);
 
 /// `scans` integrated into a fusion for them (fusionFor), each map unpacked
 /// once and then kept packed by the fusion. `integrated`, if

@@ -177,6 +177,10 @@ struct LevelReport {
   /// Leaf nodes of the field at the end of the grid: on a team (run with a
   /// SlabTeam), this process's slab's own.
   std::size_t ownLeafNodes = 0;
+  /// The grid's data term that this process integrated for it alone, within
+  /// its slab (a team's deferred finest grid, Fusion::deferLevel); 0 for
+  /// grids whose data term came ready.
+  std::size_t slabDataTermBytes = 0;
 };
 
 struct ReconstructionResult {
@@ -317,10 +321,17 @@ class Reconstructor {
                           const std::function<void()>& report) const;
   /// Grid `level` of run(): `field` resampled from the grid before (if any)
   /// and evolved; on the finest grid, the result's level set and weight.
-  /// The data term is the fusion's grids if it is given, else the maps'.
+  /// The data term is the fusion's grids if it is given (a deferred grid's
+  /// integrated within this process's slab, dataTermOfSlab), else the maps'.
   LevelReport reconstructLevel(int level, detail::EvolvingField& field, const Fusion* fusion,
                                ReconstructionProgress& state, const std::function<void()>& report,
                                const Interrupter& interrupter, ReconstructionResult& result) const;
+  /// The data term of the fusion's deferred grid `level` (Fusion::deferLevel)
+  /// within this process's slab of `field` and the data it reads beyond
+  /// (dataSlabOf), once its memory is found to fit (InsufficientMemory if not).
+  std::unique_ptr<DataTermGrids> dataTermOfSlab(int level, const detail::EvolvingField& field, const Fusion& fusion,
+                                                ReconstructionProgress& state, const std::function<void()>& report,
+                                                const Interrupter& interrupter) const;
   /// The run's parameters as the output grid's levelfuse_* metadata.
   void describeRun(openvdb::FloatGrid& out, int iterations) const;
   /// Throws InsufficientMemory if accumulating the data term on grid `level`

@@ -49,6 +49,14 @@ SlabBounds ownSlabOf(const SlabBounds& data);
 /// keep the whole data term on every process.)
 bool sharesDataInSlabs(const ReconstructionOptions& resolved, const SlabTeam* team);
 
+/// Whether a run with the `resolved` options on `team` integrates the data
+/// term of each grid but the coarsest within each process's slab of that
+/// grid, once the grid is cut (Fusion::deferLevel): a team of more than one
+/// process, the data term from grids, coarse to fine. (The coarsest grid's
+/// data, whole on every process, make the initial model: a quarter of the
+/// next grid's or less.)
+bool defersFinerGrids(const ReconstructionOptions& resolved, const SlabTeam* team);
+
 /// This process's part of the data of a team that shares them in slabs.
 struct SharedDataSlab {
   SlabBounds own;   ///< its slab of the field
@@ -81,7 +89,8 @@ std::pair<double, double> worldRangeOf(const SlabBounds& slab, double voxelSize)
 /// `costWithin` finds (fusionFor), keeping `keep` of them: on a `team` that
 /// shares the data in slabs (sharesDataInSlabs), of this process's slab of
 /// the data (Fusion::restrictToSlab), whose memory is checked for the data
-/// within it alone. The slab is `cut` if given (found beforehand, e.g. by
+/// within it alone; on a team that defers the finer grids (defersFinerGrids),
+/// without them. The slab is `cut` if given (found beforehand, e.g. by
 /// planTeamScans), else found from `maps` (sharedDataSlab), which are then
 /// visited once, with `interrupter` asked before each (Interrupted).
 std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostWithin& costWithin, const RangeMapSequence& maps,
