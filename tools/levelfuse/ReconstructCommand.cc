@@ -364,8 +364,15 @@ struct Summary {
   std::uint64_t dataTermBytes = 0;  ///< this process's grids of the data term (0 from the maps)
 };
 
-/// The memory of the grids of the data term `made` holds (0 with the data term from the maps).
-std::uint64_t dataTermBytesOf(const ScansReconstruction& made) { return made.fusion ? made.fusion->dataTermBytes() : 0; }
+/// The memory of the grids of the data term `made` holds, with the largest
+/// grid this rank integrated within its slab as `result` was made, one at a
+/// time (0 with the data term from the maps).
+std::uint64_t dataTermBytesOf(const ScansReconstruction& made, const ReconstructionResult& result) {
+  if (!made.fusion) return 0;
+  std::uint64_t slabGrid = 0;
+  for (const LevelReport& level : result.levels) slabGrid = std::max<std::uint64_t>(slabGrid, level.slabDataTermBytes);
+  return made.fusion->dataTermBytes() + slabGrid;
+}
 
 /// JSON of the fit to the points, null if it was not measured.
 nlohmann::json fitJson(const std::optional<DataFit>& fit) {
@@ -548,7 +555,7 @@ int finishInPieces(const ReconstructSettings& s, const ScansReconstruction& made
   if (!leadsTheJob()) return kExitSuccess;
   const Measures counts = countsOf(made);
   Summary summary{s,       *made.reconstructor, result, inputs, counts, false, 0, seconds,
-                  ranks,   bandVoxels,          {},     dataTermBytesOf(made)};
+                  ranks,   bandVoxels,          {},     dataTermBytesOf(made, result)};
   for (int rank = 0; rank < jobRanks(); ++rank) summary.pieces.push_back(pieceFileName(s.piecesOf, rank, jobRanks()));
   if (s.json) printJson(summary);
   else if (!s.quiet) printText(summary);
@@ -572,7 +579,7 @@ int runReconstruct(ReconstructSettings s) {
   const Presentation shown = presentationOf(reconstructor, s);
   if (s.linear && !leadsTheJob()) return kExitSuccess;  // the linear solution is not shared
   ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
-  const std::uint64_t dataTermBytes = dataTermBytesOf(made);
+  const std::uint64_t dataTermBytes = dataTermBytesOf(made, result);
   std::vector<RankFacts> ranks;
   if (!s.linear)
     ranks = gatherRankFacts(RankFacts{std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
