@@ -97,18 +97,25 @@ for name, ranks, mean in ((sys.argv[2], 2, 0.9), (sys.argv[3], 4, 0.65)):
 PY
 fi
 
+# `name`: the scans `input` reconstructed at 2 cm by one process, then by 2 and 4 ranks, give the
+# same .vdb and mesh; each run's summary is name-<ranks>.json.
+sameOnRanks() {
+  local name=$1 input=$2
+  "$levelfuse" reconstruct "$input" --voxel-size 0.02 -o "$name-1.vdb" --mesh "$name-1.ply" --json > "$name-1.json" ||
+    fail "$name, one process"
+  for ranks in 2 4; do
+    run "$ranks" "$levelfuse" reconstruct "$input" --voxel-size 0.02 -o "$name-$ranks.vdb" --mesh "$name-$ranks.ply" \
+      --json > "$name-$ranks.json" || fail "$name, $ranks ranks exited with $?"
+    cmp "$name-1.vdb" "$name-$ranks.vdb" || fail "$name, $ranks ranks: the .vdb differs"
+    cmp "$name-1.ply" "$name-$ranks.ply" || fail "$name, $ranks ranks: the mesh differs"
+  done
+}
+
 # 1b'. Coarse to fine from grids (40 views of the torus, more than the 32 that take the data term
 #     from the maps): each rank integrates each grid but the coarsest within its slab of that grid
 #     once it is cut; the outputs are one process's, and no rank holds the whole data term.
 "$levelfuse" synth --shape torus --views 40 --resolution 80 --noise 0.1 -o many >/dev/null || fail "synth many"
-"$levelfuse" reconstruct many/scans.json --voxel-size 0.02 -o many-1.vdb --mesh many-1.ply --json > many-1.json ||
-  fail "many views, one process"
-for ranks in 2 4; do
-  run "$ranks" "$levelfuse" reconstruct many/scans.json --voxel-size 0.02 -o "many-$ranks.vdb" \
-    --mesh "many-$ranks.ply" --json > "many-$ranks.json" || fail "many views, $ranks ranks exited with $?"
-  cmp many-1.vdb "many-$ranks.vdb" || fail "many views, $ranks ranks: the .vdb differs"
-  cmp many-1.ply "many-$ranks.ply" || fail "many views, $ranks ranks: the mesh differs"
-done
+sameOnRanks many many/scans.json
 python3 - many-1.json many-4.json <<'PY' || fail "many views: the ranks' data terms"
 import json, sys
 one, four = (json.load(open(name)) for name in sys.argv[1:])
@@ -126,14 +133,7 @@ PY
 #     every frame; with --pieces no rank holds them all (measured with 4 ranks: 24, 30, 30
 #     and 24 of the 80), and the pieces are those of the run without --pieces.
 "$levelfuse" synth --shape street --views 80 --resolution 96 --noise 0.003 -o street >/dev/null || fail "synth street"
-"$levelfuse" reconstruct street/scans.json --voxel-size 0.02 -o street-1.vdb --mesh street-1.ply -q ||
-  fail "street, one process"
-for ranks in 2 4; do
-  run "$ranks" "$levelfuse" reconstruct street/scans.json --voxel-size 0.02 -o "street-$ranks.vdb" \
-    --mesh "street-$ranks.ply" --json > "street-$ranks.json" || fail "street, $ranks ranks exited with $?"
-  cmp street-1.vdb "street-$ranks.vdb" || fail "street, $ranks ranks: the .vdb differs"
-  cmp street-1.ply "street-$ranks.ply" || fail "street, $ranks ranks: the mesh differs"
-done
+sameOnRanks street street/scans.json
 run 4 "$levelfuse" reconstruct street/scans.json --voxel-size 0.02 -o street-pieces.vdb --pieces --json \
   > street-pieces.json || fail "street in pieces exited with $?"
 python3 - street-4.json street-pieces.json <<'PY' || fail "street: the frames each rank held"

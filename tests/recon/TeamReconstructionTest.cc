@@ -49,6 +49,19 @@ void expectOneProcesssResult(const ReconstructionResult& alone, const Reconstruc
   EXPECT_TRUE(test::identical(*alone.weight, *mine.weight, &why)) << why;
 }
 
+/// Expects each rank's bytes of the data term, `held`, to be more than a fifth
+/// of the whole's `whole` and below `most` of it, and their sum below `sum` of it.
+void expectSharesOfTheData(const std::vector<std::size_t>& held, std::size_t whole, double most, double sum) {
+  double shares = 0.0;
+  for (std::size_t r = 0; r < held.size(); ++r) {
+    const double share = static_cast<double>(held[r]) / static_cast<double>(whole);
+    EXPECT_GT(share, 0.2) << "rank " << r;
+    EXPECT_LT(share, most) << "rank " << r;
+    shares += share;
+  }
+  EXPECT_LT(shares, sum);
+}
+
 void expectTeamRunIsOneProcesssRun(DataTermSource source, int ranks) {
   ReconstructionOptions options;
   options.voxelSize = 0.02;
@@ -178,15 +191,7 @@ TEST(TeamReconstruction, AFusionOfOneSlabOfTheDataHoldsItsShareAndReconstructsOn
   // Each holds a part of the data term. Its margins are wide beside a room
   // this small: the middle rank's slab is 13 columns of leaf nodes, its data
   // 19 (measured: the ranks hold 0.46, 0.61 and 0.45 of the whole's bytes).
-  const double wholeBytes = static_cast<double>(whole->dataTerm(0).memoryBytes());
-  double sum = 0.0;
-  for (int r = 0; r < kRanks; ++r) {
-    const double share = static_cast<double>(dataBytes[static_cast<std::size_t>(r)]) / wholeBytes;
-    EXPECT_GT(share, 0.2) << "rank " << r;
-    EXPECT_LT(share, 0.7) << "rank " << r;
-    sum += share;
-  }
-  EXPECT_LT(sum, 1.65);
+  expectSharesOfTheData(dataBytes, whole->dataTerm(0).memoryBytes(), 0.7, 1.65);
   // Without its team, a fusion of one slab reconstructs nothing.
   test::runOnThreadTeam(2, [&](const SlabTeam& team) {
     const std::unique_ptr<Fusion> mine = fusePackedScans(packed, resolved, {}, {}, &team);
@@ -209,7 +214,6 @@ TEST(TeamReconstruction, RanksThatIntegrateTheFinerGridsWithinTheirSlabsGiveOneP
   const ReconstructionOptions resolved = resolveReconstructionOptions(options, packed.summary);
   const std::unique_ptr<Fusion> whole = fusePackedScans(packed, resolved);
   const ReconstructionResult alone = Reconstructor(*whole, options).run();
-  const double finestBytes = static_cast<double>(whole->dataTerm(2).memoryBytes());
   constexpr int kRanks = 3;
   std::vector<ReconstructionResult> shared(kRanks);
   std::vector<std::size_t> heldBytes(kRanks);
@@ -227,14 +231,7 @@ TEST(TeamReconstruction, RanksThatIntegrateTheFinerGridsWithinTheirSlabsGiveOneP
   // Each rank's slab of the finest grid's data term: its part of the torus
   // and 24 voxels beyond each cut, wide beside a torus 17 columns of leaf
   // nodes across (measured: 0.89, 0.91 and 0.52 of the whole grid's bytes).
-  double sum = 0.0;
-  for (int r = 0; r < kRanks; ++r) {
-    const double share = static_cast<double>(heldBytes[static_cast<std::size_t>(r)]) / finestBytes;
-    EXPECT_GT(share, 0.2) << "rank " << r;
-    EXPECT_LT(share, 0.95) << "rank " << r;
-    sum += share;
-  }
-  EXPECT_LT(sum, 2.45);
+  expectSharesOfTheData(heldBytes, whole->dataTerm(2).memoryBytes(), 0.95, 2.45);
   EXPECT_EQ(alone.levels.back().slabDataTermBytes, 0u);
   // Without its team, a fusion that defers a grid reconstructs nothing.
   test::runOnThreadTeam(2, [&](const SlabTeam& team) {
