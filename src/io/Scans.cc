@@ -61,15 +61,8 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
   return scans.kept();
 }
 
-/// The scans of a reader that reads them all first, those wanted handed over if the options take them.
-std::vector<RangeMap> handedOver(std::vector<RangeMap> maps, const ScanLoadOptions& options) {
-  if (!options.take && !options.wanted) return maps;
-  ScanDelivery scans(options);
-  for (RangeMap& m : maps) scans.offer(std::move(m));
-  return scans.kept();
-}
-
-/// The scans of a reader that asked which are wanted itself (a manifest), handed over if the options take them.
+/// The scans of a reader that reads them all first and asked which are wanted
+/// itself (a .conf file, a manifest), handed over if the options take them.
 std::vector<RangeMap> handedOverAsWanted(std::vector<RangeMap> maps, const ScanLoadOptions& options) {
   if (!options.take) return maps;
   ScanDelivery scans(options);
@@ -110,7 +103,8 @@ std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& 
     StanfordScanOptions stanford = options.stanford;
     stanford.interrupter = options.interrupter;
     stanford.progress = options.progress;
-    return handedOver(loadStanfordScans(path, stanford), options);
+    stanford.wanted = options.wanted;
+    return handedOverAsWanted(loadStanfordScans(path, stanford), options);
   }
   if (extension == ".json") return handedOverAsWanted(loadManifest(path, options), options);
   if (extension == ".ptx") return loadPtxScans(path, options);

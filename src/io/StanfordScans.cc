@@ -271,10 +271,12 @@ RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, c
 std::vector<RangeMap> loadStanfordScans(const std::string& confPath, const StanfordScanOptions& options) {
   std::vector<RangeMap> maps;
   const std::vector<StanfordPlacement> placements = readStanfordConf(confPath);
-  for (const StanfordPlacement& s : placements) {
+  for (std::size_t i = 0; i < placements.size(); ++i) {
     checkInterrupter(options.interrupter);
-    maps.push_back(rangeMapFromScan(readRangeGridPly(s.path), s.scanToWorld(), options, s.file));
-    reportLoaded(options.progress, maps.size(), placements.size());
+    const StanfordPlacement& s = placements[i];
+    if (!options.wanted || options.wanted(i))
+      maps.push_back(rangeMapFromScan(readRangeGridPly(s.path), s.scanToWorld(), options, s.file));
+    reportLoaded(options.progress, i + 1, placements.size());
   }
   return maps;
 }

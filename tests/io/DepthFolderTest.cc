@@ -4,6 +4,7 @@
 #include "support/DepthFolders.h"
 #include "support/Files.h"
 #include "support/InputErrors.h"
+#include "support/WantedScans.h"
 
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Scans.h>
@@ -54,10 +55,7 @@ TEST(SevenScenesFolder, AFrameNotWantedIsNotRead) {
   std::filesystem::remove(dir.path("scene/frame-000001.pose.txt"));
   ScanLoadOptions options;
   std::vector<std::size_t> asked;
-  options.wanted = [&](std::size_t frame) {
-    asked.push_back(frame);
-    return frame != 1;
-  };
+  options.wanted = test::everyScanBut(1, asked);
   const std::vector<RangeMap> maps = loadScans(dir.path("scene"), options);
   EXPECT_EQ(asked, (std::vector<std::size_t>{0, 1, 2}));
   ASSERT_EQ(maps.size(), 2u);

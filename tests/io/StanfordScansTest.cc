@@ -3,8 +3,10 @@
 #include "support/Files.h"
 #include "support/InputErrors.h"
 #include "support/TestSupport.h"
+#include "support/WantedScans.h"
 
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
 
 #include <openvdb/tools/Interpolation.h>
@@ -14,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <sstream>
 
@@ -22,6 +25,7 @@ namespace {
 
 using test::expectInputError;
 using test::TempDir;
+namespace fs = std::filesystem;
 using test::writeText;
 
 /// A range-grid PLY of `rows` x `cols` samples of the plane z = 0.1 x + 0.01
@@ -225,6 +229,26 @@ std::vector<RangeGridScan> loadRaw(const RealSet& set, std::vector<openvdb::math
     poses.push_back(p.scanToWorld());
   }
   return scans;
+}
+
+TEST(StanfordConf, AScanNotWantedIsNotRead) {
+  // The bunny's .conf with its third scan no PLY at all: it is not wanted, so it is never read.
+  if (test::sharedData("").empty()) GTEST_SKIP() << "../shared/data is absent: the real scans are not tested";
+  TempDir dir;
+  const fs::path bunny = fs::path(test::sharedData("stanford/bunny/bun.conf")).parent_path();
+  fs::copy(bunny, dir.path("bunny"), fs::copy_options::recursive);
+  const std::vector<StanfordPlacement> placements = readStanfordConf(dir.path("bunny/bun.conf"));
+  ASSERT_GE(placements.size(), 3u);
+  test::writeText(placements[2].path, "not a PLY file");
+  ScanLoadOptions options;
+  std::vector<std::size_t> asked;
+  options.wanted = test::everyScanBut(2, asked);
+  const std::vector<RangeMap> maps = loadScans(dir.path("bunny/bun.conf"), options);
+  ASSERT_EQ(maps.size(), placements.size() - 1);
+  EXPECT_EQ(maps[2].name(), placements[3].file);
+  EXPECT_EQ(asked.size(), placements.size());
+  options.wanted = {};
+  EXPECT_THROW(loadScans(dir.path("bunny/bun.conf"), options), InputError) << "the third scan is read now";
 }
 
 class RealScans : public ::testing::TestWithParam<RealSet> {};

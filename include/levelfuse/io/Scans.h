@@ -55,7 +55,8 @@ struct ScanLoadOptions {
   /// If set, asked once for every scan, in order, with its place among the
   /// scans of the path (from 0): a scan it turns down is neither handed over
   /// nor kept. The frames of a folder are asked before any is read, and
-  /// those turned down are not read; other scans are asked as each is read.
+  /// those turned down are not read, as are the scans of a .conf file and a
+  /// manifest's entries of one scan; other scans are asked as each is read.
   /// (The processes of a team each read their part of the scans.)
   std::function<bool(std::size_t)> wanted;
 

@@ -22,6 +22,8 @@
 #include <openvdb/math/Mat4.h>
 #include <openvdb/math/Quat.h>
 
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -60,6 +62,9 @@ RangeGridScan readRangeGridPly(const std::string& path);
 struct StanfordScanOptions {
   /// Asked before each scan is read: a long load can be stopped (Interrupted).
   Interrupter interrupter;
+  /// If set, asked of each scan of a .conf file in order, with its place
+  /// (from 0), before it is read: a scan it turns down is not read.
+  std::function<bool(std::size_t)> wanted;
   /// Told after each scan of a .conf file is read.
   LoadProgress progress;
   /// Direction from the points toward the scanner, in the scan frame (the
