@@ -560,11 +560,10 @@ std::unique_ptr<DataTermGrids> Reconstructor::dataTermOfSlab(int level, const de
   const std::optional<SlabBounds> own = field.slabBounds();
   if (!own) throw std::invalid_argument("reconstruction: a deferred grid's data term is integrated by a team");
   const SlabBounds data = dataSlabOf(*own);
-  // The fusion's maps if it keeps them, else this reconstructor's (a fusion made by run()).
+  // This reconstructor's maps for a fusion made by run(), which keeps none; else the fusion's own.
   const RangeMapSequence scans = mFusion ? RangeMapSequence{} : rangeMapsOf(*mMaps);
   const auto [xMin, xMax] = worldRangeOf(data, voxelSize(level));
-  const AccumulationCostWithin costWithin =
-      mFusion ? accumulationCostWithin(fusion.scans()) : accumulationCostWithin(rangeMapsOf(*mMaps));
+  const AccumulationCostWithin costWithin = accumulationCostWithin(scans ? scans : fusion.scans());
   levelfuse::requireAccumulationMemory(
       [&, xMin = xMin, xMax = xMax](double h, double reach) { return costWithin(h, reach, xMin, xMax); }, mOptions,
       level);

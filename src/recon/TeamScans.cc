@@ -2,7 +2,6 @@
 
 #include <levelfuse/recon/TeamScans.h>
 
-#include <levelfuse/recon/FusionSettings.h>
 #include <levelfuse/scan/AccumulationCost.h>
 
 #include <algorithm>
@@ -117,7 +116,7 @@ TeamScanPlan planTeamScans(const PackedScans& held, const std::vector<std::size_
   // Every process's slab, and which of the scans held each needs.
   const std::vector<SharedDataSlab> slabs = sharedDataSlabs(whole, team.size());
   const openvdb::CoordBBox dataVoxels = whole.voxelBox();
-  const double voxelSize = fusionSettingsOf(resolved).levelVoxelSize(0);
+  const double voxelSize = *resolved.voxelSize;  // of the one grid
   std::vector<PackedLeaves> toEach(slabs.size());
   for (std::size_t process = 0; process < slabs.size(); ++process) {
     const SlabBounds& data = slabs[process].data;

@@ -103,12 +103,17 @@ std::runtime_error ofTheInputs(const ReconstructSettings& s, const std::exceptio
   return std::runtime_error(joined(s.inputs) + ": " + e.what());
 }
 
-/// Every file the job writes: with --pieces, every rank's piece.
-std::vector<std::string> jobOutputs(const ReconstructSettings& s) {
-  if (!s.pieces) return {s.output, s.mesh, s.preview};
+/// Every rank's piece file (--pieces), in rank order.
+std::vector<std::string> pieceFiles(const ReconstructSettings& s) {
   std::vector<std::string> pieces;
   for (int rank = 0; rank < jobRanks(); ++rank) pieces.push_back(pieceFileName(s.piecesOf, rank, jobRanks()));
   return pieces;
+}
+
+/// Every file the job writes: with --pieces, every rank's piece.
+std::vector<std::string> jobOutputs(const ReconstructSettings& s) {
+  if (!s.pieces) return {s.output, s.mesh, s.preview};
+  return pieceFiles(s);
 }
 
 /// The scans of the inputs this process holds, and the truth a synthetic manifest records.
@@ -206,11 +211,10 @@ Inputs loadTeamInputs(const ReconstructSettings& s, ProgressBar& bar, const Slab
     return std::binary_search(plan.needed.begin(), plan.needed.end(), scan);
   };
   // Those read first that this rank does not need go before it reads those it lacks.
-  const std::vector<std::size_t> readFirst = first.numbers;
   NumberedScans needed;
   moveScansNeeded(first, isNeeded, needed);
   Inputs rest = loadInputs(s, bar, [&](std::size_t scan) {
-    return isNeeded(scan) && !std::binary_search(readFirst.begin(), readFirst.end(), scan);
+    return isNeeded(scan) && !std::binary_search(first.numbers.begin(), first.numbers.end(), scan);
   });
   moveScansNeeded(rest, isNeeded, needed);
   Inputs in;
@@ -556,7 +560,7 @@ int finishInPieces(const ReconstructSettings& s, const ScansReconstruction& made
   const Measures counts = countsOf(made);
   Summary summary{s,       *made.reconstructor, result, inputs, counts, false, 0, seconds,
                   ranks,   bandVoxels,          {},     dataTermBytesOf(made, result)};
-  for (int rank = 0; rank < jobRanks(); ++rank) summary.pieces.push_back(pieceFileName(s.piecesOf, rank, jobRanks()));
+  summary.pieces = pieceFiles(s);
   if (s.json) printJson(summary);
   else if (!s.quiet) printText(summary);
   return kExitSuccess;

@@ -178,7 +178,7 @@ struct LevelReport {
   /// SlabTeam), this process's slab's own.
   std::size_t ownLeafNodes = 0;
   /// The grid's data term that this process integrated for it alone, within
-  /// its slab (a team's deferred finest grid, Fusion::deferLevel); 0 for
+  /// its slab (a team's deferred finer grid, Fusion::deferLevel); 0 for
   /// grids whose data term came ready.
   std::size_t slabDataTermBytes = 0;
 };
