@@ -158,22 +158,47 @@ TEST(TeamReconstruction, RanksThatHoldTheirSlabOfTheDataKeepPiecesOfOneProcesssS
   EXPECT_EQ(voxels, alone.levelSet->activeVoxelCount());
 }
 
+/// The converter's way, in one process: `maps` packed, the options resolved
+/// from their summary, their fusion and its run.
+struct FusedByOneProcess {
+  PackedScans packed;
+  ReconstructionOptions resolved;
+  std::unique_ptr<Fusion> whole;
+  ReconstructionResult alone;
+};
+
+FusedByOneProcess fusedByOneProcess(std::vector<RangeMap> maps, const ReconstructionOptions& options) {
+  FusedByOneProcess one;
+  for (RangeMap& map : maps) one.packed.add(std::move(map));
+  one.resolved = resolveReconstructionOptions(options, one.packed.summary);
+  one.whole = fusePackedScans(one.packed, one.resolved);
+  one.alone = Reconstructor(*one.whole, options).run();
+  return one;
+}
+
+/// Expects a fusion of `one`'s scans made for a team of two to be refused by
+/// a reconstructor without the team: its run, and the weight of a surface.
+void expectRefusedWithoutItsTeam(const FusedByOneProcess& one, const ReconstructionOptions& options) {
+  test::runOnThreadTeam(2, [&](const SlabTeam& team) {
+    const std::unique_ptr<Fusion> mine = fusePackedScans(one.packed, one.resolved, {}, {}, &team);
+    if (team.rank() == 0) {
+      EXPECT_THROW(Reconstructor(*mine, options).run(), std::invalid_argument);
+      EXPECT_THROW(Reconstructor(*mine, options).surfaceWeight(*one.alone.levelSet), std::invalid_argument);
+    }
+  });
+}
+
 TEST(TeamReconstruction, AFusionOfOneSlabOfTheDataHoldsItsShareAndReconstructsOnItsTeam) {
   // The converter's way: each rank fuses the packed frames into its slab of
   // the data (fusePackedScans with the team), then reconstructs on the team.
-  const std::vector<RangeMap> frames = roomFrames().reconstruction;
   const ReconstructionOptions options = roomOptions(0.01);
-  PackedScans packed;
-  for (const RangeMap& map : frames) packed.add(RangeMap(map));
-  const ReconstructionOptions resolved = resolveReconstructionOptions(options, packed.summary);
-  const std::unique_ptr<Fusion> whole = fusePackedScans(packed, resolved);
-  const ReconstructionResult alone = Reconstructor(*whole, options).run();
+  const FusedByOneProcess one = fusedByOneProcess(roomFrames().reconstruction, options);
   constexpr int kRanks = 3;
   std::vector<ReconstructionResult> shared(kRanks);
   std::vector<std::size_t> dataBytes(kRanks);
   std::vector<SlabBounds> dataSlabs(kRanks);
   test::runOnThreadTeam(kRanks, [&](const SlabTeam& team) {
-    const std::unique_ptr<Fusion> mine = fusePackedScans(packed, resolved, {}, {}, &team);
+    const std::unique_ptr<Fusion> mine = fusePackedScans(one.packed, one.resolved, {}, {}, &team);
     const std::size_t r = static_cast<std::size_t>(team.rank());
     ASSERT_TRUE(mine->dataSlab());
     dataSlabs[r] = *mine->dataSlab();
@@ -182,7 +207,7 @@ TEST(TeamReconstruction, AFusionOfOneSlabOfTheDataHoldsItsShareAndReconstructsOn
     EXPECT_THROW(reconstructor.linearSolution(), std::invalid_argument) << "one slab of the data is no linear solution";
     shared[r] = reconstructor.run({}, {}, &team);
   });
-  for (int r = 0; r < kRanks; ++r) expectOneProcesssResult(alone, shared[static_cast<std::size_t>(r)], r);
+  for (int r = 0; r < kRanks; ++r) expectOneProcesssResult(one.alone, shared[static_cast<std::size_t>(r)], r);
   // The slabs' data follow one another, each reaching its neighbours' by the margin.
   EXPECT_FALSE(dataSlabs.front().hasLower());
   EXPECT_FALSE(dataSlabs.back().hasHigher());
@@ -191,56 +216,41 @@ TEST(TeamReconstruction, AFusionOfOneSlabOfTheDataHoldsItsShareAndReconstructsOn
   // Each holds a part of the data term. Its margins are wide beside a room
   // this small: the middle rank's slab is 13 columns of leaf nodes, its data
   // 19 (measured: the ranks hold 0.46, 0.61 and 0.45 of the whole's bytes).
-  expectSharesOfTheData(dataBytes, whole->dataTerm(0).memoryBytes(), 0.7, 1.65);
+  expectSharesOfTheData(dataBytes, one.whole->dataTerm(0).memoryBytes(), 0.7, 1.65);
   // Without its team, a fusion of one slab reconstructs nothing.
-  test::runOnThreadTeam(2, [&](const SlabTeam& team) {
-    const std::unique_ptr<Fusion> mine = fusePackedScans(packed, resolved, {}, {}, &team);
-    if (team.rank() == 0) {
-      EXPECT_THROW(Reconstructor(*mine, options).run(), std::invalid_argument);
-    }
-  });
+  expectRefusedWithoutItsTeam(one, options);
 }
 
 TEST(TeamReconstruction, RanksThatIntegrateTheFinerGridsWithinTheirSlabsGiveOneProcesssSurface) {
   // Coarse to fine from grids, the converter's way: the coarsest grid's
   // data term is whole on every rank, each finer grid's integrated by each
   // rank within its slab once that grid is cut (Fusion::deferLevel).
-  PackedScans packed;
-  for (RangeMap& map : test::noisyTorusScans()) packed.add(std::move(map));
   ReconstructionOptions options;
   options.voxelSize = 0.02;
   options.levels = 3;
   options.dataTerm = DataTermSource::kGrids;
-  const ReconstructionOptions resolved = resolveReconstructionOptions(options, packed.summary);
-  const std::unique_ptr<Fusion> whole = fusePackedScans(packed, resolved);
-  const ReconstructionResult alone = Reconstructor(*whole, options).run();
+  const FusedByOneProcess one = fusedByOneProcess(test::noisyTorusScans(), options);
   constexpr int kRanks = 3;
   std::vector<ReconstructionResult> shared(kRanks);
   std::vector<std::size_t> heldBytes(kRanks);
   test::runOnThreadTeam(kRanks, [&](const SlabTeam& team) {
-    const std::unique_ptr<Fusion> mine = fusePackedScans(packed, resolved, {}, {}, &team);
+    const std::unique_ptr<Fusion> mine = fusePackedScans(one.packed, one.resolved, {}, {}, &team);
     ASSERT_TRUE(!mine->deferred(0) && mine->deferred(1) && mine->deferred(2));
-    EXPECT_EQ(mine->dataTerm(2).memoryBytes(), DataTermGrids(0.02, whole->dataTerm(2).window(), 0.0).memoryBytes())
+    EXPECT_EQ(mine->dataTerm(2).memoryBytes(), DataTermGrids(0.02, one.whole->dataTerm(2).window(), 0.0).memoryBytes())
         << "the finest grid waits for its cut";
     const Reconstructor reconstructor(*mine, options);
     EXPECT_THROW(reconstructor.linearSolution(), std::invalid_argument);
     shared[static_cast<std::size_t>(team.rank())] = reconstructor.run({}, {}, &team);
     heldBytes[static_cast<std::size_t>(team.rank())] = shared[static_cast<std::size_t>(team.rank())].levels.back().slabDataTermBytes;
   });
-  for (int r = 0; r < kRanks; ++r) expectOneProcesssResult(alone, shared[static_cast<std::size_t>(r)], r);
+  for (int r = 0; r < kRanks; ++r) expectOneProcesssResult(one.alone, shared[static_cast<std::size_t>(r)], r);
   // Each rank's slab of the finest grid's data term: its part of the torus
   // and 24 voxels beyond each cut, wide beside a torus 17 columns of leaf
   // nodes across (measured: 0.89, 0.91 and 0.52 of the whole grid's bytes).
-  expectSharesOfTheData(heldBytes, whole->dataTerm(2).memoryBytes(), 0.95, 2.45);
-  EXPECT_EQ(alone.levels.back().slabDataTermBytes, 0u);
+  expectSharesOfTheData(heldBytes, one.whole->dataTerm(2).memoryBytes(), 0.95, 2.45);
+  EXPECT_EQ(one.alone.levels.back().slabDataTermBytes, 0u);
   // Without its team, a fusion that defers a grid reconstructs nothing.
-  test::runOnThreadTeam(2, [&](const SlabTeam& team) {
-    const std::unique_ptr<Fusion> mine = fusePackedScans(packed, resolved, {}, {}, &team);
-    if (team.rank() == 0) {
-      EXPECT_THROW(Reconstructor(*mine, options).run(), std::invalid_argument);
-      EXPECT_THROW(Reconstructor(*mine, options).surfaceWeight(*alone.levelSet), std::invalid_argument);
-    }
-  });
+  expectRefusedWithoutItsTeam(one, options);
 }
 
 TEST(TeamReconstruction, ARankThatFailsStopsTheOthers) {
