@@ -121,7 +121,12 @@ void dropLeavesOutside(openvdb::FloatGrid& grid, const SlabBounds& slab) { dropL
 void dropLeavesOutside(openvdb::Vec3fGrid& grid, const SlabBounds& slab) { dropLeavesOutsideOf(grid, slab); }
 
 PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds) {
+  std::size_t leaves = 0;
+  for (auto leaf = levelSet.tree().cbeginLeaf(); leaf; ++leaf) leaves += bounds.contains(leaf->origin().x());
+  // Allocated once: grown leaf by leaf, the bytes of a slab's level set
+  // would move as they doubled and peak at up to three times their size.
   PackedLeaves out;
+  out.reserve(leaves * kLeafBytes);
   for (auto leaf = levelSet.tree().cbeginLeaf(); leaf; ++leaf) {
     const openvdb::Coord& o = leaf->origin();
     if (!bounds.contains(o.x())) continue;
@@ -131,6 +136,24 @@ PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBo
     detail::appendBytes(out, leaf->buffer().data(), Leaf::SIZE * sizeof(float));
   }
   return out;
+}
+
+std::vector<SlabBounds> parcelsOf(const openvdb::FloatTree& tree, const SlabBounds& bounds, std::size_t leaves) {
+  if (leaves == 0) throw std::invalid_argument("parcelsOf: a parcel must hold at least one leaf node");
+  std::vector<SlabBounds> parcels;
+  SlabBounds parcel = bounds;
+  std::size_t held = 0;
+  for (const auto& [x, count] : leafColumns(tree, bounds)) {
+    if (held > 0 && held + count > leaves) {
+      parcel.end = x;
+      parcels.push_back(parcel);
+      parcel = SlabBounds{x, bounds.end};
+      held = 0;
+    }
+    held += count;
+  }
+  parcels.push_back(parcel);
+  return parcels;
 }
 
 openvdb::FloatGrid::Ptr assembleLevelSet(std::vector<PackedLeaves> pieces, const openvdb::FloatGrid& like) {

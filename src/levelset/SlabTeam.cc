@@ -1,6 +1,7 @@
 // levelfuse: what a team of processes does together with the slabs of one
 // field beyond a step: the field's leaf columns, and refinement with new cuts.
 
+#include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/levelset/Refine.h>
 #include <levelfuse/levelset/SlabTeam.h>
@@ -52,6 +53,18 @@ std::vector<Column> teamLeafColumns(const std::vector<Column>& own, const SlabTe
   return {counts.begin(), counts.end()};
 }
 
+void gatherLevelSetLeaves(openvdb::FloatGrid::Ptr& piece, const SlabBounds& own, openvdb::FloatGrid& whole,
+                          const SlabTeam& team, std::size_t leavesPerParcel) {
+  std::vector<SlabBounds> parcels;
+  if (team.rank() == 0) moveLevelSetLeaves(*piece, own, whole);
+  else parcels = parcelsOf(piece->tree(), own, leavesPerParcel);
+  const auto rounds = static_cast<std::size_t>(team.largest(static_cast<double>(parcels.size())));
+  for (std::size_t k = 0; k < rounds; ++k)
+    team.gatherEach(k < parcels.size() ? packLevelSetLeaves(*piece, parcels[k]) : PackedLeaves(), 0,
+                    [&](PackedLeaves leaves) { addLevelSetLeaves(whole, leaves); });
+  piece.reset();
+}
+
 SlabField refineAcrossTeam(SlabField slab, const SlabTeam& team, const SparseFieldOptions& engine) {
   // This process's share of the refined field: the whole field's where the
   // finer slab lies, once the ghosts are fresh (SlabField::toLevelSet).
@@ -71,6 +84,7 @@ SlabField refineAcrossTeam(SlabField slab, const SlabTeam& team, const SparseFie
   const openvdb::FloatGrid::Ptr mine = refined->copyWithNewTree();
   moveLevelSetLeaves(*refined, overlapOf(own, levelSetReach(cuts[me])), *mine);
   refined.reset();
+  returnFreedMemory();  // the coarse slab and the refined level set, built on the worker threads' heaps
   for (PackedLeaves& piece : team.exchange(std::move(toEach))) {
     addLevelSetLeaves(*mine, piece);
     PackedLeaves().swap(piece);

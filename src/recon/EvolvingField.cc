@@ -2,6 +2,7 @@
 
 #include "EvolvingField.h"
 
+#include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/levelset/Refine.h>
 
@@ -59,27 +60,19 @@ EvolvingField::Surface EvolvingField::release(const std::string& name, const Wei
   }
   // Each process makes its slab's leaves of the level set (the whole
   // field's there once the ghosts are fresh) and weighs them; the first moves
-  // its own in and adds the others' as they arrive, one process's at a time.
+  // its own in and adds the others' as they arrive, one parcel at a time.
   mTeam->refreshGhosts(*mSlab);
   Surface piece{mSlab->toLevelSet(3.0, name), nullptr};
   mReleasedBounds = mSlab->bounds();
   mSlab.reset();
+  returnFreedMemory();  // the slab, built on the worker threads' heaps
   piece.weight = weigh(*piece.levelSet);
   if (inPieces) return piece;
-  const bool first = mTeam->rank() == 0;
   Surface whole{piece.levelSet->copyWithNewTree(), piece.weight->copyWithNewTree()};
-  PackedLeaves ownLevelSet, ownWeight;
-  if (first) {
-    moveLevelSetLeaves(*piece.levelSet, mReleasedBounds, *whole.levelSet);
-    moveLevelSetLeaves(*piece.weight, mReleasedBounds, *whole.weight);
-  } else {
-    ownLevelSet = packLevelSetLeaves(*piece.levelSet, mReleasedBounds);
-    ownWeight = packLevelSetLeaves(*piece.weight, mReleasedBounds);
-  }
-  piece = Surface();
-  mTeam->gatherEach(std::move(ownLevelSet), 0, [&](PackedLeaves leaves) { addLevelSetLeaves(*whole.levelSet, leaves); });
-  mTeam->gatherEach(std::move(ownWeight), 0, [&](PackedLeaves leaves) { addLevelSetLeaves(*whole.weight, leaves); });
-  if (!first) return Surface();
+  // One grid at a time, each let go as soon as its leaves are out of it.
+  gatherLevelSetLeaves(piece.levelSet, mReleasedBounds, *whole.levelSet, *mTeam);
+  gatherLevelSetLeaves(piece.weight, mReleasedBounds, *whole.weight, *mTeam);
+  if (mTeam->rank() != 0) return Surface();
   closeAssembledLevelSet(*whole.levelSet);
   return whole;
 }

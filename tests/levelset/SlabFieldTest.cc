@@ -340,6 +340,76 @@ TEST(SlabField, TheSlabsLevelSetPiecesAssembleIntoTheWholesLevelSet) {
   }
 }
 
+TEST(SlabField, ParcelsOfASlabAreWholeColumnsOfAtMostSoManyLeaves) {
+  const auto sphere = sample(shapes::Sphere{Vec3d(3.1, -2.0, 0.7), 30.0}, openvdb::BBoxd(Vec3d(-35), Vec3d(40)));
+  const openvdb::FloatTree& tree = sphere->tree();
+  const SlabBounds slab{-16, 24};
+  const auto columns = leafColumns(tree, slab);
+  std::size_t inSlab = 0, widest = 0;
+  for (const auto& column : columns) {
+    inSlab += column.second;
+    widest = std::max(widest, column.second);
+  }
+  ASSERT_GT(columns.size(), 3u);
+  for (const std::size_t most : {std::size_t{1}, widest - 1, widest, widest + 7, 2 * widest + 1, inSlab}) {
+    const std::vector<SlabBounds> parcels = parcelsOf(tree, slab, most);
+    ASSERT_FALSE(parcels.empty());
+    EXPECT_EQ(parcels.front().begin, slab.begin);
+    EXPECT_EQ(parcels.back().end, slab.end);
+    std::size_t counted = 0;
+    for (std::size_t k = 0; k < parcels.size(); ++k) {
+      if (k > 0) {
+        EXPECT_EQ(parcels[k].begin, parcels[k - 1].end) << "parcels " << k - 1 << " and " << k << " meet";
+      }
+      const auto held = leafColumns(tree, parcels[k]);
+      std::size_t leaves = 0;
+      for (const auto& column : held) leaves += column.second;
+      EXPECT_GT(leaves, 0u) << "parcel " << k << " of at most " << most;
+      EXPECT_TRUE(leaves <= most || held.size() == 1) << "parcel " << k << " holds " << leaves << " of at most " << most;
+      // Full: the next column would not have fit.
+      if (k + 1 < parcels.size()) {
+        EXPECT_GT(leaves + leafColumns(tree, parcels[k + 1]).front().second, most);
+      }
+      counted += leaves;
+    }
+    EXPECT_EQ(counted, inSlab) << "every leaf of the slab in one parcel, at most " << most;
+    if (most >= inSlab) {
+      EXPECT_EQ(parcels.size(), 1u);
+    }
+  }
+  const std::vector<SlabBounds> none = parcelsOf(tree, SlabBounds{400, 480}, 5);
+  ASSERT_EQ(none.size(), 1u);
+  EXPECT_EQ(none.front().begin, 400);
+  EXPECT_EQ(none.front().end, 480);
+  EXPECT_THROW(parcelsOf(tree, slab, 0), std::invalid_argument);
+}
+
+TEST(SlabField, ATeamGathersItsLevelSetParcelByParcel) {
+  // Three ranks' slabs of a torus gathered at the first in parcels of at
+  // most 7 leaf nodes (a column each: two rounds or more), and of the default
+  // size (one round): the level set put together is the whole's.
+  const auto torus = sample(shapes::Torus{Vec3d(0.2, 0.1, -0.2), 12.0, 3.1}, openvdb::BBoxd(Vec3d(-18), Vec3d(18)));
+  const std::vector<SlabBounds> slabs{{-SlabBounds::kUnbounded, -8}, {-8, 8}, {8, SlabBounds::kUnbounded}};
+  for (const std::size_t parcel : {std::size_t{7}, kLeavesPerParcel}) {
+    std::vector<openvdb::FloatGrid::Ptr> pieces;
+    for (const SlabBounds& slab : slabs) {
+      pieces.push_back(torus->copyWithNewTree());
+      addLevelSetLeaves(*pieces.back(), packLevelSetLeaves(*torus, levelSetReach(slab)));  // its neighbours' leaves beside its own
+    }
+    const openvdb::FloatGrid::Ptr whole = torus->copyWithNewTree();
+    test::runOnThreadTeam(3, [&](const SlabTeam& team) {
+      const std::size_t r = static_cast<std::size_t>(team.rank());
+      gatherLevelSetLeaves(pieces[r], slabs[r], *whole, team, parcel);
+      EXPECT_FALSE(pieces[r]) << "rank " << r << " let its piece go";
+    });
+    closeAssembledLevelSet(*whole);
+    std::string why;
+    EXPECT_TRUE(test::identical(*torus, *whole, &why)) << "parcels of " << parcel << ": " << why;
+    EXPECT_TRUE(test::sameTreeBytes(*torus, *whole)) << "parcels of " << parcel << ": the trees' tiles or nodes differ";
+  }
+  for (const SlabBounds& slab : slabs) EXPECT_GE(parcelsOf(torus->tree(), slab, 7).size(), 2u) << "rounds of parcels";
+}
+
 TEST(SlabField, EachSlabsPieceIsTheWholeLevelSetWithinIt) {
   // A piece kept apart: a slab's own leaves, closed alone, are the whole
   // level set clipped to the slab, tiles and nodes alike; the pieces' union
@@ -419,6 +489,7 @@ TEST(SlabField, LevelSetPiecesAreChecked) {
   const auto sphere = sample(shapes::Sphere{Vec3d(0.0), 6.0}, openvdb::BBoxd(Vec3d(-9), Vec3d(9)));
   const PackedLeaves all = packLevelSetLeaves(*sphere, SlabBounds{});
   ASSERT_FALSE(all.empty());
+  EXPECT_EQ(all.capacity(), all.size()) << "the leaves are packed into one allocation of their size";
   // A leaf two pieces hold, and a piece cut short.
   EXPECT_THROW(assembleLevelSet({all, all}, *sphere), std::invalid_argument);
   PackedLeaves truncated = all;

@@ -43,6 +43,13 @@ void moveAllLeaves(openvdb::Vec3fGrid& from, openvdb::Vec3fGrid& to);
 /// and active voxels, packed as bytes for another process.
 PackedLeaves packLevelSetLeaves(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds);
 
+/// `bounds` cut along x, between columns of leaf nodes, into ranges that
+/// together are `bounds`, each holding at most `leaves` of `tree`'s leaf nodes
+/// (a column of more is a range of its own): a slab's leaves in parcels small
+/// enough to pack and send one at a time. One range, `bounds`, if the tree
+/// has no leaf there. Throws std::invalid_argument for `leaves` = 0.
+std::vector<SlabBounds> parcelsOf(const openvdb::FloatTree& tree, const SlabBounds& bounds, std::size_t leaves);
+
 /// The level set of the leaves of every piece (packLevelSetLeaves of slabs
 /// that together cover x; any order), each piece let go once its leaves are
 /// in. It takes `like`'s transform, name, class, metadata and background; its

@@ -11,6 +11,7 @@
 #include <levelfuse/levelset/SpeedTerms.h>
 #include <levelfuse/levelset/StepTally.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -62,6 +63,20 @@ std::vector<std::pair<openvdb::Int32, std::size_t>> teamLeafColumns(
 /// level set to the processes whose new slabs read them (levelSetReach). The
 /// slabs are those of the whole field refined and cut there, bit for bit.
 SlabField refineAcrossTeam(SlabField slab, const SlabTeam& team, const SparseFieldOptions& engine);
+
+/// Leaf nodes of a level set packed and sent at once when a team gathers
+/// one (gatherLevelSetLeaves): 8.7 MB.
+inline constexpr std::size_t kLeavesPerParcel = 4096;
+
+/// Every process's leaves of `piece` whose origin x lies in its slab `own`,
+/// put into `whole` at the team's first process (every process calls it,
+/// each with its own slab; `whole` is used at the first alone). The first
+/// moves its own; each other packs its leaves in parcels of whole columns,
+/// at most `leavesPerParcel` leaf nodes each (parcelsOf), and sends them one
+/// at a time: neither side holds more than one parcel's bytes beside the
+/// grids. `piece` is let go.
+void gatherLevelSetLeaves(openvdb::FloatGrid::Ptr& piece, const SlabBounds& own, openvdb::FloatGrid& whole,
+                          const SlabTeam& team, std::size_t leavesPerParcel = kLeavesPerParcel);
 
 /// One step of the field the team shares; every process calls it with its
 /// own slab. Returns the whole field's report, the same on every process.
