@@ -63,6 +63,12 @@ void LeafTable::build(FloatTree& tree) {
   mRecords.clear();
   mFree.clear();
   mIndex.clear();
+  // Room for the band to grow by a quarter before the records move: grown
+  // record by record, the table would double as it filled, and hold up to
+  // twice its records and three times while moving.
+  const std::size_t leaves = tree.leafCount();
+  mRecords.reserve(leaves + leaves / 4);
+  mIndex.reserve(leaves + leaves / 4);
   for (auto it = tree.beginLeaf(); it; ++it) add(it.getLeaf());
 }
 
