@@ -1,5 +1,6 @@
 // levelfuse: what a team of processes does together with the slabs of one
-// field beyond a step: the field's leaf columns, and refinement with new cuts.
+// field beyond a step: the field's leaf columns, refinement with new cuts, and
+// a level set's leaves gathered at the first process.
 
 #include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/levelset/LevelSetPieces.h>
