@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace levelfuse {
@@ -47,8 +48,12 @@ DataFit summarise(std::vector<double> distance, const std::vector<char>* beyond,
 /// measures, `pointOf()` making that point: its samples where it was
 /// resampled from them (every stride^2-th), else every stride-th valid
 /// reading along its rows and columns. A visit that only counts makes no point.
+/// Throws std::invalid_argument for a map whose samples were let go.
 template <typename Visit>
 void forEachFitPoint(const RangeMap& m, int stride, const Visit& visit) {
+  if (m.samplesLetGo())
+    throw std::invalid_argument("measureDataFit: the points scan '" + m.name() +
+                                "' measured were let go (RangeMap::letSamplesGo): its fit cannot be measured");
   const std::size_t sampleStride = static_cast<std::size_t>(stride) * static_cast<std::size_t>(stride);
   if (!m.samples().empty()) {  // the points measured, where the map was resampled from them
     for (std::size_t i = 0; i < m.samples().size(); i += sampleStride) visit([&] { return m.samples()[i]; });

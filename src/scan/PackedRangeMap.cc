@@ -157,6 +157,12 @@ RangeMap PackedRangeMap::unpack() const {
   return map;
 }
 
+void PackedRangeMap::letSamplesGo() {
+  if (mSamples.count == 0) return;
+  mShell.mSamplesLetGo = mSamples.count;
+  mSamples = Array();
+}
+
 std::size_t PackedRangeMap::memoryBytes() const {
   std::size_t bytes = sizeof(*this) + mShell.memoryBytes() - sizeof(RangeMap);
   for (const Array* a : {&mReadings, &mSigmas, &mDirections, &mSamples, &mColours, &mBlockMin, &mBlockMax, &mBlockComplete,
@@ -174,6 +180,10 @@ void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisito
   takeMadeAhead<RangeMap>(
       maps.size(), [&](std::size_t i) { return maps[i].unpack(); },
       [&](std::size_t, RangeMap&& map) { visit(map); });
+}
+
+void PackedScans::letSamplesGo() {
+  for (PackedRangeMap& map : maps) map.letSamplesGo();
 }
 
 RangeMapSequence PackedScans::unpacked() const {

@@ -334,6 +334,12 @@ void RangeMap::setSamples(std::vector<openvdb::Vec3d> worldPoints, double raySpa
   mRayDensity = 1.0 / (raySpacing * raySpacing);
 }
 
+void RangeMap::letSamplesGo() {
+  if (mSamples.empty()) return;
+  mSamplesLetGo = mSamples.size();
+  std::vector<openvdb::Vec3d>().swap(mSamples);
+}
+
 void RangeMap::setReadingStep(double step) {
   if (!(step >= 0.0) || !std::isfinite(step))
     throw std::invalid_argument("range map '" + mName + "': the step of the readings must be finite and not negative");

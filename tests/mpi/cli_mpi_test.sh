@@ -45,10 +45,18 @@ done
 # The Stanford bunny's ten scans at its own resolution (0.5 mm), when the shared data are beside the repository.
 bunny="$here/../../../shared/data/stanford/bunny/bun.conf"
 if [ -f "$bunny" ]; then
-  "$levelfuse" reconstruct "$bunny" -o bunny1.vdb -q || fail "bunny, one process"
+  "$levelfuse" reconstruct "$bunny" -o bunny1.vdb --json > bunny1.json || fail "bunny, one process"
   for ranks in 2 4; do
-    run "$ranks" "$levelfuse" reconstruct "$bunny" -o "bunny$ranks.vdb" -q || fail "bunny, $ranks ranks"
+    run "$ranks" "$levelfuse" reconstruct "$bunny" -o "bunny$ranks.vdb" --json > "bunny$ranks.json" ||
+      fail "bunny, $ranks ranks"
     cmp bunny1.vdb "bunny$ranks.vdb" || fail "bunny, $ranks ranks: the .vdb differs from one process's"
+    # Rank 0 measures the fit to the points the scanner measured; the other ranks let those points go.
+    python3 - bunny1.json "bunny$ranks.json" <<'PY' || fail "bunny, $ranks ranks: the fit differs from one process's"
+import json, sys
+one, team = (json.load(open(name)) for name in sys.argv[1:])
+assert one["fit"] is not None and one["points"] > 300000, one
+assert team["fit"] == one["fit"] and team["points"] == one["points"], (team["fit"], one["fit"])
+PY
   done
 else
   echo "the bunny's scans are not at $bunny: its part of the test is left out"

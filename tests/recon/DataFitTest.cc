@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace levelfuse {
 namespace {
@@ -84,6 +86,15 @@ TEST_F(DataFitTest, MeasuresTheSamplesOfAResampledMap) {
   EXPECT_EQ(fit.readings, 40u);
   EXPECT_NEAR(fit.mean, 0.03, 0.01 * voxel);
   EXPECT_EQ(measureDataFit(*sphere, maps, 2).readings, 10u);  // every 4th sample
+  // Without its samples the map's fit is refused, not measured at its readings.
+  maps[0].letSamplesGo();
+  try {
+    measureDataFit(*sphere, maps);
+    ADD_FAILURE() << "the fit of a map whose samples were let go was measured";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'cap'"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(fitStride(maps, 100), std::invalid_argument);
 }
 
 TEST_F(DataFitTest, TheStrideMeasuresAtMostTheGivenNumberOfPoints) {

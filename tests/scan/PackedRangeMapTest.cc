@@ -161,6 +161,48 @@ TEST(PackedRangeMap, UnpacksToTheMapItPacked) {
   }
 }
 
+TEST(PackedRangeMap, SamplesLetGoAreCountedButNoLongerHeld) {
+  // A map resampled from the points it measured, which only the fit reads.
+  const RangeMap whole = everythingPerPixel();
+  ASSERT_FALSE(whole.samples().empty());
+  RangeMap without = whole;
+  without.letSamplesGo();
+  EXPECT_TRUE(without.samplesLetGo());
+  EXPECT_TRUE(without.samples().empty());
+  EXPECT_EQ(without.sampleCount(), whole.sampleCount());
+  EXPECT_EQ(without.sampleCount(), whole.samples().size());
+  // The data term and the sight are the map's.
+  int sampled = 0;
+  for (int v = 0; v < whole.height(); v += 3)
+    for (int u = 0; u < whole.width(); u += 3) {
+      if (!whole.valid(u, v)) continue;
+      const Vec3d x = whole.readingPoint(u, v) + Vec3d(0.01, -0.02, 0.03);
+      RangeSample a, b;
+      ASSERT_EQ(whole.sample(x, a), without.sample(x, b));
+      EXPECT_EQ(a.D, b.D);
+      EXPECT_EQ(a.gradD, b.gradD);
+      EXPECT_EQ(whole.sight(x, 0.01), without.sight(x, 0.01));
+      sampled += 1;
+    }
+  EXPECT_GT(sampled, 50);
+  // Packed: let go before or after packing, the map unpacks without them, counted.
+  PackedRangeMap packed{RangeMap(whole)};
+  const std::size_t bytes = packed.memoryBytes();
+  packed.letSamplesGo();
+  EXPECT_LT(packed.memoryBytes(), bytes);
+  for (const RangeMap& unpacked : {packed.unpack(), PackedRangeMap(RangeMap(without)).unpack()}) {
+    EXPECT_TRUE(unpacked.samplesLetGo());
+    EXPECT_EQ(unpacked.sampleCount(), whole.sampleCount());
+    expectSameMap(without, unpacked);
+  }
+  // A map whose readings are its samples has nothing to let go.
+  RangeMap frame = cornerFrame();
+  const std::size_t readings = frame.sampleCount();
+  frame.letSamplesGo();
+  EXPECT_FALSE(frame.samplesLetGo());
+  EXPECT_EQ(frame.sampleCount(), readings);
+}
+
 TEST(PackedRangeMap, ReadingsAreHeldAsStepsOnlyWhenEveryOneIsExactlyThat) {
   EXPECT_TRUE(PackedRangeMap(cornerFrame()).readingsAsSteps());
   EXPECT_FALSE(PackedRangeMap(cornerFrameOffStep()).readingsAsSteps());

@@ -198,10 +198,11 @@ Inputs loadTeamInputs(const ReconstructSettings& s, ProgressBar& bar, const Slab
   Inputs first = loadInputs(s, bar, [&](std::size_t scan) { return readFirstBy(scan, team.rank(), team.size()); });
   const ScanSummary whole = teamSummary(first.scans.summary, team);
   // The rank that measures and writes the whole surface needs every scan for the fit and the colour.
+  const bool measuresTheSurface = leadsTheJob() && !s.pieces;
   const TeamScanPlan plan = [&] {
     try {
       return planTeamScans(first.scans, first.numbers, first.scanCount, resolveReconstructionOptions(s.options, whole),
-                           leadsTheJob() && !s.pieces, team, cancellationInterrupter());
+                           measuresTheSurface, team, cancellationInterrupter());
     } catch (const std::invalid_argument& e) {
       throw ofTheInputs(s, e);
     }
@@ -219,6 +220,8 @@ Inputs loadTeamInputs(const ReconstructSettings& s, ProgressBar& bar, const Slab
   moveScansNeeded(rest, isNeeded, needed);
   Inputs in;
   in.scans = inNumberOrder(std::move(needed), whole, in.numbers);
+  // Only the fit reads the points the scanners measured.
+  if (!measuresTheSurface) in.scans.letSamplesGo();
   in.scanCount = first.scanCount;
   in.truth = std::move(first.truth);
   in.firstScan = std::move(first.firstScan);  // scan 0, which the first rank reads first

@@ -28,7 +28,8 @@ struct DataFit {
 /// Measures the fit of `levelSet` to the points the scans measured: each map's
 /// samples where it was resampled from them (RangeMap::samples), else its
 /// readings; every `stride`-th reading in each direction of each map (every
-/// stride^2-th sample).
+/// stride^2-th sample). Throws std::invalid_argument, naming it, for a map
+/// whose samples were let go (RangeMap::letSamplesGo), as fitStride does.
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<RangeMap>& maps, int stride = 1);
 /// The same, of maps visited one at a time (e.g. a Fusion's, unpacked).
 DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const RangeMapSequence& maps, int stride = 1);

@@ -29,6 +29,10 @@ class PackedRangeMap {
   /// projection, pose and name, what RangeMap::mayBeSeenIn asks.
   const RangeMap& shell() const { return mShell; }
 
+  /// Lets go of the measured points (RangeMap::letSamplesGo): unpack()
+  /// then gives the map without them, their count kept.
+  void letSamplesGo();
+
   /// Memory held (bytes), the compressed arrays and the rest of the map.
   std::size_t memoryBytes() const;
 
@@ -64,6 +68,9 @@ struct PackedScans {
   void add(RangeMap map);
   /// The maps, unpacked a few at a time (visitUnpacked).
   RangeMapSequence unpacked() const;
+  /// Every map's measured points let go (PackedRangeMap::letSamplesGo), for a
+  /// process that will not measure the fit; the summary is unchanged.
+  void letSamplesGo();
 };
 
 }  // namespace levelfuse

@@ -210,7 +210,17 @@ class RangeMap {
   /// The measured points if set (setSamples), else none: the readings are the samples.
   const std::vector<openvdb::Vec3d>& samples() const { return mSamples; }
   /// Points the scanner measured: the samples if set, else the valid readings.
-  std::size_t sampleCount() const { return mSamples.empty() ? mValidCount : mSamples.size(); }
+  std::size_t sampleCount() const {
+    if (mSamplesLetGo > 0) return mSamplesLetGo;
+    return mSamples.empty() ? mValidCount : mSamples.size();
+  }
+  /// Lets go of the measured points (setSamples), which only the fit of a
+  /// surface to the data reads (recon/DataFit.h), in a process that will not
+  /// measure it: sampleCount() still counts them, and measureDataFit refuses
+  /// the map. Nothing changes for a map whose readings are the samples.
+  void letSamplesGo();
+  /// Whether letSamplesGo() let measured points go.
+  bool samplesLetGo() const { return mSamplesLetGo > 0; }
   /// A 2x2 cell whose readings differ by more than `factor` times the distance
   /// between its rays, plus six sigma of noise (four standard deviations of
   /// the difference of two readings), is a depth discontinuity: never
@@ -421,6 +431,7 @@ class RangeMap {
   bool mHasDepthNoise = false;  ///< the sigmas follow mDepthNoise
   DepthNoise mDepthNoise;
   std::vector<openvdb::Vec3d> mSamples;  ///< world; empty where the readings are the samples
+  std::size_t mSamplesLetGo = 0;  ///< how many samples letSamplesGo() let go
   PixelFlags mMisses;  ///< per pixel: no reading within the dropout reach (if misses are empty)
   int mDropoutReach = 2;
   std::size_t mValidCount = 0;
