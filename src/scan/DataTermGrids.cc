@@ -29,6 +29,7 @@ constexpr int kLeafDim = static_cast<int>(FloatLeaf::DIM);
 /// voxels (the 500 7-Scenes frames at 10 mm make one term for 4.4 voxels visited).
 constexpr std::size_t kTermsPerCube = 16;
 
+
 /// One range map's term at one voxel of a leaf.
 struct VoxelTerm {
   std::uint16_t offset;  ///< within the leaf
@@ -115,13 +116,22 @@ void DataTermGrids::restrictToSlab(openvdb::Int32 begin, openvdb::Int32 end) {
 }
 
 void DataTermGrids::integrate(const RangeMap& map) {
-  const double reach = mWindow.reach();
-  const double h = mVoxelSize;
   const detail::UsableSpans spans(map);
-  std::vector<Coord> leaves = detail::leavesReached(map, h, reach);
+  std::vector<Coord> leaves = detail::leavesReached(map, mVoxelSize, mWindow.reach());
   leaves.erase(std::remove_if(leaves.begin(), leaves.end(),
                               [&](const Coord& origin) { return origin.x() < mSlabBegin || origin.x() >= mSlabEnd; }),
                leaves.end());
+  // A batch of leaves at a time, in order: the terms of one batch are held at
+  // once, not the map's, and the sums are those of one pass.
+  for (std::size_t begin = 0; begin < leaves.size(); begin += kLeavesPerBatch)
+    integrateLeaves(map, spans, leaves.data() + begin, std::min(kLeavesPerBatch, leaves.size() - begin));
+  ++mMapCount;
+}
+
+void DataTermGrids::integrateLeaves(const RangeMap& map, const detail::UsableSpans& spans, const Coord* leaves,
+                                    std::size_t count) {
+  const double reach = mWindow.reach();
+  const double h = mVoxelSize;
   const openvdb::math::Mat4d& toMap = map.worldToMap();
   const openvdb::math::Mat4d& toWorld = map.mapToWorld();
   const Vec3d step[3] = {toMap.transform3x3(Vec3d(h, 0, 0)), toMap.transform3x3(Vec3d(0, h, 0)),
@@ -131,12 +141,12 @@ void DataTermGrids::integrate(const RangeMap& map) {
   const int parallelBin = sightBin(toWorld.transform3x3(Vec3d(0, 0, 1)));
 
   // 1. Per leaf, the map's terms at its voxels (Eqs. 17, 38) and their sums per bin.
-  std::vector<std::vector<VoxelTerm>> terms(leaves.size());
-  std::vector<std::uint16_t> binsOfLeaf(leaves.size(), 0);  // bit b: a term of bin b
+  std::vector<std::vector<VoxelTerm>> terms(count);
+  std::vector<std::uint16_t> binsOfLeaf(count, 0);  // bit b: a term of bin b
   static_assert(kSightBins <= 16, "a bit per bin");
-  std::vector<std::size_t> evaluations(leaves.size(), 0);
-  std::vector<LeafSums> leafSums(leaves.size());
-  parallelFor(leaves.size(), mGrainSize, [&](std::size_t begin, std::size_t end) {
+  std::vector<std::size_t> evaluations(count, 0);
+  std::vector<LeafSums> leafSums(count);
+  parallelFor(count, mGrainSize, [&](std::size_t begin, std::size_t end) {
     RangeMap::LocalSample s;
     for (std::size_t l = begin; l < end; ++l) {
       if (!detail::leafMayBeReached(spans, leaves[l], h, reach)) continue;
@@ -175,11 +185,11 @@ void DataTermGrids::integrate(const RangeMap& map) {
   });
 
   // 2. The leaves that receive terms, created serially (tree topology).
-  std::vector<std::array<BinLeaves, kSightBins>> targets(leaves.size());
-  std::vector<MaskLeaf*> maskLeaves(leaves.size(), nullptr);
+  std::vector<std::array<BinLeaves, kSightBins>> targets(count);
+  std::vector<MaskLeaf*> maskLeaves(count, nullptr);
   {
     openvdb::tree::ValueAccessor<openvdb::Int32Tree> mask(mBinMask->tree());
-    for (std::size_t l = 0; l < leaves.size(); ++l) {
+    for (std::size_t l = 0; l < count; ++l) {
       if (terms[l].empty()) continue;
       maskLeaves[l] = mask.touchLeaf(leaves[l]);
       for (std::size_t b = 0; b < kSightBins; ++b) {
@@ -199,7 +209,7 @@ void DataTermGrids::integrate(const RangeMap& map) {
   }
 
   // 3. The terms added in, each leaf by one task: deterministic.
-  parallelFor(leaves.size(), mGrainSize, [&](std::size_t begin, std::size_t end) {
+  parallelFor(count, mGrainSize, [&](std::size_t begin, std::size_t end) {
     for (std::size_t l = begin; l < end; ++l) {
       for (const VoxelTerm& t : terms[l]) {
         BinLeaves& target = targets[l][t.bin];
@@ -213,7 +223,7 @@ void DataTermGrids::integrate(const RangeMap& map) {
   });
 
   // 4. S_b of each leaf, serially: many leaves share a leaf of the sight grids.
-  for (std::size_t l = 0; l < leaves.size(); ++l)
+  for (std::size_t l = 0; l < count; ++l)
     for (std::size_t b = 0; b < kSightBins; ++b) {
       const BinLeaves& target = targets[l][b];
       if (!target.sight) continue;
@@ -225,7 +235,6 @@ void DataTermGrids::integrate(const RangeMap& map) {
     }
 
   for (std::size_t e : evaluations) mEvaluations += e;
-  ++mMapCount;
 }
 
 namespace {

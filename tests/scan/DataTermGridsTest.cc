@@ -228,6 +228,27 @@ TEST(DataTermGrids, SumsAreThoseOfThePerMapAccumulation) {
   }
 }
 
+TEST(DataTermGrids, AMapReachingManyBatchesOfLeavesGivesThePerMapSums) {
+  // One view of a sphere on a fine grid: its windows reach leaves enough for
+  // several batches, whose sums must be one pass's.
+  const shapes::Sphere sphere{Vec3d(0.013, -0.021, 0.007), 1.0};
+  const std::vector<RangeMap> maps{
+      synth::renderDistanceFunction(sphere, synth::sixAxisViews(Vec3d(0.0), 2.4, 320).front(), synth::Noise{}, 0.02)};
+  const double voxel = 0.006;
+  const ForceFieldOptions options = optionsFor(voxel, 2.0 * voxel);
+  const AccumulatedField want = ForceField(maps, options).accumulate(voxel);
+  const DataTermGrids grids = gridsOf(maps, voxel, options);
+  const openvdb::FloatGrid::Ptr g = grids.gGrid(), w = grids.weightGrid();
+  EXPECT_GT(w->tree().leafCount(), 2 * DataTermGrids::kLeavesPerBatch);
+  EXPECT_EQ(w->activeVoxelCount(), want.weight->activeVoxelCount());
+  const auto acc = want.weight->getConstAccessor();
+  const auto gAcc = want.g->getConstAccessor();
+  for (auto it = w->cbeginValueOn(); it; ++it) {
+    ASSERT_NEAR(*it, acc.getValue(it.getCoord()), 1e-5 * acc.getValue(it.getCoord()));
+    ASSERT_NEAR(g->tree().getValue(it.getCoord()), gAcc.getValue(it.getCoord()), 1e-5 * acc.getValue(it.getCoord()) * voxel);
+  }
+}
+
 TEST(DataTermGrids, OneAndTwoThreadsGiveTheSameGrids) {
   const shapes::Sphere sphere{Vec3d(0.0), 1.0};
   std::vector<RangeMap> maps;

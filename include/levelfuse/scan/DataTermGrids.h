@@ -50,6 +50,10 @@
 
 namespace levelfuse {
 
+namespace detail {
+class UsableSpans;
+}  // namespace detail
+
 /// The sums of a data term at a point over the readings whose windows reach
 /// it: sum c D w gamma (the terms of g), sum c w gamma (their weight) and
 /// sum w (how many readings reach the point, one whose window is 1 there
@@ -73,6 +77,10 @@ class DataTermGrids {
   /// squared). Throws std::invalid_argument for a voxel size that is not
   /// positive and finite or a negative variance.
   DataTermGrids(double voxelSize, const DataWindow& window, double positionVariance, std::size_t grainSize = 1);
+
+  /// Leaf nodes whose terms integrate holds at once (a few megabytes: the
+  /// terms, the target leaves and the sums of each), a batch after another.
+  static constexpr std::size_t kLeavesPerBatch = 2048;
 
   /// Adds the terms of one range map to every voxel its windows reach; the
   /// map may be released afterwards. Parallel over leaf nodes; the sums are
@@ -120,6 +128,10 @@ class DataTermGrids {
   };
   /// Weight and readings at x over all bins (g is left 0).
   DataTerms allTerms(const openvdb::Vec3d& x) const;
+  /// Adds the terms of `map` at the leaf nodes [leaves, leaves + count), in
+  /// their order (`spans`: the map's usable readings).
+  void integrateLeaves(const RangeMap& map, const detail::UsableSpans& spans, const openvdb::Coord* leaves,
+                       std::size_t count);
 
   std::array<Bin, kSightBins> mBins;
   openvdb::Int32Grid::Ptr mBinMask;  ///< per voxel, bit b set where bin b holds terms
