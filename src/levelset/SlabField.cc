@@ -206,16 +206,29 @@ double SlabField::timeStep(double maxSpeed, double curvatureWeight, double stiff
 
 StepTally SlabField::applyRates(double dt, double maxSpeed) { return detail::applyRates(*mState, dt, maxSpeed); }
 
-openvdb::FloatGrid::Ptr SlabField::toLevelSet(double halfWidth, const std::string& name) const {
-  openvdb::FloatGrid::Ptr levelSet = detail::levelSetOf(*mState, halfWidth, name);
-  // Growing the band to its half-width reached past the ghosts, from layers
-  // that were wrong there: only the slab's domain is kept.
+namespace {
+
+/// A slab's level set (levelSetOf) kept within the slab's `domain`: growing
+/// the band to its half-width reached past the ghosts, from layers that were
+/// wrong there.
+openvdb::FloatGrid::Ptr withinDomain(openvdb::FloatGrid::Ptr levelSet, const detail::XRange& domain) {
   std::vector<openvdb::Coord> beyond;
   for (auto leaf = levelSet->tree().cbeginLeaf(); leaf; ++leaf)
-    if (!mState->domain.contains(leaf->origin().x())) beyond.push_back(leaf->origin());
+    if (!domain.contains(leaf->origin().x())) beyond.push_back(leaf->origin());
   for (const openvdb::Coord& origin : beyond) levelSet->tree().addTile(1, origin, levelSet->background(), false);
   setTilesBesideLeaves(*levelSet);
   return levelSet;
+}
+
+}  // namespace
+
+openvdb::FloatGrid::Ptr SlabField::toLevelSet(double halfWidth, const std::string& name) const& {
+  return withinDomain(detail::levelSetOf(*mState, halfWidth, name), mState->domain);
+}
+
+openvdb::FloatGrid::Ptr SlabField::toLevelSet(double halfWidth, const std::string& name) && {
+  const detail::XRange domain = mState->domain;
+  return withinDomain(detail::levelSetOf(std::move(mState), halfWidth, name), domain);
 }
 
 PackedLeaves SlabField::ownedLeaves() const {

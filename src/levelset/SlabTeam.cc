@@ -71,9 +71,9 @@ SlabField refineAcrossTeam(SlabField slab, const SlabTeam& team, const SparseFie
   // finer slab lies, once the ghosts are fresh (SlabField::toLevelSet).
   const SlabBounds own = onFinerGrid(slab.bounds());
   openvdb::FloatGrid::Ptr refined = [&] {
-    SlabField coarse = std::move(slab);  // let go once its level set is refined
+    SlabField coarse = std::move(slab);
     team.refreshGhosts(coarse);
-    return refineLevelSet(*coarse.toLevelSet(3.0));
+    return refineLevelSet(*std::move(coarse).toLevelSet(3.0));  // the coarse slab let go as its level set is made
   }();
   const std::vector<SlabBounds> cuts =
       balancedSlabs(teamLeafColumns(leafColumns(refined->tree(), own), team), team.size());

@@ -285,21 +285,23 @@ SparseFieldStats detail::statsOf(const SparseFieldState& state) {
 
 SparseFieldStats SparseField::stats() const { return detail::statsOf(*mState); }
 
-openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::string& name) const {
+openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::string& name) const& {
   return detail::levelSetOf(*mState, halfWidth, name);
 }
 
-openvdb::FloatGrid::Ptr detail::levelSetOf(const SparseFieldState& state, double halfWidth, const std::string& name) {
+openvdb::FloatGrid::Ptr SparseField::toLevelSet(double halfWidth, const std::string& name) && {
+  return detail::levelSetOf(std::move(mState), halfWidth, name);
+}
+
+namespace {
+
+void requireHalfWidth(double halfWidth) {
   if (!(halfWidth >= 1.0))
     throw std::invalid_argument("toLevelSet: the narrow-band half-width must be at least 1 voxel");
-  const double dx = state.dx;
-  const float width = levelSetBackground(halfWidth, dx);
-  openvdb::FloatGrid::Ptr out = state.grid->deepCopy();
-  openvdb::FloatTree& tree = out->tree();
+}
 
-  // Grow further layers by the sparse field's own layer rule
-  // (LeafNeighbourhood.h) until they reach the requested half-width.
-  const int wanted = static_cast<int>(std::ceil(halfWidth - 0.5));
+/// The voxels of the outermost layers, L+-N.
+std::vector<openvdb::Coord> outermostLayers(const detail::SparseFieldState& state) {
   std::vector<openvdb::Coord> ring;
   const detail::LeafTable& table = state.table;
   const int N = state.options.layers;
@@ -308,6 +310,19 @@ openvdb::FloatGrid::Ptr detail::levelSetOf(const SparseFieldState& state, double
     for (auto it = table[r].layer[N].beginOn(); it; ++it)
       ring.push_back(table[r].origin + FloatLeaf::offsetToLocalCoord(it.pos()));
   }
+  return ring;
+}
+
+/// The band of `out` (a sparse field's values, layers L+-N of which `ring`
+/// is the outermost) grown to a standard OpenVDB level set.
+void growToLevelSet(openvdb::FloatGrid& out, std::vector<openvdb::Coord> ring, int N, double dx, float background,
+                    double halfWidth, const std::string& name) {
+  const float width = levelSetBackground(halfWidth, dx);
+  openvdb::FloatTree& tree = out.tree();
+
+  // Grow further layers by the sparse field's own layer rule
+  // (LeafNeighbourhood.h) until they reach the requested half-width.
+  const int wanted = static_cast<int>(std::ceil(halfWidth - 0.5));
   openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(tree);
   for (int layer = N + 1; layer <= wanted; ++layer) {
     // The ring's outside face neighbours, each once (a mask, not a list of
@@ -346,7 +361,7 @@ openvdb::FloatGrid::Ptr detail::levelSetOf(const SparseFieldState& state, double
       // their side: its other voxels take that side's background, not the
       // tile's value (a slab's tiles need not be right).
       if (!acc.probeLeaf(ijk))
-        acc.touchLeaf(ijk)->fill(value < 0.0f ? -state.background : state.background, false);
+        acc.touchLeaf(ijk)->fill(value < 0.0f ? -background : background, false);
       acc.setValueOn(ijk, value);
       ring.push_back(ijk);
     }
@@ -361,9 +376,31 @@ openvdb::FloatGrid::Ptr detail::levelSetOf(const SparseFieldState& state, double
   });
   openvdb::tools::changeLevelSetBackground(tree, width);
   openvdb::tools::pruneLevelSet(tree);
-  out->setGridClass(openvdb::GRID_LEVEL_SET);
-  out->setName(name);
-  out->insertMeta("levelfuse_layers", openvdb::Int32Metadata(N));
+  out.setGridClass(openvdb::GRID_LEVEL_SET);
+  out.setName(name);
+  out.insertMeta("levelfuse_layers", openvdb::Int32Metadata(N));
+}
+
+}  // namespace
+
+openvdb::FloatGrid::Ptr detail::levelSetOf(const SparseFieldState& state, double halfWidth, const std::string& name) {
+  requireHalfWidth(halfWidth);
+  openvdb::FloatGrid::Ptr out = state.grid->deepCopy();
+  growToLevelSet(*out, outermostLayers(state), state.options.layers, state.dx, state.background, halfWidth, name);
+  return out;
+}
+
+openvdb::FloatGrid::Ptr detail::levelSetOf(std::unique_ptr<SparseFieldState> state, double halfWidth,
+                                           const std::string& name) {
+  requireHalfWidth(halfWidth);
+  // The state's grid becomes the level set; the rest is let go first.
+  std::vector<openvdb::Coord> ring = outermostLayers(*state);
+  const int N = state->options.layers;
+  const double dx = state->dx;
+  const float background = state->background;
+  const openvdb::FloatGrid::Ptr out = std::move(state->grid);
+  state.reset();
+  growToLevelSet(*out, std::move(ring), N, dx, background, halfWidth, name);
   return out;
 }
 

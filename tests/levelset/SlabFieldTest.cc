@@ -307,6 +307,19 @@ TEST(SlabField, ASlabsLevelSetKnowsTheSideOfTheCellsBesideItsLeaves) {
   EXPECT_EQ(wrong, 0u) << "of " << cells << " cells beside the slabs' leaves";
 }
 
+TEST(SlabField, ASlabLetGoAsItsLevelSetIsMadeGivesTheSameLevelSet) {
+  const auto sphere = sample(shapes::Sphere{Vec3d(3.3, -70.2, 5.1), 57.0}, openvdb::BBoxd(Vec3d(-60, -130, -60), Vec3d(62, -10, 62)));
+  std::vector<SlabField> slabs = cut(*sphere, {-40, 0, 24});
+  refreshGhosts(slabs);
+  for (SlabField& slab : slabs) {
+    const openvdb::FloatGrid::Ptr copied = slab.toLevelSet(3.0, "s");
+    const openvdb::FloatGrid::Ptr moved = std::move(slab).toLevelSet(3.0, "s");
+    std::string why;
+    EXPECT_TRUE(test::identical(*copied, *moved, &why)) << why;
+    EXPECT_EQ(moved->getName(), "s");
+  }
+}
+
 TEST(SlabField, TheSlabsLevelSetPiecesAssembleIntoTheWholesLevelSet) {
   // The output of a shared evolution: each slab packs its own leaves of its
   // level set, one process puts them together. Shapes whose insides span

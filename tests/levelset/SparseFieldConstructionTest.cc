@@ -106,6 +106,20 @@ TEST(SparseFieldConstruction, ExportIsAStandardLevelSet) {
   EXPECT_NEAR(acc.getValue(onAxis), 1.25, 0.26);
 }
 
+TEST(SparseFieldConstruction, AFieldLetGoAsItsLevelSetIsMadeGivesTheSameLevelSet) {
+  const SparseField kept = SparseField::fromLevelSet(*test::makeSphere(15.0, openvdb::Vec3d(1.0, 2.0, 3.0), 0.5));
+  SparseField letGo = kept;
+  const openvdb::FloatGrid::Ptr copied = kept.toLevelSet(3.0, "sphere");
+  const openvdb::FloatGrid::Ptr moved = std::move(letGo).toLevelSet(3.0, "sphere");
+  std::string why;
+  EXPECT_TRUE(test::identical(*copied, *moved, &why)) << why;
+  EXPECT_EQ(moved->getName(), "sphere");
+  EXPECT_EQ(moved->getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_EQ(moved->metaValue<openvdb::Int32>("levelfuse_layers"), copied->metaValue<openvdb::Int32>("levelfuse_layers"));
+  EXPECT_EQ(openvdb::tools::checkLevelSet(*moved, 8), "");
+  EXPECT_THROW(std::move(SparseField(kept)).toLevelSet(0.5), std::invalid_argument);
+}
+
 TEST(SparseFieldConstruction, FromMaskPutsTheSurfaceBetweenVoxels) {
   openvdb::MaskGrid::Ptr mask = openvdb::MaskGrid::create();
   mask->setTransform(openvdb::math::Transform::createLinearTransform(1.0));

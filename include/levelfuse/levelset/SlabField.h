@@ -120,7 +120,10 @@ class SlabField {
   /// except within 2 voxels of the ghosts' outer faces; it has no leaves
   /// beyond them. The tiles beside its leaves take the side of the leaf
   /// voxels next to them.
-  openvdb::FloatGrid::Ptr toLevelSet(double halfWidth = 3.0, const std::string& name = "surface") const;
+  openvdb::FloatGrid::Ptr toLevelSet(double halfWidth = 3.0, const std::string& name = "surface") const&;
+  /// The same, the slab let go as it is made: its values become the level
+  /// set's, not a copy (std::move(slab).toLevelSet()).
+  openvdb::FloatGrid::Ptr toLevelSet(double halfWidth = 3.0, const std::string& name = "surface") &&;
 
   /// The slab's own leaves, packed, for assembling the whole field.
   PackedLeaves ownedLeaves() const;

@@ -122,7 +122,10 @@ class SparseField {
   /// A standard OpenVDB level set: GRID_LEVEL_SET class, background and
   /// narrow-band half-width `halfWidth` voxels (layers past N are added with the
   /// sparse field's own rule), named `name`.
-  openvdb::FloatGrid::Ptr toLevelSet(double halfWidth = 3.0, const std::string& name = "surface") const;
+  openvdb::FloatGrid::Ptr toLevelSet(double halfWidth = 3.0, const std::string& name = "surface") const&;
+  /// The same, the field let go as it is made: its values become the level
+  /// set's, not a copy (std::move(field).toLevelSet()).
+  openvdb::FloatGrid::Ptr toLevelSet(double halfWidth = 3.0, const std::string& name = "surface") &&;
 
   /// Layer of a voxel: 0 for the active set, +-i for L+-i, +-(N+1) outside the layers.
   int layerOf(const openvdb::Coord& ijk) const;

@@ -157,6 +157,8 @@ std::unique_ptr<SparseFieldState> stateFromLevelSet(const openvdb::FloatGrid& le
 
 /// The state's values as a standard OpenVDB level set (SparseField::toLevelSet).
 openvdb::FloatGrid::Ptr levelSetOf(const SparseFieldState& state, double halfWidth, const std::string& name);
+/// The same, the state let go as it is made: its grid becomes the level set's.
+openvdb::FloatGrid::Ptr levelSetOf(std::unique_ptr<SparseFieldState> state, double halfWidth, const std::string& name);
 
 /// Counts of the leaves the state answers for (all, unless it is a slab) and
 /// the bytes of all it holds (SparseField::stats).
