@@ -42,18 +42,21 @@ double EvolvingField::largest(double value) const { return mTeam ? mTeam->larges
 
 void EvolvingField::refine(const SparseFieldOptions& engine) {
   if (!mSlab) {
-    mWhole = std::make_unique<SparseField>(SparseField::fromLevelSet(*refineLevelSet(*mWhole->toLevelSet(3.0)), engine));
-    return;
+    const openvdb::FloatGrid::Ptr refined = refineLevelSet(*std::move(*mWhole).toLevelSet(3.0));
+    mWhole.reset();
+    mWhole = std::make_unique<SparseField>(SparseField::fromLevelSet(*refined, engine));
+  } else {
+    // The finer grid is cut afresh where its leaf nodes share out evenly.
+    mSlab = std::make_unique<SlabField>(refineAcrossTeam(std::move(*mSlab), *mTeam, engine));
   }
-  // The finer grid is cut afresh where its leaf nodes share out evenly.
-  mSlab = std::make_unique<SlabField>(refineAcrossTeam(std::move(*mSlab), *mTeam, engine));
+  returnFreedMemory();  // the coarser grid and the refined level set, built on the worker threads' heaps
 }
 
 EvolvingField::Surface EvolvingField::release(const std::string& name, const Weigh& weigh, bool inPieces) {
   mReleasedStats = stats();
   mReleasedOwnLeaves = ownLeafNodes();
   if (!mSlab) {
-    Surface whole{mWhole->toLevelSet(3.0, name), nullptr};
+    Surface whole{std::move(*mWhole).toLevelSet(3.0, name), nullptr};
     mWhole.reset();
     whole.weight = weigh(*whole.levelSet);
     return whole;
@@ -62,8 +65,8 @@ EvolvingField::Surface EvolvingField::release(const std::string& name, const Wei
   // field's there once the ghosts are fresh) and weighs them; the first moves
   // its own in and adds the others' as they arrive, one parcel at a time.
   mTeam->refreshGhosts(*mSlab);
-  Surface piece{mSlab->toLevelSet(3.0, name), nullptr};
   mReleasedBounds = mSlab->bounds();
+  Surface piece{std::move(*mSlab).toLevelSet(3.0, name), nullptr};
   mSlab.reset();
   returnFreedMemory();  // the slab, built on the worker threads' heaps
   piece.weight = weigh(*piece.levelSet);

@@ -2,6 +2,7 @@
 
 #include "EvolvingField.h"
 
+#include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/Version.h>
 #include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/levelset/SlabTeam.h>
@@ -408,6 +409,7 @@ LevelReport Reconstructor::evolveLevel(detail::EvolvingField& field, const Field
     if (iteration - snapshotIteration >= mOptions.patience) {
       state.drift = field.largest(largestLocalDrift(field, *snapshot, data)) / h /
                     static_cast<double>(iteration - snapshotIteration);
+      snapshot.reset();  // one copy of the grid at a time
       snapshot = field.grid().deepCopy();
       snapshotIteration = iteration;
       if (iteration - lastProgress >= mOptions.patience && state.drift < mOptions.drift) {
@@ -569,7 +571,9 @@ std::unique_ptr<DataTermGrids> Reconstructor::dataTermOfSlab(int level, const de
       level);
   state.stage = ReconstructionProgress::Stage::kIntegrating;
   report();
-  return fusion.dataTermWithin(level, data, interrupter, scans);
+  std::unique_ptr<DataTermGrids> grids = fusion.dataTermWithin(level, data, interrupter, scans);
+  returnFreedMemory();  // the terms of each batch of leaves, made on the worker threads' heaps
+  return grids;
 }
 
 void Reconstructor::describeRun(openvdb::FloatGrid& out, int iterations) const {
