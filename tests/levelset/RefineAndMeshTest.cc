@@ -7,6 +7,7 @@
 #include <levelfuse/levelset/ZeroCrossings.h>
 
 #include <openvdb/tools/Diagnostics.h>
+#include <openvdb/tools/Interpolation.h>
 
 #include <gtest/gtest.h>
 
@@ -34,6 +35,42 @@ TEST(Refine, HalvesTheVoxelAndKeepsTheSurface) {
   // Inside stays inside, far from the band too (tiles are carried over).
   EXPECT_LT(fine->tree().getValue(openvdb::Coord::round(fine->worldToIndex(centre))), 0.0f);
   EXPECT_GT(fine->tree().getValue(openvdb::Coord::round(fine->worldToIndex(centre + openvdb::Vec3d(3, 0, 0)))), 0.0f);
+}
+
+TEST(Refine, ReadsAsTheCoarseLevelSetSampledWithTilesWhereNoBandReaches) {
+  // A sphere whose coarse leaves hold voxels far from its band too: a fine
+  // leaf node the band does not reach, and beside which no sign changes,
+  // becomes a tile of its side; every fine voxel over the coarse leaves reads
+  // the coarse level set sampled there, clamped to the band.
+  const auto coarse = test::makeSphere(12.0, openvdb::Vec3d(0.3, -0.2, 0.1), 0.1);
+  const auto fine = refineLevelSet(*coarse);
+  const float width = fine->background();
+  const openvdb::FloatGrid::ConstAccessor coarseValues = coarse->getConstAccessor();
+  const openvdb::FloatGrid::ConstAccessor fineValues = fine->getConstAccessor();
+  std::size_t tiles = 0, leaves = 0, voxels = 0;
+  for (auto leaf = coarse->tree().cbeginLeaf(); leaf; ++leaf)
+    for (int child = 0; child < 8; ++child) {
+      const openvdb::Coord& o = leaf->origin();
+      const openvdb::Coord origin(2 * o.x() + (child & 1) * 8, 2 * o.y() + ((child >> 1) & 1) * 8,
+                                  2 * o.z() + (child >> 2) * 8);
+      const bool isLeaf = fine->tree().probeConstLeaf(origin) != nullptr;
+      (isLeaf ? leaves : tiles) += 1;
+      for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j)
+          for (int k = 0; k < 8; ++k) {
+            const openvdb::Coord ijk = origin.offsetBy(i, j, k);
+            const float sampled = openvdb::tools::BoxSampler::sample(coarseValues, ijk.asVec3d() * 0.5);
+            const bool inBand = std::fabs(sampled) < width;
+            ASSERT_EQ(fineValues.getValue(ijk), inBand ? sampled : (sampled < 0.0f ? -width : width)) << ijk;
+            ASSERT_EQ(fineValues.isValueOn(ijk), inBand) << ijk;
+            if (!isLeaf) ASSERT_FALSE(inBand) << ijk;
+            ++voxels;
+          }
+    }
+  EXPECT_GT(tiles, leaves / 4) << "fine leaf nodes beyond the band are tiles";
+  EXPECT_GT(leaves, 0u);
+  EXPECT_EQ(openvdb::tools::checkLevelSet(*fine, 6), "");
+  EXPECT_EQ(voxels, 512 * 8 * coarse->tree().leafCount());
 }
 
 TEST(Refine, RefusesWhatIsNotALevelSet) {
