@@ -155,6 +155,14 @@ SlabField SlabField::fromLevelSet(const openvdb::FloatGrid& levelSet, const Slab
   return SlabField(std::move(state), bounds);
 }
 
+SlabField SlabField::fromLevelSet(openvdb::FloatGrid::Ptr&& levelSet, const SlabBounds& bounds,
+                                  const SparseFieldOptions& options) {
+  const auto [owned, domain] = ownedAndDomain(bounds);
+  auto state = detail::stateFromLevelSet(std::move(levelSet), options, domain);
+  state->owned = owned;
+  return SlabField(std::move(state), bounds);
+}
+
 SlabField SlabField::fromField(const SparseField& whole, const SlabBounds& bounds) {
   const auto [owned, domain] = ownedAndDomain(bounds);
   const SparseFieldState& from = whole.state();

@@ -82,7 +82,7 @@ SlabField refineAcrossTeam(SlabField slab, const SlabTeam& team, const SparseFie
   std::vector<PackedLeaves> toEach(cuts.size());
   for (std::size_t r = 0; r < cuts.size(); ++r)
     if (r != me) toEach[r] = packLevelSetLeaves(*refined, overlapOf(own, levelSetReach(cuts[r])));
-  const openvdb::FloatGrid::Ptr mine = refined->copyWithNewTree();
+  openvdb::FloatGrid::Ptr mine = refined->copyWithNewTree();
   moveLevelSetLeaves(*refined, overlapOf(own, levelSetReach(cuts[me])), *mine);
   refined.reset();
   returnFreedMemory();  // the coarse slab and the refined level set, built on the worker threads' heaps
@@ -91,7 +91,7 @@ SlabField refineAcrossTeam(SlabField slab, const SlabTeam& team, const SparseFie
     PackedLeaves().swap(piece);
   }
   setTilesBesideLeaves(*mine);
-  return SlabField::fromLevelSet(*mine, cuts[me], engine);
+  return SlabField::fromLevelSet(std::move(mine), cuts[me], engine);  // let go once read
 }
 
 }  // namespace levelfuse

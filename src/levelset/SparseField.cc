@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -45,11 +46,13 @@ using Seed = std::pair<openvdb::Coord, float>;
 /// Builds the state from the active set `seeds` (values in [-1/2, 1/2] voxel).
 /// `insideOf(accessorFactory)`: Probe is constructed per task and answers
 /// inside(ijk) for any voxel, so the leaves around the layers get the right side.
-/// Leaves are made only where their origin lies in `domain`.
+/// Leaves are made only where their origin lies in `domain`. `probed` is
+/// called once no probe is made any more.
 template <typename ProbeFactory>
 std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform& transform,
                                                  const SparseFieldOptions& options, std::vector<Seed> seeds,
-                                                 const ProbeFactory& makeProbe, const detail::XRange& domain = {}) {
+                                                 const ProbeFactory& makeProbe, const detail::XRange& domain = {},
+                                                 const std::function<void()>& probed = {}) {
   auto state = std::make_unique<SparseFieldState>();
   state->options = options;
   state->domain = domain;
@@ -71,6 +74,7 @@ std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform&
   detail::FloatTree& tree = state->tree();
   for (auto it = reach.cbeginLeaf(); it; ++it)
     if (domain.contains(it->origin().x())) tree.touchLeaf(it->origin());
+  reach.clear();
 
   // Every voxel of those leaves starts at the background of its side.
   {
@@ -88,6 +92,7 @@ std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform&
       }
     });
   }
+  if (probed) probed();
 
   // The active set itself.
   state->table.build(tree);
@@ -102,6 +107,7 @@ std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform&
       record.next.setOn(o);
     }
   }
+  std::vector<Seed>().swap(seeds);  // placed: let go before the layers are built
   detail::rebuildLayers(*state);
   openvdb::tools::signedFloodFill(tree);
   return state;
@@ -149,8 +155,11 @@ SparseField& SparseField::operator=(const SparseField& other) {
 
 namespace detail {
 
-std::unique_ptr<SparseFieldState> stateFromLevelSet(const openvdb::FloatGrid& levelSet,
-                                                    const SparseFieldOptions& options, const XRange& domain) {
+namespace {
+
+/// stateFromLevelSet's work; `read` is called once `levelSet` is read no more.
+std::unique_ptr<SparseFieldState> stateOfLevelSet(const openvdb::FloatGrid& levelSet, const SparseFieldOptions& options,
+                                                  const XRange& domain, const std::function<void()>& read) {
   validateOptions(options);
   requireLevelSet(levelSet, "SparseField::fromLevelSet");
 
@@ -183,22 +192,47 @@ std::unique_ptr<SparseFieldState> stateFromLevelSet(const openvdb::FloatGrid& le
       }
     }
   });
+  std::size_t count = 0;
+  for (const auto& f : found) count += f.size();
   std::vector<Seed> seeds;
-  for (auto& f : found) seeds.insert(seeds.end(), f.begin(), f.end());
+  seeds.reserve(count);
+  for (auto& f : found) {
+    seeds.insert(seeds.end(), f.begin(), f.end());
+    std::vector<Seed>().swap(f);
+  }
   if (seeds.empty() && domain.begin == XRange{}.begin && domain.end == XRange{}.end)
     throw std::invalid_argument("SparseField::fromLevelSet: " + describeGrid(levelSet) +
                                 " has no zero crossing: there is no surface to evolve");
 
+  const std::string name = levelSet.getName();
   auto state = buildFromSeeds(levelSet.transform(), options, std::move(seeds),
-                              [&] { return LevelSetProbe{levelSet.getConstAccessor()}; }, domain);
-  state->grid->setName(levelSet.getName());
+                              [&] { return LevelSetProbe{levelSet.getConstAccessor()}; }, domain, read);
+  state->grid->setName(name);
   return state;
+}
+
+}  // namespace
+
+std::unique_ptr<SparseFieldState> stateFromLevelSet(const openvdb::FloatGrid& levelSet,
+                                                    const SparseFieldOptions& options, const XRange& domain) {
+  return stateOfLevelSet(levelSet, options, domain, {});
+}
+
+std::unique_ptr<SparseFieldState> stateFromLevelSet(openvdb::FloatGrid::Ptr&& levelSet,
+                                                    const SparseFieldOptions& options, const XRange& domain) {
+  if (!levelSet) throw std::invalid_argument("SparseField::fromLevelSet: there is no grid");
+  const openvdb::FloatGrid& grid = *levelSet;
+  return stateOfLevelSet(grid, options, domain, [&] { levelSet.reset(); });
 }
 
 }  // namespace detail
 
 SparseField SparseField::fromLevelSet(const openvdb::FloatGrid& levelSet, const SparseFieldOptions& options) {
   return SparseField(detail::stateFromLevelSet(levelSet, options, detail::XRange{}));
+}
+
+SparseField SparseField::fromLevelSet(openvdb::FloatGrid::Ptr&& levelSet, const SparseFieldOptions& options) {
+  return SparseField(detail::stateFromLevelSet(std::move(levelSet), options, detail::XRange{}));
 }
 
 SparseField SparseField::fromMask(const openvdb::MaskGrid& inside, const SparseFieldOptions& options) {
@@ -300,22 +334,20 @@ void requireHalfWidth(double halfWidth) {
     throw std::invalid_argument("toLevelSet: the narrow-band half-width must be at least 1 voxel");
 }
 
-/// The voxels of the outermost layers, L+-N.
-std::vector<openvdb::Coord> outermostLayers(const detail::SparseFieldState& state) {
-  std::vector<openvdb::Coord> ring;
+/// The voxels of the outermost layers, L+-N, as a mask.
+openvdb::MaskTree::Ptr outermostLayers(const detail::SparseFieldState& state) {
+  auto ring = std::make_shared<openvdb::MaskTree>();
+  openvdb::tree::ValueAccessor<openvdb::MaskTree> mark(*ring);
   const detail::LeafTable& table = state.table;
   const int N = state.options.layers;
-  for (std::size_t r = 0; r < table.size(); ++r) {
-    if (!table[r].live()) continue;
-    for (auto it = table[r].layer[N].beginOn(); it; ++it)
-      ring.push_back(table[r].origin + FloatLeaf::offsetToLocalCoord(it.pos()));
-  }
+  for (std::size_t r = 0; r < table.size(); ++r)
+    if (table[r].live() && !table[r].layer[N].isOff()) mark.touchLeaf(table[r].origin)->setValueMask(table[r].layer[N]);
   return ring;
 }
 
 /// The band of `out` (a sparse field's values, layers L+-N of which `ring`
 /// is the outermost) grown to a standard OpenVDB level set.
-void growToLevelSet(openvdb::FloatGrid& out, std::vector<openvdb::Coord> ring, int N, double dx, float background,
+void growToLevelSet(openvdb::FloatGrid& out, openvdb::MaskTree::Ptr ring, int N, double dx, float background,
                     double halfWidth, const std::string& name) {
   const float width = levelSetBackground(halfWidth, dx);
   openvdb::FloatTree& tree = out.tree();
@@ -326,26 +358,27 @@ void growToLevelSet(openvdb::FloatGrid& out, std::vector<openvdb::Coord> ring, i
   openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(tree);
   for (int layer = N + 1; layer <= wanted; ++layer) {
     // The ring's outside face neighbours, each once (a mask, not a list of
-    // every neighbour of every ring voxel), valued from the band as it was.
-    openvdb::MaskTree candidates;
+    // every neighbour of every ring voxel).
+    auto candidates = std::make_shared<openvdb::MaskTree>();
     {
-      openvdb::tree::ValueAccessor<openvdb::MaskTree> mark(candidates);
-      for (const openvdb::Coord& ijk : ring)
+      openvdb::tree::ValueAccessor<openvdb::MaskTree> mark(*candidates);
+      for (auto it = ring->cbeginValueOn(); it; ++it)
         for (const auto& e : detail::kFaceOffset) {
-          const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
+          const openvdb::Coord n = it.getCoord().offsetBy(e[0], e[1], e[2]);
           if (!acc.isValueOn(n)) mark.setValueOn(n);
         }
     }
-    std::vector<std::pair<openvdb::Coord, float>> next;
-    next.reserve(static_cast<std::size_t>(candidates.activeVoxelCount()));
-    for (auto it = candidates.cbeginValueOn(); it; ++it) next.emplace_back(it.getCoord(), 0.0f);
-    candidates.clear();
-    for (auto& [ijk, value] : next) {
+    ring.reset();
+    // Each valued from the band as it was: the candidates valued before it
+    // are not read.
+    const openvdb::tree::ValueAccessor<const openvdb::MaskTree> isCandidate(*candidates);
+    for (auto it = candidates->cbeginValueOn(); it; ++it) {
+      const openvdb::Coord ijk = it.getCoord();
       float inner[detail::kFaceCount];
       int count = 0;
       for (const auto& e : detail::kFaceOffset) {
         const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
-        if (acc.isValueOn(n)) inner[count++] = acc.getValue(n);
+        if (acc.isValueOn(n) && !isCandidate.isValueOn(n)) inner[count++] = acc.getValue(n);
       }
       // A voxel beyond the band lies on the side of the band voxels beside it
       // (else a sign change would lie between them, and both would be in the
@@ -353,18 +386,15 @@ void growToLevelSet(openvdb::FloatGrid& out, std::vector<openvdb::Coord> ring, i
       const bool inside = inner[0] < 0.0f;
       detail::NearestInner nearest(inside);
       for (int i = 0; i < count; ++i) nearest.offer(inner[i]);
-      value = detail::layerValue(nearest.value(), inside, static_cast<float>(dx));
-    }
-    ring.clear();
-    for (const auto& [ijk, value] : next) {
+      const float value = detail::layerValue(nearest.value(), inside, static_cast<float>(dx));
       // A leaf the band grows into lies beyond it but for these voxels, on
       // their side: its other voxels take that side's background, not the
       // tile's value (a slab's tiles need not be right).
       if (!acc.probeLeaf(ijk))
         acc.touchLeaf(ijk)->fill(value < 0.0f ? -background : background, false);
       acc.setValueOn(ijk, value);
-      ring.push_back(ijk);
     }
+    ring = std::move(candidates);
   }
   // Voxels at or past the half-width leave the band.
   openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
@@ -394,7 +424,7 @@ openvdb::FloatGrid::Ptr detail::levelSetOf(std::unique_ptr<SparseFieldState> sta
                                            const std::string& name) {
   requireHalfWidth(halfWidth);
   // The state's grid becomes the level set; the rest is let go first.
-  std::vector<openvdb::Coord> ring = outermostLayers(*state);
+  openvdb::MaskTree::Ptr ring = outermostLayers(*state);
   const int N = state->options.layers;
   const double dx = state->dx;
   const float background = state->background;

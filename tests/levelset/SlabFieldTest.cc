@@ -23,6 +23,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <vector>
@@ -317,6 +318,20 @@ TEST(SlabField, ASlabLetGoAsItsLevelSetIsMadeGivesTheSameLevelSet) {
     std::string why;
     EXPECT_TRUE(test::identical(*copied, *moved, &why)) << why;
     EXPECT_EQ(moved->getName(), "s");
+  }
+}
+
+TEST(SlabField, ASlabBuiltFromALevelSetItLetsGoIsTheSame) {
+  const auto sphere = sample(shapes::Sphere{Vec3d(3.3, -70.2, 5.1), 57.0}, openvdb::BBoxd(Vec3d(-60, -130, -60), Vec3d(62, -10, 62)));
+  for (const SlabBounds& bounds : {SlabBounds{-40, 0}, SlabBounds{SlabBounds().begin, -40}, SlabBounds{24, SlabBounds().end}}) {
+    const SlabField kept = SlabField::fromLevelSet(*sphere, bounds);
+    openvdb::FloatGrid::Ptr copy = sphere->deepCopy();
+    const std::weak_ptr<openvdb::FloatGrid> watched = copy;
+    const SlabField built = SlabField::fromLevelSet(std::move(copy), bounds);
+    EXPECT_TRUE(watched.expired()) << "the level set is let go";
+    std::string why;
+    EXPECT_TRUE(test::identical(*kept.toLevelSet(3.0), *built.toLevelSet(3.0), &why)) << why;
+    EXPECT_EQ(built.ownedLeaves(), kept.ownedLeaves());
   }
 }
 

@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 
 namespace levelfuse {
 namespace {
@@ -118,6 +119,22 @@ TEST(SparseFieldConstruction, AFieldLetGoAsItsLevelSetIsMadeGivesTheSameLevelSet
   EXPECT_EQ(moved->metaValue<openvdb::Int32>("levelfuse_layers"), copied->metaValue<openvdb::Int32>("levelfuse_layers"));
   EXPECT_EQ(openvdb::tools::checkLevelSet(*moved, 8), "");
   EXPECT_THROW(std::move(SparseField(kept)).toLevelSet(0.5), std::invalid_argument);
+}
+
+TEST(SparseFieldConstruction, AFieldBuiltFromALevelSetItLetsGoIsTheSame) {
+  const openvdb::FloatGrid::Ptr sphere = test::makeSphere(15.0, openvdb::Vec3d(1.0, 2.0, 3.0), 0.5);
+  sphere->setName("sphere");
+  const SparseField kept = SparseField::fromLevelSet(*sphere);
+  openvdb::FloatGrid::Ptr copy = sphere->deepCopy();
+  const std::weak_ptr<openvdb::FloatGrid> watched = copy;
+  const SparseField built = SparseField::fromLevelSet(std::move(copy));
+  EXPECT_FALSE(copy);
+  EXPECT_TRUE(watched.expired()) << "the level set is let go";
+  std::string why;
+  EXPECT_TRUE(test::identical(*kept.toLevelSet(3.0), *built.toLevelSet(3.0), &why)) << why;
+  EXPECT_EQ(built.grid().getName(), "sphere");
+  EXPECT_EQ(built.stats().bandVoxels, kept.stats().bandVoxels);
+  EXPECT_THROW(SparseField::fromLevelSet(openvdb::FloatGrid::Ptr()), std::invalid_argument);
 }
 
 TEST(SparseFieldConstruction, FromMaskPutsTheSurfaceBetweenVoxels) {

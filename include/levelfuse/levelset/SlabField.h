@@ -88,6 +88,10 @@ class SlabField {
   /// its ghosts, plus one voxel. A slab the surface does not reach is empty.
   static SlabField fromLevelSet(const openvdb::FloatGrid& levelSet, const SlabBounds& bounds,
                                 const SparseFieldOptions& options = {});
+  /// The same, letting go of `levelSet` as soon as it has been read
+  /// (SparseField::fromLevelSet).
+  static SlabField fromLevelSet(openvdb::FloatGrid::Ptr&& levelSet, const SlabBounds& bounds,
+                                const SparseFieldOptions& options = {});
 
   /// The slab `bounds` of `whole`, with its ghosts: the leaves, values and
   /// layers are copied as they are.

@@ -79,6 +79,9 @@ class SparseField {
   /// set, has non-uniform voxels, or holds non-finite values.
   static SparseField fromLevelSet(const openvdb::FloatGrid& levelSet,
                                   const SparseFieldOptions& options = {});
+  /// The same, letting go of `levelSet` as soon as it has been read, before
+  /// the layers are built (it is freed if this held its only reference).
+  static SparseField fromLevelSet(openvdb::FloatGrid::Ptr&& levelSet, const SparseFieldOptions& options = {});
 
   /// Builds a level set from a binary inside/outside mask (active = inside):
   /// the surface runs halfway between inside and outside voxel centres, as for

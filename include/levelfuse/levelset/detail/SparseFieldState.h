@@ -154,6 +154,9 @@ void forEachRecord(const LeafTable& table, std::size_t grain, const Body& body) 
 /// empty if the surface does not reach it). Throws as fromLevelSet does.
 std::unique_ptr<SparseFieldState> stateFromLevelSet(const openvdb::FloatGrid& levelSet,
                                                     const SparseFieldOptions& options, const XRange& domain);
+/// The same, letting go of `levelSet` once it has been read.
+std::unique_ptr<SparseFieldState> stateFromLevelSet(openvdb::FloatGrid::Ptr&& levelSet,
+                                                    const SparseFieldOptions& options, const XRange& domain);
 
 /// The state's values as a standard OpenVDB level set (SparseField::toLevelSet).
 openvdb::FloatGrid::Ptr levelSetOf(const SparseFieldState& state, double halfWidth, const std::string& name);
