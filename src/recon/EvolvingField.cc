@@ -43,7 +43,6 @@ double EvolvingField::largest(double value) const { return mTeam ? mTeam->larges
 void EvolvingField::refine(const SparseFieldOptions& engine) {
   if (!mSlab) {
     openvdb::FloatGrid::Ptr refined = refineLevelSet(*std::move(*mWhole).toLevelSet(3.0));
-    mWhole.reset();
     mWhole = std::make_unique<SparseField>(SparseField::fromLevelSet(std::move(refined), engine));
   } else {
     // The finer grid is cut afresh where its leaf nodes share out evenly.

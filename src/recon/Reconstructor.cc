@@ -2,8 +2,8 @@
 
 #include "EvolvingField.h"
 
-#include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/Version.h>
+#include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/recon/DataSpeed.h>

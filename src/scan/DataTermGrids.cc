@@ -29,7 +29,6 @@ constexpr int kLeafDim = static_cast<int>(FloatLeaf::DIM);
 /// voxels (the 500 7-Scenes frames at 10 mm make one term for 4.4 voxels visited).
 constexpr std::size_t kTermsPerCube = 16;
 
-
 /// One range map's term at one voxel of a leaf.
 struct VoxelTerm {
   std::uint16_t offset;  ///< within the leaf
