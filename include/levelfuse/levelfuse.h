@@ -46,6 +46,7 @@
 #include <levelfuse/levelset/DenseField.h>
 #include <levelfuse/levelset/DenseFieldStep.h>
 #include <levelfuse/levelset/Invariants.h>
+#include <levelfuse/levelset/LeafNodeWidth.h>
 #include <levelfuse/levelset/LevelSetFromFunction.h>
 #include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/levelset/Mesh.h>

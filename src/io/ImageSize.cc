@@ -11,7 +11,7 @@ namespace levelfuse::io::detail {
 namespace {
 
 constexpr double kMaxPixels = 1 << 28;  // a quarter of a billion: a gigabyte of floats
-const char* const kTooLargeAdvice = "crop or downsample the image, or use a machine with more memory";
+const char* const kImageTooLargeAdvice = "crop or downsample the image, or use a machine with more memory";
 
 }  // namespace
 
@@ -27,7 +27,7 @@ void checkImageSize(double width, double height, const ImageKind& kind, ImagePro
   else if (bytes > budget)
     std::snprintf(problem, sizeof(problem), "an image of %.12g x %.12g pixels needs about %s of memory, more than "
                   "the %s levelfuse may use: %s", width, height, describeBytes(bytes).c_str(),
-                  describeBytes(budget).c_str(), kTooLargeAdvice);
+                  describeBytes(budget).c_str(), kImageTooLargeAdvice);
 }
 
 }  // namespace levelfuse::io::detail

@@ -23,7 +23,7 @@ namespace levelfuse::io {
 namespace {
 
 constexpr std::size_t kMaxHeaderBytes = 1 << 20;
-const char* const kTooLargeAdvice = "split the scan into smaller files, or use a machine with more memory";
+const char* const kScanTooLargeAdvice = "split the scan into smaller files, or use a machine with more memory";
 
 std::size_t sizeOf(PlyType t) {
   switch (t) {
@@ -81,7 +81,7 @@ std::string readWholeFile(const std::string& path) {
   requireInputFile(path);
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (!ec) requireMemory(path, static_cast<double>(size), "reading the file", kTooLargeAdvice);
+  if (!ec) requireMemory(path, static_cast<double>(size), "reading the file", kScanTooLargeAdvice);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot be opened for reading");
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -199,7 +199,7 @@ class Parser {
                                : sizeof(double) * static_cast<double>(e.count);
       }
     }
-    requireMemory(mPath, static_cast<double>(mBytes.size()) + valueBytes, "reading its values", kTooLargeAdvice);
+    requireMemory(mPath, static_cast<double>(mBytes.size()) + valueBytes, "reading its values", kScanTooLargeAdvice);
     for (PlyElement& e : mData.elements) {
       e.values.resize(e.properties.size());
       e.listOffsets.resize(e.properties.size());

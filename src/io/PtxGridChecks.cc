@@ -5,6 +5,7 @@
 #include "PtxHeader.h"
 
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/scan/SphericalScan.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,7 +18,6 @@ namespace {
 
 using openvdb::Vec3d;
 
-constexpr double kTurn = 2.0 * M_PI;
 /// Bins of azimuth for the arc the returns cover: a ten-thousandth of a turn each.
 constexpr int kAzimuthBins = 1 << 16;
 

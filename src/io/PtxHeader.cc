@@ -26,7 +26,7 @@ constexpr std::uint64_t kMinPointLineBytes = 8;
 /// Bytes held per point while a scan is read and binned: its position,
 /// intensity and colour, and its share of the range map.
 constexpr double kBytesPerPoint = 48.0;
-const char* const kTooLargeAdvice = "split the file into smaller scans, or use a machine with more memory";
+const char* const kPtxTooLargeAdvice = "split the file into smaller scans, or use a machine with more memory";
 
 /// What a line holds, for messages: "an empty line", its one field, or its field count.
 std::string fieldsFound(const TextLineReader& lines) {
@@ -132,7 +132,7 @@ void requireRoomForPoints(const TextLineReader& lines, const PtxHeader& header) 
                          " bytes after its header hold at most " + std::to_string(room) +
                          " (a point line takes at least 8 bytes): a wrong count, or a truncated file");
   requireMemory(lines.path(), static_cast<double>(count) * kBytesPerPoint,
-                "scan " + std::to_string(header.index) + "'s " + std::to_string(count) + " points", kTooLargeAdvice);
+                "scan " + std::to_string(header.index) + "'s " + std::to_string(count) + " points", kPtxTooLargeAdvice);
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ constexpr std::size_t kUuidLength = 36;
 /// What a grid descriptor's type ends in when its values are stored as half floats.
 const char* const kHalfFloatSuffix = "_HalfFloat";
 
-const char* const kTooLargeAdvice = "use a coarser grid or a machine with more memory";
+const char* const kGridTooLargeAdvice = "use a coarser grid or a machine with more memory";
 
 /// The grid types levelfuse reads: the standard tree configuration with
 /// values that OpenVDB stores in its generic leaf nodes.
@@ -181,7 +181,7 @@ void validateVdbFile(const std::string& path) {
     reader.setContext("grid " + quote(grids.back().name) + " (" + ordinal + ")");
     memory += skipGrid(reader, grids.back(), hasGridOffsets);
   }
-  requireMemory(path, memory, "the grids in the file", kTooLargeAdvice);
+  requireMemory(path, memory, "the grids in the file", kGridTooLargeAdvice);
 }
 
 }  // namespace levelfuse::io::detail

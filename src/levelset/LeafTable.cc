@@ -1,11 +1,11 @@
 // levelfuse: leaf records of the sparse field and their neighbour links.
 
 #include <levelfuse/levelset/detail/LeafNeighbourhood.h>
+#include <levelfuse/levelset/LeafNodeWidth.h>
 
 namespace levelfuse::detail {
 
 namespace {
-constexpr int kLeafDim = static_cast<int>(FloatLeaf::DIM);
 const float kEmptyValues[FloatLeaf::SIZE] = {};
 const std::uint64_t kEmptyMaskWords[FloatLeaf::SIZE / 64] = {};
 }  // namespace
@@ -95,7 +95,7 @@ std::int32_t LeafTable::add(FloatLeaf* leaf) {
           record.neighbour[slot] = index;
           continue;
         }
-        const std::int32_t n = find(record.origin.offsetBy(dx * kLeafDim, dy * kLeafDim, dz * kLeafDim));
+        const std::int32_t n = find(record.origin.offsetBy(dx * kLeafNodeWidth, dy * kLeafNodeWidth, dz * kLeafNodeWidth));
         record.neighbour[slot] = n;
         if (n >= 0) mRecords[n].neighbour[neighbourSlot(-dx, -dy, -dz)] = index;
       }

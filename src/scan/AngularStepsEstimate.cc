@@ -20,7 +20,6 @@ namespace {
 
 using openvdb::Vec3d;
 
-constexpr double kTurn = 2.0 * M_PI;
 /// Elevations sorted to find the rows: a sample of at most this many.
 constexpr std::size_t kMaxSampledDirections = 1000000;
 /// Rows whose azimuths are gathered to find the azimuth step: at most this many.

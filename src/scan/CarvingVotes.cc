@@ -3,6 +3,7 @@
 #include "CarvingVotes.h"
 
 #include <levelfuse/core/Parallel.h>
+#include <levelfuse/levelset/LeafNodeWidth.h>
 
 #include "LeavesReached.h"
 
@@ -17,7 +18,6 @@ namespace {
 
 using openvdb::Coord;
 using LeafT = openvdb::FloatTree::LeafNodeType;
-constexpr int kLeafDim = static_cast<int>(LeafT::DIM);
 
 }  // namespace
 
@@ -83,9 +83,9 @@ void BlockVotes::addToBlock(Block& block, const RangeMap& map, double margin) co
     return;
   }
   if (block.voxels.empty()) block.voxels.assign(block.asked.countOn(), 0);
-  for (int x = 0; x < kLeafDim; x += kCubeDim)
-    for (int y = 0; y < kLeafDim; y += kCubeDim)
-      for (int z = 0; z < kLeafDim; z += kCubeDim) addToCube(block, map, margin, Coord(x, y, z));
+  for (int x = 0; x < kLeafNodeWidth; x += kCubeDim)
+    for (int y = 0; y < kLeafNodeWidth; y += kCubeDim)
+      for (int z = 0; z < kLeafNodeWidth; z += kCubeDim) addToCube(block, map, margin, Coord(x, y, z));
 }
 
 void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, const Coord& local) const {
@@ -93,7 +93,7 @@ void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, con
   // order: a row of the cube along z is kCubeDim neighbouring bits of one
   // word of the masks (a word holds a leaf's 64 voxels of one x).
   constexpr int kCubeVoxels = kCubeDim * kCubeDim * kCubeDim;
-  static_assert(kLeafDim * kLeafDim == 64 && kCubeDim <= kLeafDim, "a word of the mask is one x of the leaf");
+  static_assert(kLeafNodeWidth * kLeafNodeWidth == 64 && kCubeDim <= kLeafNodeWidth, "a word of the mask is one x of the leaf");
   constexpr Mask::Word kRow = (Mask::Word(1) << kCubeDim) - 1;
   std::array<openvdb::Index, kCubeVoxels> open;
   std::size_t count = 0;
@@ -101,7 +101,7 @@ void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, con
     const Mask::Word openWord =
         block.asked.template getWord<Mask::Word>(x) & ~block.voxelEmpty.template getWord<Mask::Word>(x);
     for (int y = local.y(); y < local.y() + kCubeDim; ++y) {
-      const int shift = y * kLeafDim + local.z();
+      const int shift = y * kLeafNodeWidth + local.z();
       for (Mask::Word row = (openWord >> shift) & kRow; row != 0; row &= row - 1)
         open[count++] = static_cast<openvdb::Index>(x * 64 + shift) + openvdb::util::FindLowestOn(row);
     }

@@ -1,6 +1,7 @@
 // levelfuse: the data term accumulated on grids binned by line of sight.
 
 #include <levelfuse/core/Parallel.h>
+#include <levelfuse/levelset/LeafNodeWidth.h>
 #include <levelfuse/scan/DataTermGrids.h>
 
 #include "LeavesReached.h"
@@ -23,7 +24,6 @@ using openvdb::Vec3f;
 using FloatLeaf = openvdb::FloatTree::LeafNodeType;
 using VectorLeaf = openvdb::Vec3fTree::LeafNodeType;
 using MaskLeaf = openvdb::Int32Tree::LeafNodeType;
-constexpr int kLeafDim = static_cast<int>(FloatLeaf::DIM);
 
 /// Room made for a cube's terms before they are counted: a quarter of its 64
 /// voxels (the 500 7-Scenes frames at 10 mm make one term for 4.4 voxels visited).
@@ -70,7 +70,7 @@ typename GridT::Ptr emptyGrid(double voxelSize, const char* name) {
 /// voxels, which lie in the cone of the leaf's corner voxels.
 int commonBinOfLeaf(const RangeMap& map, const Vec3d& base, const Vec3d step[3]) {
   if (map.kind() == RangeMap::Kind::kOrthographic || map.hasRayDirections()) return -1;
-  constexpr double last = kLeafDim - 1;
+  constexpr double last = kLeafNodeWidth - 1;
   Vec3d corners[8];
   for (int c = 0; c < 8; ++c) {
     const Vec3d q = base + step[0] * ((c & 1) * last) + step[1] * (((c >> 1) & 1) * last) + step[2] * ((c >> 2) * last);
@@ -99,9 +99,9 @@ DataTermGrids::DataTermGrids(double voxelSize, const DataWindow& window, double 
     bin.g = emptyGrid<openvdb::FloatGrid>(voxelSize, "g");
     bin.weight = emptyGrid<openvdb::FloatGrid>(voxelSize, "weight");
     bin.gradient = emptyGrid<openvdb::Vec3fGrid>(voxelSize, "gradient");
-    bin.sight = emptyGrid<openvdb::Vec3fGrid>(voxelSize * kLeafDim, "sight");
-    bin.leafWeight = emptyGrid<openvdb::FloatGrid>(voxelSize * kLeafDim, "leaf_weight");
-    bin.leafWindows = emptyGrid<openvdb::FloatGrid>(voxelSize * kLeafDim, "leaf_windows");
+    bin.sight = emptyGrid<openvdb::Vec3fGrid>(voxelSize * kLeafNodeWidth, "sight");
+    bin.leafWeight = emptyGrid<openvdb::FloatGrid>(voxelSize * kLeafNodeWidth, "leaf_weight");
+    bin.leafWindows = emptyGrid<openvdb::FloatGrid>(voxelSize * kLeafNodeWidth, "leaf_windows");
   }
   mBinMask = emptyGrid<openvdb::Int32Grid>(voxelSize, "sight_bins");
 }
@@ -158,12 +158,12 @@ void DataTermGrids::integrateLeaves(const RangeMap& map, const detail::UsableSpa
       LeafSums& sums = leafSums[l];
       sums.sight.fill(Vec3f(0.0f));
       sums.weightAndWindows.fill(openvdb::Vec2d(0.0));
-      for (int i = 0; i < kLeafDim; ++i)
-        for (int j = 0; j < kLeafDim; ++j) {
+      for (int i = 0; i < kLeafNodeWidth; ++i)
+        for (int j = 0; j < kLeafNodeWidth; ++j) {
           Vec3d q = base + step[0] * i + step[1] * j;
           const int row = (i << 6) | (j << 3);
           const int cubeRow = ((i >> 2) << 2) | ((j >> 2) << 1);
-          for (int k = 0; k < kLeafDim; ++k, q += step[2]) {
+          for (int k = 0; k < kLeafNodeWidth; ++k, q += step[2]) {
             if (!(cubes & (1 << (cubeRow | (k >> 2))))) continue;
             ++evaluations[l];
             if (!map.sampleLocal(q, reach, s)) continue;
@@ -310,7 +310,7 @@ namespace {
 std::uint64_t wordBits(int y0, int y1, int z0, int z1) {
   const std::uint64_t row = ((std::uint64_t(1) << (z1 - z0 + 1)) - 1) << z0;
   std::uint64_t bits = 0;
-  for (int y = y0; y <= y1; ++y) bits |= row << (y * kLeafDim);
+  for (int y = y0; y <= y1; ++y) bits |= row << (y * kLeafNodeWidth);
   return bits;
 }
 
@@ -321,14 +321,14 @@ bool anyActiveIn(const openvdb::Int32Tree& tree, const openvdb::CoordBBox& box) 
   for (int bx = first.x(); bx <= last.x(); ++bx)
     for (int by = first.y(); by <= last.y(); ++by)
       for (int bz = first.z(); bz <= last.z(); ++bz) {
-        const Coord origin(bx * kLeafDim, by * kLeafDim, bz * kLeafDim);
+        const Coord origin(bx * kLeafNodeWidth, by * kLeafNodeWidth, bz * kLeafNodeWidth);
         const MaskLeaf* leaf = acc.probeConstLeaf(origin);
         if (!leaf) {
           if (acc.isValueOn(origin)) return true;
           continue;
         }
         const Coord lo = openvdb::Coord::maxComponent(box.min(), origin) - origin;
-        const Coord hi = openvdb::Coord::minComponent(box.max(), origin.offsetBy(kLeafDim - 1)) - origin;
+        const Coord hi = openvdb::Coord::minComponent(box.max(), origin.offsetBy(kLeafNodeWidth - 1)) - origin;
         const std::uint64_t bits = wordBits(lo.y(), hi.y(), lo.z(), hi.z());
         for (int x = lo.x(); x <= hi.x(); ++x)
           if (leaf->getValueMask().getWord<std::uint64_t>(static_cast<openvdb::Index>(x)) & bits) return true;

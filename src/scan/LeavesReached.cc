@@ -3,6 +3,7 @@
 #include "LeavesReached.h"
 
 #include <levelfuse/core/Parallel.h>
+#include <levelfuse/levelset/LeafNodeWidth.h>
 
 #include <openvdb/openvdb.h>
 
@@ -16,7 +17,6 @@ namespace levelfuse::detail {
 namespace {
 using openvdb::Coord;
 using openvdb::Vec3d;
-constexpr int kLeafDim = 8;
 
 /// How far the rays of a spherical map's tile of du columns and rows v0 to
 /// v1, out to `range`, reach beyond the box of their corners: the arcs
@@ -79,8 +79,8 @@ std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double rea
       openvdb::tree::ValueAccessor<openvdb::MaskTree, false> marks(marked[b]);  // its band's own tree: not registered
       const int first = static_cast<int>(b) * kRowsPerBand;
       forEachTileBoxOfRows(m, reach, first, first + kRowsPerBand, [&](const openvdb::BBoxd& box) {
-        const Coord lo = Coord::floor(box.min() / (voxelSize * kLeafDim));
-        const Coord hi = Coord::floor(box.max() / (voxelSize * kLeafDim));
+        const Coord lo = Coord::floor(box.min() / (voxelSize * kLeafNodeWidth));
+        const Coord hi = Coord::floor(box.max() / (voxelSize * kLeafNodeWidth));
         for (int x = lo.x(); x <= hi.x(); ++x)
           for (int y = lo.y(); y <= hi.y(); ++y)
             for (int z = lo.z(); z <= hi.z(); ++z) marks.setValueOn(Coord(x, y, z));
@@ -93,7 +93,7 @@ std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double rea
   leaves.reserve(coarse.activeVoxelCount());
   for (auto it = coarse.cbeginValueOn(); it; ++it) {
     const Coord& block = it.getCoord();  // scaled, not shifted: the coordinates may be negative
-    leaves.emplace_back(block.x() * kLeafDim, block.y() * kLeafDim, block.z() * kLeafDim);
+    leaves.emplace_back(block.x() * kLeafNodeWidth, block.y() * kLeafNodeWidth, block.z() * kLeafNodeWidth);
   }
   std::sort(leaves.begin(), leaves.end());
   return leaves;
@@ -102,7 +102,7 @@ std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double rea
 double leafMarks(const RangeMap& m, double voxelSize, double reach, openvdb::BBoxd& reached, double xMin,
                  double xMax) {
   double marks = 0.0;
-  const double leaf = voxelSize * kLeafDim;
+  const double leaf = voxelSize * kLeafNodeWidth;
   forEachTileBox(m, reach, [&](openvdb::BBoxd box) {
     // A box reaching infinity keeps its NaN or infinite bounds: its marks stay unbounded.
     if (box.max().x() < xMin || box.min().x() > xMax) return;
@@ -161,7 +161,7 @@ CubeFootprint sphericalFootprint(const RangeMap& m, const Vec3d& centre, double 
   return f;
 }
 
-CubeFootprint cubeFootprint(const RangeMap& m, const Coord& origin, double voxelSize, int dim = kLeafDim) {
+CubeFootprint cubeFootprint(const RangeMap& m, const Coord& origin, double voxelSize, int dim = kLeafNodeWidth) {
   const openvdb::math::Mat4d& toMap = m.worldToMap();
   const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
   const double span = voxelSize * (dim - 1);
@@ -193,7 +193,7 @@ double depthSlack(const CubeFootprint& f, double distance) {
 }  // namespace
 
 bool leafMayBeReached(const UsableSpans& spans, const Coord& origin, double voxelSize, double reach) {
-  return cubeMayBeReached(spans, origin, kLeafDim, voxelSize, reach);
+  return cubeMayBeReached(spans, origin, kLeafNodeWidth, voxelSize, reach);
 }
 
 bool cubeMayBeReached(const UsableSpans& spans, const Coord& origin, int dim, double voxelSize, double reach) {
@@ -207,7 +207,7 @@ bool cubeMayBeReached(const UsableSpans& spans, const Coord& origin, int dim, do
 }
 
 std::uint8_t leafCubesMayBeReached(const UsableSpans& spans, const Coord& origin, double voxelSize, double reach) {
-  constexpr int kHalf = kLeafDim / 2;
+  constexpr int kHalf = kLeafNodeWidth / 2;
   std::uint8_t reached = 0;
   for (int c = 0; c < 8; ++c) {
     const Coord corner = origin.offsetBy(((c >> 2) & 1) * kHalf, ((c >> 1) & 1) * kHalf, (c & 1) * kHalf);
@@ -217,7 +217,7 @@ std::uint8_t leafCubesMayBeReached(const UsableSpans& spans, const Coord& origin
 }
 
 std::optional<RangeMap::Sight> leafSight(const RangeMap& m, const Coord& origin, double voxelSize, double margin) {
-  return cubeSight(m, origin, kLeafDim, voxelSize, margin);
+  return cubeSight(m, origin, kLeafNodeWidth, voxelSize, margin);
 }
 
 namespace {

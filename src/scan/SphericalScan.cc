@@ -17,14 +17,13 @@ namespace levelfuse {
 namespace {
 
 using openvdb::Vec3d;
-constexpr double kTurn = 2.0 * M_PI;
 
 using detail::azimuthOf;
 using detail::elevationOf;
 using detail::hasReturn;
 
 /// A point's direction as the binning sees it.
-struct Direction {
+struct BinnedPoint {
   double azimuth, elevation;
   float range;
   std::size_t point;  ///< which of the points
@@ -33,9 +32,9 @@ struct Direction {
 /// Where a grid of `step` puts the angles' pixel centres so that the angles
 /// lie nearest them: the circular mean of their phases within a step.
 template <typename AngleOf>
-double phaseOf(const std::vector<Direction>& directions, const AngleOf& angleOf, double step) {
+double phaseOf(const std::vector<BinnedPoint>& directions, const AngleOf& angleOf, double step) {
   double s = 0.0, c = 0.0;
-  for (const Direction& d : directions) {
+  for (const BinnedPoint& d : directions) {
     const double phase = kTurn * angleOf(d) / step;
     s += std::sin(phase);
     c += std::cos(phase);
@@ -58,12 +57,12 @@ struct TurnCut {
   bool closed = false;
 };
 
-TurnCut turnCutOf(const std::vector<Direction>& directions, double step, bool wholeTurn) {
-  const double phase = phaseOf(directions, [](const Direction& d) { return d.azimuth; }, step);
+TurnCut turnCutOf(const std::vector<BinnedPoint>& directions, double step, bool wholeTurn) {
+  const double phase = phaseOf(directions, [](const BinnedPoint& d) { return d.azimuth; }, step);
   const double firstEdge = phase - 0.5 * step;  // bin 0 is [firstEdge, firstEdge + step)
   const long bins = static_cast<long>(std::ceil(kTurn / step - 1e-9));
   std::vector<std::uint8_t> filled(static_cast<std::size_t>(bins), 0);
-  for (const Direction& d : directions)
+  for (const BinnedPoint& d : directions)
     filled[static_cast<std::size_t>(std::min(static_cast<long>(turnFrom(d.azimuth, firstEdge) / step), bins - 1))] = 1;
   long widest = 0, widestEnd = 0, run = 0;
   // Twice round, so that a run of empty bins across the first is counted whole.
@@ -86,8 +85,8 @@ TurnCut turnCutOf(const std::vector<Direction>& directions, double step, bool wh
 }
 
 /// The points' directions, those that can be binned (kPoleMargin).
-std::vector<Direction> directionsOf(const std::vector<Vec3d>& points) {
-  std::vector<Direction> directions;
+std::vector<BinnedPoint> directionsOf(const std::vector<Vec3d>& points) {
+  std::vector<BinnedPoint> directions;
   directions.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     if (const std::optional<detail::PointDirection> d = detail::binnableDirection(points[i]))
@@ -112,7 +111,7 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
   if (!colours.empty() && colours.size() != points.size())
     throw std::invalid_argument(who + ": " + std::to_string(colours.size()) + " colours for " +
                                 std::to_string(points.size()) + " points");
-  const std::vector<Direction> directions = directionsOf(points);
+  const std::vector<BinnedPoint> directions = directionsOf(points);
   if (directions.empty()) throw std::invalid_argument(who + ": no point away from the scanner and its poles");
   // A scanner turns a whole number of columns: a step within a twentieth of
   // one of that is taken to be it, so that a whole turn closes.
@@ -127,9 +126,9 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
   SphericalProjection rowsGiven;
   rowsGiven.rowElevations = steps.rowElevations;
   const double elevationPhase =
-      unevenRows ? 0.0 : phaseOf(directions, [](const Direction& d) { return d.elevation; }, steps.elevation);
+      unevenRows ? 0.0 : phaseOf(directions, [](const BinnedPoint& d) { return d.elevation; }, steps.elevation);
   const auto nearest = [](double x) { return static_cast<long>(std::floor(x + 0.5)); };
-  const auto rowOf = [&](const Direction& d) {
+  const auto rowOf = [&](const BinnedPoint& d) {
     return nearest(unevenRows ? rowOfElevation(rowsGiven, d.elevation)
                               : (d.elevation - elevationPhase) / steps.elevation);
   };
@@ -139,11 +138,11 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
   // does not divide the turn misplaces no column across it; a whole turn
   // every column of which is filled is closed.
   const TurnCut turn = turnCutOf(directions, steps.azimuth, wholeTurn);
-  const auto turnOf = [&](const Direction& d) { return turnFrom(d.azimuth, turn.cut); };
+  const auto turnOf = [&](const BinnedPoint& d) { return turnFrom(d.azimuth, turn.cut); };
   const double turnPhase = phaseOf(directions, turnOf, steps.azimuth);
   double firstTurn = kTurn;
   long lowestRow = std::numeric_limits<long>::max(), highestRow = std::numeric_limits<long>::min();
-  for (const Direction& d : directions) {
+  for (const BinnedPoint& d : directions) {
     firstTurn = std::min(firstTurn, turnOf(d));
     lowestRow = std::min(lowestRow, rowOf(d));
     highestRow = std::max(highestRow, rowOf(d));
@@ -155,12 +154,12 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
   // The first column on the points' phase, at most half a step from the first point.
   const double startTurn =
       turnPhase + steps.azimuth * static_cast<double>(nearest((firstTurn - turnPhase) / steps.azimuth));
-  const auto columnOf = [&](const Direction& d) {
+  const auto columnOf = [&](const BinnedPoint& d) {
     const long u = nearest((turnOf(d) - startTurn) / steps.azimuth);
     return turn.closed ? ((u % wholeColumns) + wholeColumns) % wholeColumns : std::max(0L, u);
   };
   long lastColumn = 0;
-  for (const Direction& d : directions) lastColumn = std::max(lastColumn, columnOf(d));
+  for (const BinnedPoint& d : directions) lastColumn = std::max(lastColumn, columnOf(d));
 
   BinnedScan scan;
   const long width = turn.closed ? wholeColumns + 1 : lastColumn + 1, height = highestRow - lowestRow + 1;
@@ -182,7 +181,7 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   scan.ranges.assign(pixels, std::numeric_limits<float>::quiet_NaN());
   if (!colours.empty()) scan.colours.assign(pixels, Rgb8{0, 0, 0});
-  for (const Direction& d : directions) {
+  for (const BinnedPoint& d : directions) {
     const long u = columnOf(d);
     const long v = rowOf(d) - lowestRow;
     if (v < 0 || v >= height) continue;  // beyond the uneven rows given

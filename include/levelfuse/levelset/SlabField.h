@@ -23,6 +23,7 @@
 // slabs' own leaves are then bit-identical to the whole field's (tested).
 #pragma once
 
+#include <levelfuse/levelset/LeafNodeWidth.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/StepTally.h>
 
@@ -66,9 +67,6 @@ SlabBounds onFinerGrid(const SlabBounds& bounds);
 
 /// Leaves of a slab with their layers, packed as bytes for another process.
 using PackedLeaves = std::vector<std::uint8_t>;
-
-/// Width of a leaf node (voxels): slabs are cut at its multiples.
-inline constexpr openvdb::Int32 kLeafNodeWidth = static_cast<openvdb::Int32>(openvdb::FloatTree::LeafNodeType::DIM);
 
 namespace detail {
 /// Appends the `bytes` bytes at `data` to `out`: how every packing of leaves writes.

@@ -38,6 +38,9 @@ struct AngularSteps {
 /// finite and strictly increasing (requireRowElevations).
 AngularSteps stepsOnRows(double azimuthStep, std::vector<double> rowElevations, const std::string& who);
 
+/// A whole turn, radians.
+inline constexpr double kTurn = 2.0 * M_PI;
+
 /// Points closer to a pole than this (radians, 0.1 degree) have no azimuth a
 /// grid can hold: binning leaves them out.
 inline constexpr double kPoleMargin = 0.1 * M_PI / 180.0;
