@@ -24,7 +24,7 @@ using test::expectInputError;
 using test::TempDir;
 using test::writeText;
 
-const PinholeProjection kCamera{12.0, 12.0, 7.5, 5.5};
+using test::kSmallCamera;
 
 std::vector<test::CameraPose> threeViews() {
   std::vector<test::CameraPose> poses(3);
@@ -37,7 +37,7 @@ std::vector<test::CameraPose> threeViews() {
 
 TEST(SevenScenesFolder, FramesOfASyntheticPlaneLandOnIt) {
   TempDir dir;
-  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kCamera, 16, 12, 2.0);
+  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kSmallCamera, 16, 12, 2.0);
   const std::vector<RangeMap> maps = loadScans(dir.path("scene"));
   ASSERT_EQ(maps.size(), 3u);
   for (const RangeMap& m : maps) {
@@ -51,7 +51,7 @@ TEST(SevenScenesFolder, AFrameNotWantedIsNotRead) {
   // The loader asks about every frame first, in order, and reads only those
   // wanted: frame 1, without its pose, is never opened.
   TempDir dir;
-  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kCamera, 16, 12, 2.0);
+  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kSmallCamera, 16, 12, 2.0);
   std::filesystem::remove(dir.path("scene/frame-000001.pose.txt"));
   ScanLoadOptions options;
   std::vector<std::size_t> asked;
@@ -68,7 +68,7 @@ TEST(SevenScenesFolder, AFrameNotWantedIsNotRead) {
 
 TEST(Manifest, AScanNotWantedIsNeitherReadNorKeptNorHandedOver) {
   TempDir dir;
-  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kCamera, 16, 12, 2.0);
+  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kSmallCamera, 16, 12, 2.0);
   const std::string manifest = writeScanSet(dir.path("set"), loadScans(dir.path("scene")));
   writeText(dir.path("set/scan0.pfm"), "not a PFM: an entry not wanted is not read");
   ScanLoadOptions options;
@@ -84,7 +84,7 @@ TEST(Manifest, AScanNotWantedIsNeitherReadNorKeptNorHandedOver) {
 
 TEST(SevenScenesFolder, StrideMaximumDepthAndScale) {
   TempDir dir;
-  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kCamera, 16, 12, 2.0);
+  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kSmallCamera, 16, 12, 2.0);
   ScanLoadOptions options;
   options.frameStride = 2;
   const std::vector<RangeMap> strided = loadScans(dir.path("scene"), options);
@@ -118,7 +118,7 @@ TEST(SevenScenesFolder, StrideMaximumDepthAndScale) {
 
 TEST(ManifestDepthEntries, MaximumDepthFromTheEntryOrTheDefaults) {
   TempDir dir;
-  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kCamera, 16, 12, 2.0);
+  test::writeSevenScenesFolder(dir.path("scene"), threeViews(), kSmallCamera, 16, 12, 2.0);
   writeText(dir.path("m.json"), R"({ "scans": [
     { "format": "depth-png", "file": "scene/frame-000000.depth.png", "intrinsics_file": "scene/camera-intrinsics.txt",
       "pose_file": "scene/frame-000000.pose.txt" },

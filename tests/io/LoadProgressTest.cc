@@ -24,7 +24,7 @@ using openvdb::Vec3d;
 using test::TempDir;
 using Reports = std::vector<std::pair<std::size_t, std::size_t>>;
 
-const PinholeProjection kCamera{12.0, 12.0, 7.5, 5.5};
+using test::kSmallCamera;
 
 /// `count` cameras at z = 0 along x, looking at the plane z = 2.
 std::vector<test::CameraPose> poses(int count) {
@@ -53,7 +53,7 @@ Reports loadReporting(const std::string& path, int stride = 1) {
 
 TEST(LoadProgress, SevenScenesFoldersReportEachFrameOfTheStride) {
   TempDir dir;
-  test::writeSevenScenesFolder(dir.path("scene"), poses(5), kCamera, 16, 12, 2.0);
+  test::writeSevenScenesFolder(dir.path("scene"), poses(5), kSmallCamera, 16, 12, 2.0);
   EXPECT_EQ(loadReporting(dir.path("scene"), 2), (Reports{{1, 3}, {2, 3}, {3, 3}}));
   EXPECT_EQ(loadReporting(dir.path("scene")), (Reports{{1, 5}, {2, 5}, {3, 5}, {4, 5}, {5, 5}}));
 }
@@ -67,7 +67,7 @@ TEST(LoadProgress, TumFoldersReportEachFrame) {
 
 TEST(LoadProgress, ScansAreHandedOverAsTheyAreReadWhenTaken) {
   TempDir dir;
-  test::writeSevenScenesFolder(dir.path("scene"), poses(5), kCamera, 16, 12, 2.0);
+  test::writeSevenScenesFolder(dir.path("scene"), poses(5), kSmallCamera, 16, 12, 2.0);
   test::writeTumFolder(dir.path("tum"), tumFrames(4));
   for (const std::string& folder : {dir.path("scene"), dir.path("tum")}) {
     const std::vector<RangeMap> held = loadScans(folder);
@@ -95,14 +95,14 @@ TEST(LoadProgress, ScansAreHandedOverAsTheyAreReadWhenTaken) {
 
 TEST(LoadProgress, ManifestsReportTheirEntries) {
   TempDir dir;
-  test::writeSevenScenesFolder(dir.path("scene"), poses(3), kCamera, 16, 12, 2.0);
+  test::writeSevenScenesFolder(dir.path("scene"), poses(3), kSmallCamera, 16, 12, 2.0);
   const std::string manifest = writeScanSet(dir.path("set"), loadScans(dir.path("scene")));
   EXPECT_EQ(loadReporting(manifest), (Reports{{1, 3}, {2, 3}, {3, 3}}));
 }
 
 TEST(LoadProgress, FramesReadTogetherArriveInOrderAndTheFirstBadOneIsNamed) {
   TempDir dir;
-  test::writeSevenScenesFolder(dir.path("scene"), poses(11), kCamera, 16, 12, 2.0);
+  test::writeSevenScenesFolder(dir.path("scene"), poses(11), kSmallCamera, 16, 12, 2.0);
   for (const int threads : {1, 2, 5}) {
     SCOPED_TRACE(threads);
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);

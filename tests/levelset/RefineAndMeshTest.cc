@@ -63,7 +63,9 @@ TEST(Refine, ReadsAsTheCoarseLevelSetSampledWithTilesWhereNoBandReaches) {
             const bool inBand = std::fabs(sampled) < width;
             ASSERT_EQ(fineValues.getValue(ijk), inBand ? sampled : (sampled < 0.0f ? -width : width)) << ijk;
             ASSERT_EQ(fineValues.isValueOn(ijk), inBand) << ijk;
-            if (!isLeaf) ASSERT_FALSE(inBand) << ijk;
+            if (!isLeaf) {
+              ASSERT_FALSE(inBand) << ijk;
+            }
             ++voxels;
           }
     }

@@ -3,6 +3,8 @@
 // jitter, missing returns, partial sweeps, points at many ranges), and the
 // range maps they bin into.
 
+#include "support/ScannerPoses.h"
+
 #include <levelfuse/scan/SphericalScan.h>
 
 #include <gtest/gtest.h>
@@ -18,7 +20,7 @@ namespace {
 
 using openvdb::Vec3d;
 
-constexpr double kDegree = M_PI / 180.0;
+using test::kDegree;
 
 /// A scanner's rays: rows of elevations, each swept along the same azimuths.
 struct SyntheticScanner {

@@ -367,10 +367,10 @@ std::pair<int, int> boxesTold(const RangeMap& map) {
         EXPECT_EQ(packed.shell().mayBeSeenIn(box), may) << map.name() << " box at " << box.min();
         ++(may ? told.second : told.first);
         if (may) continue;
-        for (int i = 0; i <= 6; ++i)
-          for (int j = 0; j <= 6; ++j)
-            for (int k = 0; k <= 6; ++k) {
-              const Vec3d p = box.min() + box.extents() * Vec3d(i, j, k) / 6.0;
+        for (int a = 0; a <= 6; ++a)
+          for (int b = 0; b <= 6; ++b)
+            for (int c = 0; c <= 6; ++c) {
+              const Vec3d p = box.min() + box.extents() * Vec3d(a, b, c) / 6.0;
               if (map.sight(p, kMargin) != Sight::kOutside) {
                 ADD_FAILURE() << map.name() << " says it cannot see the box at " << box.min() << ", but sees " << p;
                 return told;

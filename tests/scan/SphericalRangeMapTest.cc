@@ -2,6 +2,7 @@
 // analytic spheres and planes, and the binning of a scanner's points.
 
 #include "support/RangeSampleChecks.h"
+#include "support/ScannerPoses.h"
 
 #include <levelfuse/scan/RangeMap.h>
 #include <levelfuse/scan/SphericalScan.h>
@@ -19,15 +20,8 @@ namespace {
 using openvdb::Vec3d;
 using Mat4d = openvdb::math::Mat4d;
 
-constexpr double kDegree = M_PI / 180.0;
-
-/// A scanner turned 30 degrees about z and standing at (1, 2, 3).
-Mat4d scannerPose() {
-  Mat4d m = Mat4d::identity();
-  m.preRotate(openvdb::math::Z_AXIS, 30.0 * kDegree);
-  m.setTranslation(Vec3d(1.0, 2.0, 3.0));
-  return m;
-}
+using test::kDegree;
+using test::scannerPose;
 
 /// Azimuths -60 to 60 degrees and elevations -30 to 40 in half-degree steps.
 SphericalProjection halfDegreeGrid() { return {-60.0 * kDegree, 0.5 * kDegree, -30.0 * kDegree, 0.5 * kDegree}; }

@@ -3,6 +3,7 @@
 // the data term against analytic surfaces, and the binning of a sweep.
 
 #include "support/RangeSampleChecks.h"
+#include "support/ScannerPoses.h"
 
 #include <levelfuse/scan/RangeMap.h>
 #include <levelfuse/scan/SphericalScan.h>
@@ -19,7 +20,8 @@ namespace {
 using openvdb::Vec3d;
 using Mat4d = openvdb::math::Mat4d;
 
-constexpr double kDegree = M_PI / 180.0;
+using test::kDegree;
+using test::scannerPose;
 
 /// An HDL-64E's lasers: an upper block of 32 a third of a degree apart from
 /// +2 degrees down, and a lower block of 32 half a degree apart below it;
@@ -39,21 +41,14 @@ SphericalProjection unevenGrid() {
   grid.rowElevations = hdl64eElevations();
   return grid;
 }
-constexpr int kColumns = 241, kRows = 64;
-
-/// A scanner turned 30 degrees about z and standing at (1, 2, 3).
-Mat4d scannerPose() {
-  Mat4d m = Mat4d::identity();
-  m.preRotate(openvdb::math::Z_AXIS, 30.0 * kDegree);
-  m.setTranslation(Vec3d(1.0, 2.0, 3.0));
-  return m;
-}
+constexpr int kSweepColumns = 241, kSweepRows = 64;
 
 /// The readings of the grid's rays to the wall x = 4 of the scanner's frame.
 std::vector<float> wallRanges(const SphericalProjection& grid) {
   std::vector<float> ranges;
-  for (int v = 0; v < kRows; ++v)
-    for (int u = 0; u < kColumns; ++u) ranges.push_back(static_cast<float>(4.0 / sphericalDirection(grid, u, v).x()));
+  for (int v = 0; v < kSweepRows; ++v)
+    for (int u = 0; u < kSweepColumns; ++u)
+      ranges.push_back(static_cast<float>(4.0 / sphericalDirection(grid, u, v).x()));
   return ranges;
 }
 
@@ -78,7 +73,8 @@ TEST(UnevenRows, TheRowOfAnElevationIsLinearBetweenRowsAndInvertsElevationOfRow)
 }
 
 TEST(UnevenRows, TheMapTakesItsElevationStartAndStepFromItsRows) {
-  const RangeMap map = RangeMap::spherical(kColumns, kRows, std::vector<float>(kColumns * kRows, 5.0f), unevenGrid(),
+  const RangeMap map = RangeMap::spherical(kSweepColumns, kSweepRows,
+                                           std::vector<float>(kSweepColumns * kSweepRows, 5.0f), unevenGrid(),
                                            Mat4d::identity(), 0.002, "sphere");
   const SphericalProjection& grid = map.sphericalProjection();
   EXPECT_DOUBLE_EQ(grid.elevationStart, hdl64eElevations().front());
@@ -89,7 +85,8 @@ TEST(UnevenRows, TheMapTakesItsElevationStartAndStepFromItsRows) {
 
 TEST(UnevenRows, ASphereAroundTheScannerHasTheRayDensityOfItsRows) {
   const Mat4d pose = scannerPose();
-  const RangeMap map = RangeMap::spherical(kColumns, kRows, std::vector<float>(kColumns * kRows, 5.0f), unevenGrid(),
+  const RangeMap map = RangeMap::spherical(kSweepColumns, kSweepRows,
+                                           std::vector<float>(kSweepColumns * kSweepRows, 5.0f), unevenGrid(),
                                            pose, 0.002, "sphere");
   // Below -8.33 degrees the rows are half a degree apart, above it a third.
   for (const auto& [elevation, rowSpacing] : {std::pair<double, double>{-15.0, 0.5}, {-3.0, 1.0 / 3.0}}) {
@@ -112,7 +109,7 @@ TEST(UnevenRows, ASphereAroundTheScannerHasTheRayDensityOfItsRows) {
 TEST(UnevenRows, AWallGradientIsThatOfItsDistanceOnEitherBlock) {
   const Mat4d pose = scannerPose();
   const SphericalProjection grid = unevenGrid();
-  const RangeMap map = RangeMap::spherical(kColumns, kRows, wallRanges(grid), grid, pose, 0.002, "wall");
+  const RangeMap map = RangeMap::spherical(kSweepColumns, kSweepRows, wallRanges(grid), grid, pose, 0.002, "wall");
   // Each reading's point lies on the wall, and projects back to its pixel.
   for (const auto& [u, v] : {std::pair<int, int>{0, 0}, {120, 31}, {120, 32}, {240, 63}, {17, 50}}) {
     const Vec3d local = pose.inverse().transform(map.readingPoint(u, v));

@@ -12,6 +12,9 @@
 
 namespace levelfuse::test {
 
+/// The intrinsics of the tests' small depth cameras.
+inline const PinholeProjection kSmallCamera{12.0, 12.0, 7.5, 5.5};
+
 /// A camera pose: camera-to-world, p_world = R(rotation) p_camera + position.
 struct CameraPose {
   openvdb::Vec3d position{0.0};
@@ -31,7 +34,7 @@ double farthestFromPlane(const RangeMap& map, double planeZ);
 
 struct TumFixture {
   int width = 16, height = 12;
-  PinholeProjection intrinsics{12.0, 12.0, 7.5, 5.5};
+  PinholeProjection intrinsics = kSmallCamera;
   bool writeIntrinsics = true;  ///< camera-intrinsics.txt, else the default Kinect's
   double planeZ = 2.0;
   struct Pose {
