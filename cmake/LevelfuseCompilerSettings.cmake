@@ -9,6 +9,39 @@ if(LEVELFUSE_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
   set(CMAKE_C_COMPILER_LAUNCHER "${LEVELFUSE_CCACHE}")
 endif()
 
+# The OpenVDB grids and trees levelfuse leaves to libopenvdb to instantiate
+# (src/core/OpenVdbInstantiations.h): the first header of every levelfuse source,
+# in the precompiled headers, and otherwise through levelfuse_openvdb_instantiations.
+set(LEVELFUSE_OPENVDB_INSTANTIATIONS "${PROJECT_SOURCE_DIR}/src/core/OpenVdbInstantiations.h")
+
+# levelfuse_openvdb_instantiations(<target>): includes that header first in
+# each of <target>'s sources, for a target without a precompiled header.
+function(levelfuse_openvdb_instantiations target)
+  target_compile_options(${target} PRIVATE -include "${LEVELFUSE_OPENVDB_INSTANTIATIONS}")
+endfunction()
+
+# levelfuse_unity_build(<target> <sources per batch>): compiles <target>'s sources in
+# batches, each one translation unit. Most sources include OpenVDB's headers, and a
+# batch parses them and instantiates their templates once rather than once a source
+# (docs/BUILD.md). Off with -DLEVELFUSE_UNITY_BUILD=OFF, where one source is edited
+# and rebuilt again and again.
+function(levelfuse_unity_build target batch_size)
+  if(LEVELFUSE_UNITY_BUILD)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE BATCH
+                          UNITY_BUILD_BATCH_SIZE ${batch_size})
+  endif()
+endfunction()
+
+# levelfuse_optimise_less(<target>): -O2 rather than Release's -O3, for code that does
+# none of the reconstruction's work itself (the converter's commands, the Python
+# bindings, the tests): GCC spends about a quarter less time on it, and the library
+# it calls keeps -O3 (docs/BUILD.md). Sanitizer builds keep their own level.
+function(levelfuse_optimise_less target)
+  if(NOT LEVELFUSE_SANITIZER)
+    target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O2>)
+  endif()
+endfunction()
+
 # levelfuse_warnings(<target>): -Wall -Wextra for our code. OpenVDB, TBB and ITK
 # headers are included as system headers, so their warnings stay out of the way.
 # (clang, used for the fuzzers, spells GCC's -Wshadow=local as -Wshadow.)
