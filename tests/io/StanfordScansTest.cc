@@ -302,14 +302,18 @@ TEST_P(RealScans, LoadWithTheRightCountsAndRegister) {
     distance.push_back(openvdb::tools::meshToUnsignedDistanceField<openvdb::FloatGrid>(
         *xform, vertices, triangles, std::vector<openvdb::Vec4I>(), float(band / voxel)));
   }
+  // Each grid is read through an accessor, which remembers the nodes it last
+  // visited: a scan's points are read in the order they were scanned.
+  std::vector<openvdb::FloatGrid::ConstAccessor> accessors;
+  for (const openvdb::FloatGrid::Ptr& grid : distance) accessors.push_back(grid->getConstAccessor());
   for (std::size_t i = 0; i < scans.size(); ++i) {
     std::vector<double> d;
     for (const openvdb::Vec3d& p : world[i]) {
       double nearest = band;
+      const openvdb::Vec3d ijk = xform->worldToIndex(p);
       for (std::size_t j = 0; j < scans.size(); ++j) {
         if (j == i) continue;
-        const openvdb::Vec3d ijk = xform->worldToIndex(p);
-        nearest = std::min(nearest, double(openvdb::tools::BoxSampler::sample(distance[j]->tree(), ijk)));
+        nearest = std::min(nearest, double(openvdb::tools::BoxSampler::sample(accessors[j], ijk)));
       }
       d.push_back(nearest);
     }
