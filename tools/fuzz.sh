@@ -17,12 +17,15 @@ build=${LEVELFUSE_FUZZ_BUILD_DIR:-$root/build-fuzz}
 jobs=${LEVELFUSE_JOBS:-2}
 fuzzers=${LEVELFUSE_FUZZERS:-FuzzPly FuzzStanfordConf FuzzManifest FuzzDepthPng FuzzDepthPfm FuzzDepthExr FuzzCameraText FuzzTumText FuzzPtx FuzzPoints FuzzVdb}
 
-packages=(cmake clang libclang-rt-14-dev make ccache pkg-config
+packages=(cmake clang libclang-rt-14-dev ninja-build ccache pkg-config
           libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev nlohmann-json3-dev libpng-dev)
 "$root/tools/install-packages.sh" "${packages[@]}"
 
+# Ninja for a new build folder; one configured before keeps its generator.
+generator=()
+[ -f "$build/CMakeCache.txt" ] || generator=(-G Ninja)
 echo "== configuring $build"
-CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLEVELFUSE_BUILD_FUZZERS=ON \
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLEVELFUSE_BUILD_FUZZERS=ON \
   -DLEVELFUSE_BUILD_TESTS=OFF -DLEVELFUSE_BUILD_BENCHMARKS=OFF -DLEVELFUSE_BUILD_TOOLS=OFF -DLEVELFUSE_PYTHON=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target fuzzers
 

@@ -19,25 +19,34 @@ jobs=${LEVELFUSE_JOBS:-2}
 
 case "$mode" in demo|test|bench) ;; *) echo "usage: $0 demo|test|bench" >&2; exit 2 ;; esac
 
-packages=(cmake g++ make ccache pkg-config
+# The demo installs what it builds and runs: the converter and the Python module.
+packages=(cmake g++ ninja-build ccache pkg-config
           libopenvdb-dev libopenvdb-tools libtbb-dev libblosc-dev libboost-iostreams-dev
-          libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libpng-dev libopenexr-dev
-          pybind11-dev python3-dev python3-numpy python3-pytest python3-openvdb libboost-python-dev
-          libopenmpi-dev openmpi-bin)
+          libcli11-dev nlohmann-json3-dev libpng-dev libopenexr-dev
+          pybind11-dev python3-dev python3-numpy python3-openvdb libboost-python-dev)
+[ "$mode" != demo ] && packages+=(libgtest-dev libbenchmark-dev python3-pytest libopenmpi-dev openmpi-bin)
 [ "$mode" = bench ] && packages+=(libinsighttoolkit5-dev libopen3d-dev)
 
 "$root/tools/install-packages.sh" "${packages[@]}"
 
-# Benchmarks say nothing under a sanitizer: sanitizer builds leave them out.
+# The demo builds neither the tests nor the benchmarks; benchmarks say nothing
+# under a sanitizer, so sanitizer builds leave them out.
 options=(-DCMAKE_BUILD_TYPE=Release -DLEVELFUSE_SANITIZER="$sanitizer")
-[ -n "$sanitizer" ] && options+=(-DLEVELFUSE_BUILD_BENCHMARKS=OFF)
+case "$mode" in
+  demo) options+=(-DLEVELFUSE_BUILD_TESTS=OFF -DLEVELFUSE_BUILD_BENCHMARKS=OFF) ;;
+  test) options+=(-DLEVELFUSE_BUILD_TESTS=ON -DLEVELFUSE_BUILD_BENCHMARKS="$([ -n "$sanitizer" ] && echo OFF || echo ON)") ;;
+  bench) options+=(-DLEVELFUSE_BUILD_BENCHMARKS=ON) ;;
+esac
+# Ninja for a new build folder; one configured before keeps its generator.
+[ -f "$build/CMakeCache.txt" ] || options+=(-G Ninja)
 echo "== configuring $build"
 cmake -S "$root" -B "$build" "${options[@]}" >/dev/null
 
 mkdir -p "$root/out"
 case "$mode" in
   demo)
-    cmake --build "$build" -j "$jobs" --target levelfuse_cli levelfuse_python
+    # The converter first, and the torus and the bunny from it; the Python module after them.
+    cmake --build "$build" -j "$jobs" --target levelfuse_cli
     levelfuse="$build/tools/levelfuse/levelfuse"
     echo "== six range scans of a torus with noise of 20% of its tube's diameter (the paper's Fig. 10)"
     "$levelfuse" synth --shape torus --noise 0.2 -o "$root/out/torus-scans"
@@ -53,10 +62,12 @@ case "$mode" in
     fi
     frames="$root/../shared/data/7scenes"
     if [ -d "$frames" ]; then
+      cmake --build "$build" -j "$jobs" --target levelfuse_python
       echo "== from Python: 50 depth frames of a room fused one at a time (examples/fuse_depth_frames.py)"
       PYTHONPATH="$build/python" /usr/bin/python3 "$root/examples/fuse_depth_frames.py" "$frames" "$root/out"
     fi
-    echo "== the Python module: PYTHONPATH=$build/python python3, then import levelfuse (or cmake --install $build)"
+    echo "== the Python module: cmake --build $build --target levelfuse_python, then"
+    echo "   PYTHONPATH=$build/python python3 and import levelfuse (or cmake --install $build)"
     ;;
   test)
     cmake --build "$build" -j "$jobs"

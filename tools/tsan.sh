@@ -20,12 +20,15 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${LEVELFUSE_TSAN_BUILD_DIR:-$root/build-tsan}
 jobs=${LEVELFUSE_JOBS:-2}
 
-packages=(cmake g++ make ccache pkg-config libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev
+packages=(cmake g++ ninja-build ccache pkg-config libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev
           libgtest-dev nlohmann-json3-dev libpng-dev)
 "$root/tools/install-packages.sh" "${packages[@]}"
 
+# Ninja for a new build folder; one configured before keeps its generator.
+generator=()
+[ -f "$build/CMakeCache.txt" ] || generator=(-G Ninja)
 echo "== configuring $build"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DLEVELFUSE_SANITIZER=thread \
+cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DLEVELFUSE_SANITIZER=thread \
   -DLEVELFUSE_BUILD_BENCHMARKS=OFF -DLEVELFUSE_BUILD_TOOLS=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target levelset_tests
 
