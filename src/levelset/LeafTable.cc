@@ -95,7 +95,8 @@ std::int32_t LeafTable::add(FloatLeaf* leaf) {
           record.neighbour[slot] = index;
           continue;
         }
-        const std::int32_t n = find(record.origin.offsetBy(dx * kLeafNodeWidth, dy * kLeafNodeWidth, dz * kLeafNodeWidth));
+        const std::int32_t n =
+            find(record.origin.offsetBy(dx * kLeafNodeWidth, dy * kLeafNodeWidth, dz * kLeafNodeWidth));
         record.neighbour[slot] = n;
         if (n >= 0) mRecords[n].neighbour[neighbourSlot(-dx, -dy, -dz)] = index;
       }

@@ -93,7 +93,8 @@ void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, con
   // order: a row of the cube along z is kCubeDim neighbouring bits of one
   // word of the masks (a word holds a leaf's 64 voxels of one x).
   constexpr int kCubeVoxels = kCubeDim * kCubeDim * kCubeDim;
-  static_assert(kLeafNodeWidth * kLeafNodeWidth == 64 && kCubeDim <= kLeafNodeWidth, "a word of the mask is one x of the leaf");
+  static_assert(kLeafNodeWidth * kLeafNodeWidth == 64 && kCubeDim <= kLeafNodeWidth,
+                "a word of the mask is one x of the leaf");
   constexpr Mask::Word kRow = (Mask::Word(1) << kCubeDim) - 1;
   std::array<openvdb::Index, kCubeVoxels> open;
   std::size_t count = 0;
