@@ -21,12 +21,8 @@ packages=(cmake clang libclang-rt-14-dev ninja-build ccache pkg-config
           libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev nlohmann-json3-dev libpng-dev)
 "$root/tools/install-packages.sh" "${packages[@]}"
 
-# Ninja for a new build folder; one configured before keeps its generator.
-generator=()
-[ -f "$build/CMakeCache.txt" ] || generator=(-G Ninja)
-echo "== configuring $build"
-CC=clang CXX=clang++ cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLEVELFUSE_BUILD_FUZZERS=ON \
-  -DLEVELFUSE_BUILD_TESTS=OFF -DLEVELFUSE_BUILD_BENCHMARKS=OFF -DLEVELFUSE_BUILD_TOOLS=OFF -DLEVELFUSE_PYTHON=OFF >/dev/null
+CC=clang CXX=clang++ "$root/tools/configure.sh" "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLEVELFUSE_BUILD_FUZZERS=ON \
+  -DLEVELFUSE_BUILD_TESTS=OFF -DLEVELFUSE_BUILD_BENCHMARKS=OFF -DLEVELFUSE_BUILD_TOOLS=OFF -DLEVELFUSE_PYTHON=OFF
 cmake --build "$build" -j "$jobs" --target fuzzers
 
 # The targets write each input to a file; a crashed run leaves its folder here.

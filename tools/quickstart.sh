@@ -32,15 +32,14 @@ packages=(cmake g++ ninja-build ccache pkg-config
 # The demo builds neither the tests nor the benchmarks; benchmarks say nothing
 # under a sanitizer, so sanitizer builds leave them out.
 options=(-DCMAKE_BUILD_TYPE=Release -DLEVELFUSE_SANITIZER="$sanitizer")
+benchmarks=ON
+[ -n "$sanitizer" ] && benchmarks=OFF
 case "$mode" in
   demo) options+=(-DLEVELFUSE_BUILD_TESTS=OFF -DLEVELFUSE_BUILD_BENCHMARKS=OFF) ;;
-  test) options+=(-DLEVELFUSE_BUILD_TESTS=ON -DLEVELFUSE_BUILD_BENCHMARKS="$([ -n "$sanitizer" ] && echo OFF || echo ON)") ;;
+  test) options+=(-DLEVELFUSE_BUILD_TESTS=ON -DLEVELFUSE_BUILD_BENCHMARKS="$benchmarks") ;;
   bench) options+=(-DLEVELFUSE_BUILD_BENCHMARKS=ON) ;;
 esac
-# Ninja for a new build folder; one configured before keeps its generator.
-[ -f "$build/CMakeCache.txt" ] || options+=(-G Ninja)
-echo "== configuring $build"
-cmake -S "$root" -B "$build" "${options[@]}" >/dev/null
+"$root/tools/configure.sh" "$build" "${options[@]}"
 
 mkdir -p "$root/out"
 case "$mode" in

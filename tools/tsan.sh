@@ -24,12 +24,8 @@ packages=(cmake g++ ninja-build ccache pkg-config libopenvdb-dev libtbb-dev libb
           libgtest-dev nlohmann-json3-dev libpng-dev)
 "$root/tools/install-packages.sh" "${packages[@]}"
 
-# Ninja for a new build folder; one configured before keeps its generator.
-generator=()
-[ -f "$build/CMakeCache.txt" ] || generator=(-G Ninja)
-echo "== configuring $build"
-cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DLEVELFUSE_SANITIZER=thread \
-  -DLEVELFUSE_BUILD_BENCHMARKS=OFF -DLEVELFUSE_BUILD_TOOLS=OFF >/dev/null
+"$root/tools/configure.sh" "$build" -DCMAKE_BUILD_TYPE=Release -DLEVELFUSE_SANITIZER=thread \
+  -DLEVELFUSE_BUILD_BENCHMARKS=OFF -DLEVELFUSE_BUILD_TOOLS=OFF
 cmake --build "$build" -j "$jobs" --target levelset_tests
 
 echo "== running the level-set tests under ThreadSanitizer"
