@@ -12,9 +12,14 @@ if(NOT TARGET Blosc::blosc)
   find_package(Blosc REQUIRED)
 endif()
 
-# Depth images (16-bit PNG) and scan manifests (JSON); EXR depth images when
+# Depth images (16-bit PNG), scan manifests (JSON) and E57 files (XML); EXR depth images when
 # OpenEXR is there.
 find_package(PNG REQUIRED)
+# E57 files' XML section.
+find_package(pugixml CONFIG QUIET)
+if(NOT TARGET pugixml::pugixml)
+  message(FATAL_ERROR "pugixml not found: install libpugixml-dev (Debian)")
+endif()
 find_path(LEVELFUSE_JSON_INCLUDE_DIR nlohmann/json.hpp)
 if(NOT LEVELFUSE_JSON_INCLUDE_DIR)
   message(FATAL_ERROR "nlohmann/json not found: install nlohmann-json3-dev (Debian)")

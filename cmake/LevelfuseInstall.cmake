@@ -41,7 +41,7 @@ install(FILES
 set(_lf_pc_dir "${CMAKE_INSTALL_LIBDIR}/pkgconfig")
 file(RELATIVE_PATH LEVELFUSE_PC_PREFIX_FROM_PCDIR "/prefix/${_lf_pc_dir}" "/prefix")
 string(REGEX REPLACE "/$" "" LEVELFUSE_PC_PREFIX_FROM_PCDIR "${LEVELFUSE_PC_PREFIX_FROM_PCDIR}")
-set(_lf_pc_readers " libpng blosc")
+set(_lf_pc_readers " libpng blosc pugixml")
 if(LEVELFUSE_HAVE_OPENEXR)
   string(APPEND _lf_pc_readers " OpenEXR")
 endif()

@@ -15,10 +15,10 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 seconds=${1:-60}
 build=${LEVELFUSE_FUZZ_BUILD_DIR:-$root/build-fuzz}
 jobs=${LEVELFUSE_JOBS:-2}
-fuzzers=${LEVELFUSE_FUZZERS:-FuzzPly FuzzStanfordConf FuzzManifest FuzzDepthPng FuzzDepthPfm FuzzDepthExr FuzzCameraText FuzzTumText FuzzPtx FuzzPoints FuzzVdb}
+fuzzers=${LEVELFUSE_FUZZERS:-FuzzPly FuzzStanfordConf FuzzManifest FuzzDepthPng FuzzDepthPfm FuzzDepthExr FuzzCameraText FuzzTumText FuzzPtx FuzzE57 FuzzPoints FuzzVdb}
 
 packages=(cmake clang libclang-rt-14-dev ninja-build ccache pkg-config
-          libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev nlohmann-json3-dev libpng-dev)
+          libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev nlohmann-json3-dev libpng-dev libpugixml-dev)
 "$root/tools/install-packages.sh" "${packages[@]}"
 
 CC=clang CXX=clang++ "$root/tools/configure.sh" "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLEVELFUSE_BUILD_FUZZERS=ON \
@@ -37,9 +37,11 @@ run_fuzzer() {
   mkdir -p "$corpus" "$findings"
   local dict=()
   [ -f "$root/tests/fuzz/$fuzzer.dict" ] && dict=(-dict="$root/tests/fuzz/$fuzzer.dict")
-  # Inputs up to 4 KiB, but .vdb files up to 32 KiB: one internal node's masks alone take 8 KiB.
+  # Inputs up to 4 KiB, but .vdb files up to 32 KiB (one internal node's masks alone take 8 KiB)
+  # and E57 files up to 16 KiB (a file is whole pages of 1 KiB, its XML section the last).
   local max_len=4096
   [ "$fuzzer" = FuzzVdb ] && max_len=32768
+  [ "$fuzzer" = FuzzE57 ] && max_len=16384
   # New inputs go to the first folder; the committed seeds are only read.
   local status=0
   "$build/tests/fuzz/$fuzzer" "$corpus" "$root/tests/fuzz/corpus/$fuzzer" "${dict[@]}" \

@@ -21,7 +21,7 @@ build=${LEVELFUSE_TSAN_BUILD_DIR:-$root/build-tsan}
 jobs=${LEVELFUSE_JOBS:-2}
 
 packages=(cmake g++ ninja-build ccache pkg-config libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev
-          libgtest-dev nlohmann-json3-dev libpng-dev)
+          libgtest-dev nlohmann-json3-dev libpng-dev libpugixml-dev)
 "$root/tools/install-packages.sh" "${packages[@]}"
 
 "$root/tools/configure.sh" "$build" -DCMAKE_BUILD_TYPE=Release -DLEVELFUSE_SANITIZER=thread \

@@ -36,6 +36,13 @@ inline std::uint32_t littleEndian32(const unsigned char* bytes) {
          std::uint32_t(bytes[3]) << 24;
 }
 
+/// The unsigned value of `count` bytes (at most 8) stored little-endian at `bytes`.
+inline std::uint64_t littleEndianUnsigned(const unsigned char* bytes, int count) {
+  std::uint64_t value = 0;
+  for (int i = count - 1; i >= 0; --i) value = value << 8 | bytes[i];
+  return value;
+}
+
 /// The float32 stored little-endian at `bytes`.
 inline float littleEndianFloat(const unsigned char* bytes) {
   const std::uint32_t word = littleEndian32(bytes);

@@ -6,6 +6,7 @@
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/ColourImages.h>
 #include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/E57Scans.h>
 #include <levelfuse/io/PtxScans.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/io/TumScans.h>
@@ -126,8 +127,16 @@ SphericalProjection sphericalGridOf(const Entry& e, int rows) {
 std::vector<RangeMap> loadPtxEntry(const Entry& e, const ScanLoadOptions& defaults) {
   ScanLoadOptions o;
   o.interrupter = defaults.interrupter;
-  o.ptxSigma = e.positive("sigma", defaults.ptxSigma);
+  o.stationSigma = e.positive("sigma", defaults.stationSigma);
   return loadPtxScans(e.path("file"), o);
+}
+
+/// An E57 file's entry, as a PTX file's: the file, and optionally the noise of its readings.
+std::vector<RangeMap> loadE57Entry(const Entry& e, const ScanLoadOptions& defaults) {
+  ScanLoadOptions o;
+  o.interrupter = defaults.interrupter;
+  o.stationSigma = e.positive("sigma", defaults.stationSigma);
+  return loadE57Scans(e.path("file"), o);
 }
 
 json parseManifest(const std::string& path) {
@@ -233,6 +242,8 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       for (RangeMap& m : loadTumEntry(e, defaults)) maps.push_back(std::move(m));
     } else if (format == "ptx") {
       for (RangeMap& m : loadPtxEntry(e, defaults)) maps.push_back(std::move(m));
+    } else if (format == "e57") {
+      for (RangeMap& m : loadE57Entry(e, defaults)) maps.push_back(std::move(m));
     } else if (format == "points") {
       maps.push_back(loadPointsEntry(e, defaults));
     } else if (format == "kitti-bin") {
@@ -268,7 +279,7 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       }
     } else {
       e.fail("unknown format " + quote(format) +
-             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, points, kitti-bin, "
+             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, e57, points, kitti-bin, "
              "orthographic-pfm or spherical-pfm)");
     }
     if (e.has("colour")) colourEntry(e, maps, first);

@@ -4,7 +4,7 @@
 #include <levelfuse/io/PointScans.h>
 
 #include "FileExtension.h"
-#include "PtxGridChecks.h"
+#include "StationGridChecks.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -2,16 +2,13 @@
 
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/PtxScans.h>
-#include <levelfuse/scan/SphericalScan.h>
 
-#include "PtxGridChecks.h"
 #include "PtxHeader.h"
 #include "PtxPoints.h"
 #include "ScanDelivery.h"
 #include "TextLineReader.h"
 
 #include <filesystem>
-#include <stdexcept>
 #include <utility>
 
 namespace levelfuse::io {
@@ -28,15 +25,7 @@ void readPtxScans(const std::string& path, const PtxScanTaker& take, const Inter
 }
 
 RangeMap rangeMapFromPtxScan(const PtxScan& scan, double sigma, const std::string& path, const std::string& name) {
-  try {
-    const AngularSteps steps = stepsOfGrid(scan.points, scan.columns, scan.rows);
-    requireGridOfTheScansSize(scan, steps, path);
-    RangeMap map = sphericalMapFromPoints(scan.points, steps, scan.scannerToWorld, sigma, name, scan.colours);
-    requireReturnsOnTheirOwnPixels(scan, map, path);
-    return map;
-  } catch (const std::invalid_argument& e) {  // the returns make no grid, or no map
-    throw InputError(path, describePtxScan(scan.index, scan.firstLine, scan.lastLine) + ": " + e.what());
-  }
+  return rangeMapFromStationGrid(scan, sigma, path, describePtxScan(scan.index, scan.firstLine, scan.lastLine), name);
 }
 
 std::vector<RangeMap> loadPtxScans(const std::string& path, const ScanLoadOptions& options) {
@@ -45,7 +34,7 @@ std::vector<RangeMap> loadPtxScans(const std::string& path, const ScanLoadOption
   readPtxScans(
       path,
       [&](PtxScan&& scan) {
-        scans.offer(rangeMapFromPtxScan(scan, options.ptxSigma, path, stem + " scan " + std::to_string(scan.index)));
+        scans.offer(rangeMapFromPtxScan(scan, options.stationSigma, path, stem + " scan " + std::to_string(scan.index)));
         reportLoaded(options.progress, scans.delivered(), scans.delivered());
       },
       options.interrupter);

@@ -3,6 +3,7 @@
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/E57Scans.h>
 #include <levelfuse/io/PtxScans.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/TumScans.h>
@@ -108,8 +109,10 @@ std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& 
   }
   if (extension == ".json") return handedOverAsWanted(loadManifest(path, options), options);
   if (extension == ".ptx") return loadPtxScans(path, options);
+  if (extension == ".e57") return loadE57Scans(path, options);
   throw InputError(path, "not a kind of scan levelfuse reads: give a Stanford .conf file, a JSON manifest "
-                         "(.json), a PTX file (.ptx) or a folder of depth frames (7-Scenes or TUM RGB-D)");
+                         "(.json), a PTX file (.ptx), an E57 file (.e57) or a folder of depth frames (7-Scenes or "
+                         "TUM RGB-D)");
 }
 
 }  // namespace levelfuse::io

@@ -254,11 +254,11 @@ void bindScans(py::module_& m) {
         return runReleased(cancellation, &relay, [&] { return io::loadScans(path, load); });
       },
       py::arg("path"), py::kw_only(), py::arg("progress") = py::none(),
-      "The scans at path, as the converter reads them: a Stanford .conf, a PTX file of terrestrial laser scans, a "
+      "The scans at path, as the converter reads them: a Stanford .conf, a PTX or E57 file of terrestrial laser scans, a "
       "JSON manifest (which may also list XYZ and PLY point clouds and KITTI velodyne sweeps with their sensors' "
       "poses), or a folder of depth frames (7-Scenes or TUM RGB-D layout). Keywords, as the converter's "
       "options: depth_scale (metres per unit of 16-bit depth; 0: the layout's), sigma (the readings' noise, world "
-      "units; default: estimated, the depth camera's model, or 2 mm for PTX scans and point clouds), toward_scanner (Stanford scans' direction to the scanner), max_depth (metres), "
+      "units; default: estimated, the depth camera's model, or 2 mm for PTX and E57 scans and point clouds), toward_scanner (Stanford scans' direction to the scanner), max_depth (metres), "
       "frame_stride (every n-th frame), pose_time_tolerance (TUM; seconds). progress(dict) is called as scans "
       "are read.");
 

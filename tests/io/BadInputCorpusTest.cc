@@ -7,6 +7,7 @@
 
 #include <levelfuse/io/ColourImages.h>
 #include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/E57Scans.h>
 #include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/io/PointScans.h>
@@ -31,7 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 
 enum class Reader { kPly, kRangeGrid, kStanfordConf, kManifest, kDepthPng, kDepthPfm, kDepthExr, kIntrinsics, kPose,
-                    kFolder, kPtx, kPoints, kKittiBin, kKittiCalib, kVdb, kReconstruction, kColourPng };
+                    kFolder, kPtx, kE57, kPoints, kKittiBin, kKittiCalib, kVdb, kReconstruction, kColourPng };
 
 struct BadInput {
   const char* file;      ///< below tests/data/bad; a folder of depth frames for kFolder
@@ -214,6 +215,17 @@ const BadInput kCorpus[] = {
   // Its 16 points look along 4 directions only: 4 columns and 4 rows that repeat each other's angles.
   {"ptx/points-sharing-pixels.ptx", Reader::kPtx, "scan 1 (lines 1 to 26): its 16 returns fill only 4 pixels of its grid (2 x 2 of 0.1 x 0.1 rad): its points do not lie on one scanner's grid"},
   {"ptx/garbage-after-the-last-scan.ptx", Reader::kPtx, "line 18: 'end of scans' after scan 1 (lines 1 to 16): neither the column count of another scan"},
+  // E57 files (loadE57Scans): a station of 8 x 6 rays written whole, then damaged or made to lie
+  {"e57/truncated.e57", Reader::kE57, "a size of 1500 bytes is not a whole number of E57's 1024-byte pages: truncated?"},
+  {"e57/page-checksum-fails.e57", Reader::kE57, "page 0 (bytes 0 to 1023) fails its CRC-32C checksum: the file is damaged"},
+  {"e57/xml-cut-short.e57", Reader::kE57, "its XML section does not parse: Error parsing start element tag at byte 792 of 793"},
+  {"e57/offset-beyond-the-file.e57", Reader::kE57, "the section of the points of scan 1 ('hall') is placed at byte 4000000000, beyond the file's 3072 bytes"},
+  {"e57/huge-record-count.e57", Reader::kE57, "the points of scan 1 ('hall') declare 1099511627776 records, whose field 'cartesianX' alone needs more than the 714 bytes of their section"},
+  {"e57/two-to-the-forty-constant-records.e57", Reader::kE57, "reading the 1099511627776 records of scan 1 ('hall') needs about 48 TiB of memory"},
+  {"e57/bit-width-over-64.e57", Reader::kE57, "scan 1 ('hall'): the field 'intensity''s maximum is '36893488147419103232', beyond a 64-bit integer"},
+  {"e57/unknown-codec.e57", Reader::kE57, "scan 1 ('hall'): its points name a codec ('zlibCodec'); levelfuse reads E57's default, bit packing, alone"},
+  {"e57/unknown-packet-type.e57", Reader::kE57, "the points of scan 1 ('hall'): the packet at logical byte 80 is of type 7 (expected 0, 1 or 2: index, data or empty)"},
+  {"e57/no-returns.e57", Reader::kE57, "scan 1 ('hall') has no returns: none of its 48 records holds a valid position"},
   // Point files (readPointCloud, by extension) and KITTI sweeps and calibrations
   {"points/nan.xyz", Reader::kPoints, "line 2: 'nan' is not a finite number"},
   {"points/mixed-field-counts.xyz", Reader::kPoints, "line 2: expected 4 fields as the first point (line 1), found 3"},
@@ -298,6 +310,7 @@ void read(Reader reader, const std::string& path) {
     case Reader::kPose: readPose(path); break;
     case Reader::kFolder: loadScans(path); break;
     case Reader::kPtx: loadPtxScans(path); break;
+    case Reader::kE57: loadE57Scans(path); break;
     case Reader::kPoints: readPointCloud(path); break;
     case Reader::kKittiBin: readKittiBin(path); break;
     case Reader::kKittiCalib: readKittiVelodyneToCamera(path); break;

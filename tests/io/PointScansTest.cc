@@ -25,13 +25,10 @@ using openvdb::math::Mat4d;
 using test::TempDir;
 using test::writeText;
 
-const Vec3d kSphereCentre(0.5, -0.6, 0.4);  ///< scanner frame
-constexpr double kSphereRadius = 5.0;
-
 /// The grid's returns on the sphere, in the scanner's frame.
 std::vector<Vec3d> sensorPoints(const test::PtxGrid& grid) {
   std::vector<Vec3d> points;
-  for (const Vec3d& p : test::scanPoints(grid, test::sphere(kSphereCentre, kSphereRadius)))
+  for (const Vec3d& p : test::scanPoints(grid, test::stationSphere()))
     if (p != Vec3d(0.0)) points.push_back(p);
   return points;
 }
@@ -40,17 +37,6 @@ std::vector<Vec3d> inWorld(const std::vector<Vec3d>& points, const Mat4d& sensor
   std::vector<Vec3d> world;
   for (const Vec3d& p : points) world.push_back(sensorToWorld.transform(p));
   return world;
-}
-
-/// The largest distance of the map's readings from the sphere (world).
-double farthestFromSphere(const RangeMap& map, const Mat4d& scannerToWorld) {
-  const Vec3d centre = scannerToWorld.transform(kSphereCentre);
-  double farthest = 0.0;
-  for (int v = 0; v < map.height(); ++v)
-    for (int u = 0; u < map.width(); ++u)
-      if (map.valid(u, v))
-        farthest = std::max(farthest, std::fabs((map.readingPoint(u, v) - centre).length() - kSphereRadius));
-  return farthest;
 }
 
 void expectSameMatrix(const Mat4d& a, const Mat4d& b, double tolerance) {
@@ -64,7 +50,7 @@ void expectTheSphere(const RangeMap& map, const test::PtxGrid& grid, std::size_t
   EXPECT_EQ(map.validCount(), points);
   EXPECT_NEAR(std::fabs(map.sphericalProjection().azimuthStep), grid.azimuthStep, 1e-6);
   EXPECT_NEAR(std::fabs(map.sphericalProjection().elevationStep), grid.elevationStep, 1e-6);
-  EXPECT_LT(farthestFromSphere(map, grid.scannerToWorld), tolerance);
+  EXPECT_LT(test::farthestFromStationSphere(map, grid.scannerToWorld), tolerance);
 }
 
 /// Double-precision text: the readings within a micrometre of the sphere.

@@ -25,15 +25,12 @@ using test::PtxFrame;
 using test::TempDir;
 using test::writeText;
 
-/// A sphere of radius 5 around the scanner, its centre off the scanner (scanner frame).
-const Vec3d kSphereCentre(0.5, -0.6, 0.4);
-constexpr double kSphereRadius = 5.0;
 /// The floor 1.5 m below the scanner (scanner frame: z = -1.5), seen by the rows below the horizon.
 const Vec3d kFloorNormal(0.0, 0.0, -1.0);
 constexpr double kFloorOffset = 1.5;
 
 std::vector<Vec3d> spherePoints(const test::PtxGrid& grid) {
-  return test::scanPoints(grid, test::sphere(kSphereCentre, kSphereRadius));
+  return test::scanPoints(grid, test::stationSphere());
 }
 
 std::vector<Vec3d> floorPoints(const test::PtxGrid& grid) {
@@ -53,11 +50,6 @@ double farthestReading(const RangeMap& map, const std::function<double(const Vec
     for (int u = 0; u < map.width(); ++u)
       if (map.valid(u, v)) farthest = std::max(farthest, std::fabs(distance(map.readingPoint(u, v))));
   return farthest;
-}
-
-double farthestFromSphere(const RangeMap& map, const Mat4d& scannerToWorld) {
-  const Vec3d centre = scannerToWorld.transform(kSphereCentre);
-  return farthestReading(map, [&](const Vec3d& p) { return (p - centre).length() - kSphereRadius; });
 }
 
 double farthestFromFloor(const RangeMap& map, const Mat4d& scannerToWorld) {
@@ -89,7 +81,7 @@ TEST(PtxScans, ASphereAroundATurnedScannerLandsOnTheSphere) {
   EXPECT_EQ(map.validCount(), static_cast<std::size_t>(grid.columns * grid.rows));
   EXPECT_DOUBLE_EQ(map.sigma(), 0.002);
   expectSameMatrix(map.mapToWorld(), grid.scannerToWorld, 1e-9);
-  EXPECT_LT(farthestFromSphere(map, grid.scannerToWorld), kOnTheSurface);
+  EXPECT_LT(test::farthestFromStationSphere(map, grid.scannerToWorld), kOnTheSurface);
 }
 
 TEST(PtxScans, AnAzimuthStepThatDoesNotDivideTheTurnLandsOnTheSphereToo) {
@@ -100,7 +92,7 @@ TEST(PtxScans, AnAzimuthStepThatDoesNotDivideTheTurnLandsOnTheSphereToo) {
   writeText(dir.path("sphere.ptx"), test::ptxScanText(grid, points, PtxFrame::kScanner));
   const RangeMap map = loadScans(dir.path("sphere.ptx")).at(0);
   EXPECT_EQ(map.validCount(), returnsOf(points));
-  EXPECT_LT(farthestFromSphere(map, grid.scannerToWorld), kOnTheSurface);
+  EXPECT_LT(test::farthestFromStationSphere(map, grid.scannerToWorld), kOnTheSurface);
 }
 
 TEST(PtxScans, AFloorSeenBelowTheHorizonLandsOnTheFloor) {
@@ -138,7 +130,7 @@ TEST(PtxScans, PointsWrittenInTheWorldOrInTheScannersFrameGiveTheSameMap) {
         EXPECT_NEAR(world.reading(u, v), local.reading(u, v), 1e-5) << u << ", " << v;
       }
     }
-  EXPECT_LT(farthestFromSphere(world, grid.scannerToWorld), kOnTheSurface);
+  EXPECT_LT(test::farthestFromStationSphere(world, grid.scannerToWorld), kOnTheSurface);
 }
 
 TEST(PtxScans, ThePointsAreReadIntoTheScannersFrame) {
@@ -211,7 +203,7 @@ TEST(PtxScans, TwoScansInOneFileAreHandedOverOneAtATime) {
   ASSERT_EQ(taken.size(), 2u);
   EXPECT_EQ(taken[0].name(), "two scan 1");
   EXPECT_EQ(taken[1].name(), "two scan 2");
-  EXPECT_LT(farthestFromSphere(taken[0], turned.scannerToWorld), kOnTheSurface);
+  EXPECT_LT(test::farthestFromStationSphere(taken[0], turned.scannerToWorld), kOnTheSurface);
   EXPECT_LT(farthestFromFloor(taken[1], upright.scannerToWorld), kOnTheSurface * 30.0);
   EXPECT_EQ(progress, (std::vector<std::pair<std::size_t, std::size_t>>{{1, 1}, {2, 2}}));
   EXPECT_EQ(loadScans(dir.path("two.ptx")).size(), 2u);  // without a taker, both returned
@@ -226,7 +218,7 @@ TEST(PtxScans, WindowsLineBreaksBlankLinesAtTheEndAndAnUppercaseExtension) {
   writeText(dir.path("SPHERE.PTX"), text + "\r\n  \n\t\n");
   const RangeMap map = loadScans(dir.path("SPHERE.PTX")).at(0);
   EXPECT_EQ(map.validCount(), static_cast<std::size_t>(grid.columns * grid.rows));
-  EXPECT_LT(farthestFromSphere(map, grid.scannerToWorld), kOnTheSurface);
+  EXPECT_LT(test::farthestFromStationSphere(map, grid.scannerToWorld), kOnTheSurface);
 }
 
 TEST(PtxScans, TheNoiseIsTheOptionsOrTheManifestEntrys) {
@@ -244,7 +236,7 @@ TEST(PtxScans, TheNoiseIsTheOptionsOrTheManifestEntrys) {
   EXPECT_DOUBLE_EQ(maps[0].sigma(), 0.004);
   EXPECT_DOUBLE_EQ(maps[1].sigma(), 0.002);
   EXPECT_EQ(maps[0].name(), "sphere scan 1");
-  EXPECT_LT(farthestFromSphere(maps[0], grid.scannerToWorld), kOnTheSurface);
+  EXPECT_LT(test::farthestFromStationSphere(maps[0], grid.scannerToWorld), kOnTheSurface);
   EXPECT_DOUBLE_EQ(loadManifest(dir.path("scans.json"), options).at(1).sigma(), 0.01);
 }
 

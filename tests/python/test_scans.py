@@ -118,6 +118,14 @@ def test_load_scans_reads_what_the_converter_reads(torus_scans):
     assert len(frames) == 5 and all(f.kind == "pinhole" for f in frames)
 
 
+def test_load_scans_reads_an_e57_station():
+    (station,) = levelfuse.load_scans(str(shared("e57", "pumpA.e57")))
+    assert station.kind == "spherical" and station.name == "pumpA"
+    ranges = station.readings()
+    assert np.count_nonzero(~np.isnan(ranges)) >= 155201 * 0.99
+    assert 1.98 <= np.nanmin(ranges) and np.nanmax(ranges) <= 5.43
+
+
 def test_bad_files_raise_input_error_naming_them(tmp_path):
     missing = tmp_path / "nothing.conf"
     with pytest.raises(levelfuse.InputError, match="nothing.conf"):
@@ -131,6 +139,10 @@ def test_bad_files_raise_input_error_naming_them(tmp_path):
     png.write_bytes(b"\x89PNG\r\n\x1a\n truncated")
     with pytest.raises(levelfuse.InputError, match="depth.png"):
         levelfuse.read_depth_png(str(png))
+    e57 = tmp_path / "cut.e57"
+    e57.write_bytes(b"ASTM-E57" + bytes(1000))
+    with pytest.raises(levelfuse.InputError, match="cut.e57: a size of 1008 bytes is not a whole number"):
+        levelfuse.load_scans(str(e57))
     with pytest.raises(levelfuse.InputError, match="nothing.vdb"):
         levelfuse.read_vdb(str(tmp_path / "nothing.vdb"))
 

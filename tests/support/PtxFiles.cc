@@ -73,6 +73,18 @@ RangeAlong plane(const Vec3d& normal, double offset) {
   };
 }
 
+RangeAlong stationSphere() { return sphere(kStationSphereCentre, kStationSphereRadius); }
+
+double farthestFromStationSphere(const RangeMap& map, const openvdb::math::Mat4d& scannerToWorld) {
+  const Vec3d centre = scannerToWorld.transform(kStationSphereCentre);
+  double farthest = 0.0;
+  for (int v = 0; v < map.height(); ++v)
+    for (int u = 0; u < map.width(); ++u)
+      if (map.valid(u, v))
+        farthest = std::max(farthest, std::fabs((map.readingPoint(u, v) - centre).length() - kStationSphereRadius));
+  return farthest;
+}
+
 std::vector<Vec3d> scanPoints(const PtxGrid& grid, const RangeAlong& range) {
   std::vector<Vec3d> points;
   for (int c = 0; c < grid.columns; ++c)

@@ -2,6 +2,8 @@
 // azimuths and elevations, written as a scanner or an exporter writes them.
 #pragma once
 
+#include <levelfuse/scan/RangeMap.h>
+
 #include <openvdb/Types.h>
 #include <openvdb/math/Mat4.h>
 #include <openvdb/math/Vec3.h>
@@ -46,6 +48,16 @@ RangeAlong sphere(const openvdb::Vec3d& centre, double radius);
 
 /// Where the rays meet the plane {x : normal . x = offset}; scanner frame.
 RangeAlong plane(const openvdb::Vec3d& normal, double offset);
+
+/// The sphere the station tests scan: radius 5 around the scanner, its centre
+/// off the scanner (scanner frame).
+inline const openvdb::Vec3d kStationSphereCentre(0.5, -0.6, 0.4);
+inline constexpr double kStationSphereRadius = 5.0;
+RangeAlong stationSphere();
+
+/// The largest distance of a range map's readings (world) from the station
+/// sphere around a scanner standing at `scannerToWorld`.
+double farthestFromStationSphere(const levelfuse::RangeMap& map, const openvdb::math::Mat4d& scannerToWorld);
 
 /// The grid's points on a surface in the scanner's frame, column after
 /// column (a PTX scan's order); the origin where a ray misses.

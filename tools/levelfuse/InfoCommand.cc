@@ -188,7 +188,7 @@ int runInfo(const InfoSettings& s) {
 Command addInfoCommand(CLI::App& app) {
   auto s = std::make_shared<InfoSettings>();
   CLI::App* cmd = app.add_subcommand("info", "Describe a .vdb result or a set of scans");
-  cmd->add_option("paths", s->paths, "A .vdb file, a Stanford .conf, a PTX file, a JSON manifest or a folder of depth frames")
+  cmd->add_option("paths", s->paths, "A .vdb file, a Stanford .conf, a PTX or E57 file, a JSON manifest or a folder of depth frames")
       ->required()
       ->check(CLI::ExistingPath);
   cmd->add_option("--toward-scanner", s->towardScanner, "Stanford scans: direction toward the scanner, x,y,z");

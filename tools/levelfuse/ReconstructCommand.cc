@@ -621,7 +621,7 @@ Command addReconstructCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "reconstruct", "Reconstruct a surface from registered range scans (the MAP level-set method of Whitaker 1998)");
   cmd->add_option("inputs", s->inputs,
-                  "Scans: a Stanford .conf file, a PTX file, a JSON manifest, or a folder of depth frames (7-Scenes "
+                  "Scans: a Stanford .conf file, a PTX or E57 file, a JSON manifest, or a folder of depth frames (7-Scenes "
                   "or TUM RGB-D layout)")
       ->required()
       ->check(CLI::ExistingPath);

@@ -10,6 +10,7 @@
 //       { "format": "depth-png", "file": "frame-000000.depth.png", "depth_scale": 0.001,
 //         "intrinsics_file": "camera-intrinsics.txt", "pose_file": "frame-000000.pose.txt" },
 //       { "format": "ptx", "file": "hall.ptx", "sigma": 0.003 },
+//       { "format": "e57", "file": "pump.e57" },
 //       { "format": "depth-pfm", "file": "d.pfm",
 //         "intrinsics": { "fx": 585, "fy": 585, "cx": 320, "cy": 240 },
 //         "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1],
@@ -23,7 +24,8 @@
 // optional "depth_scale", "max_depth", "frame_stride" and "sigma" as for
 // depth-pfm), ptx (a PTX file of one or more terrestrial laser scans, see
 // PtxScans.h, with an optional "sigma" in metres; without one, the loader's
-// ScanLoadOptions::ptxSigma, 0.002 by default), points (an XYZ or PLY point
+// ScanLoadOptions::stationSigma, 0.002 by default), e57 (an E57 file of one or
+// more scans, see E57Scans.h, with an optional "sigma" as for ptx), points (an XYZ or PLY point
 // cloud with its sensor's "origin" [x, y, z] or "pose"; "coordinates": "world"
 // or "sensor"; optional "azimuth_step" and "elevation_step" in degrees, else
 // estimated, and "sigma", else ScanLoadOptions::pointSigma), kitti-bin (a KITTI

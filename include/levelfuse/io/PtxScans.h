@@ -33,6 +33,7 @@
 
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/io/Scans.h>
+#include <levelfuse/io/StationGrid.h>
 #include <levelfuse/scan/Colour.h>
 #include <levelfuse/scan/RangeMap.h>
 
@@ -51,22 +52,12 @@ namespace levelfuse::io {
 /// A point's colour as a seven-field PTX line gives it: r, g, b from 0 to 255.
 using PtxColour = Rgb8;
 
-/// One scan of a PTX file, its points in the scanner's own frame.
-struct PtxScan {
+/// One scan of a PTX file: a station (its points in the scanner's own
+/// frame, intensities always) and where the file holds it.
+struct PtxScan : StationGrid {
   int index = 0;      ///< 1 for the file's first scan
   std::int64_t firstLine = 0;  ///< the line of its column count
   std::int64_t lastLine = 0;   ///< the line of its last point
-  int columns = 0, rows = 0;
-  /// Rows x, y, z: the scanner's axes (made orthonormal to rounding), and last
-  /// its position; OpenVDB's row-vector layout.
-  openvdb::math::Mat4d scannerToWorld = openvdb::math::Mat4d::identity();
-  /// columns * rows points, column after column, in the scanner's frame; the
-  /// origin where the ray had no return.
-  std::vector<openvdb::Vec3d> points;
-  std::vector<float> intensities;  ///< per point, as written
-  /// Per point for seven-field lines, else empty: the range map's colours.
-  std::vector<PtxColour> colours;
-  std::size_t returns = 0;  ///< points that are not "0 0 0"
 };
 
 /// Takes each scan of a file as soon as it is read.
@@ -78,18 +69,12 @@ using PtxScanTaker = std::function<void(PtxScan&&)>;
 /// InputError naming the file and line.
 void readPtxScans(const std::string& path, const PtxScanTaker& take, const Interrupter& interrupter = {});
 
-/// The scan as a spherical range map with the angular steps of its grid
-/// (stepsOfGrid), each reading of noise `sigma`, named `name`, with the
-/// points' colours if they have them. Throws
-/// InputError naming `path` and the scan's lines if its returns make no grid
-/// (no two neighbours along a column or a row both have one), one of more
-/// than four pixels per point it declares (refused before the map is
-/// allocated), a map on which fewer than half its returns have a pixel of
-/// their own (either way its points lie on no one grid), or no map.
+/// The scan as a spherical range map (rangeMapFromStationGrid), a message
+/// naming `path` and the scan's lines.
 RangeMap rangeMapFromPtxScan(const PtxScan& scan, double sigma, const std::string& path, const std::string& name);
 
 /// Every scan of a PTX file as a spherical range map, named "<file stem> scan
-/// <k>", of noise `options.ptxSigma`. With `options.take` set each is handed
+/// <k>", of noise `options.stationSigma`. With `options.take` set each is handed
 /// over as soon as it is read, and none is returned. The progress is told
 /// (k, k) after the k-th scan: a file does not say how many it holds.
 std::vector<RangeMap> loadPtxScans(const std::string& path, const ScanLoadOptions& options = {});

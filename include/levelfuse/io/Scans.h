@@ -34,21 +34,21 @@ struct ScanLoadOptions {
   /// TUM RGB-D folders: a frame takes the pose of the nearest timestamp, which
   /// must lie within this many seconds of the frame's.
   double poseTimeTolerance = 0.02;
-  /// Noise of a PTX scan's readings (metres). 2 mm by default: the order of a
-  /// terrestrial laser scanner's range noise at tens of metres; give the
-  /// scanner's own where it is known.
-  double ptxSigma = 0.002;
+  /// Noise of a terrestrial station's readings (PTX and E57 scans; metres).
+  /// 2 mm by default: the order of a terrestrial laser scanner's range noise
+  /// at tens of metres; give the scanner's own where it is known.
+  double stationSigma = 0.002;
   /// Noise of the readings of a point cloud binned into a range map (a
-  /// manifest's `points` and `kitti-bin` entries; metres), 2 mm by default
-  /// as for PTX scans.
+  /// manifest's `points` and `kitti-bin` entries, E57 scans without a grid;
+  /// metres), 2 mm by default as for stations.
   double pointSigma = 0.002;
   /// Gives every reading the same noise `sigma` (world units), whatever the
-  /// scan: Stanford scans' sigma, depth frames' noise, PTX scans' and point
+  /// scan: Stanford scans' sigma, depth frames' noise, stations' and point
   /// clouds' alike.
   void setSigma(double sigma) {
     stanford.sigma = sigma;
     depthNoise = DepthNoise{sigma, 0.0};
-    ptxSigma = sigma;
+    stationSigma = sigma;
     pointSigma = sigma;
   }
 
@@ -71,6 +71,7 @@ struct ScanLoadOptions {
 ///  - a Stanford `.conf` file and the range-grid PLY scans it places;
 ///  - a JSON manifest (`.json`, see Manifest.h);
 ///  - a PTX file (`.ptx`) of one or more terrestrial laser scans (see PtxScans.h);
+///  - an ASTM E57 file (`.e57`) of one or more 3D scans (see E57Scans.h);
 ///  - a folder of depth frames in the TUM RGB-D layout: `depth.txt` and
 ///    `groundtruth.txt` (see TumScans.h);
 ///  - a folder of depth frames in the 7-Scenes layout: `*.depth.png` (or

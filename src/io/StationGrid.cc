@@ -1,15 +1,15 @@
-// levelfuse: a PTX scan's points on one grid.
+// levelfuse: a station's points on one grid, and the station as a range map.
 
-#include "PtxGridChecks.h"
-
-#include "PtxHeader.h"
+#include "StationGridChecks.h"
 
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/StationGrid.h>
 #include <levelfuse/scan/SphericalScan.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <vector>
 
 namespace levelfuse::io {
@@ -66,26 +66,40 @@ double gridPixelsAtMost(const std::vector<Vec3d>& points, const AngularSteps& st
   return columns * rows;
 }
 
-void requireGridOfTheScansSize(const PtxScan& scan, const AngularSteps& steps, const std::string& path) {
-  const double points = static_cast<double>(scan.columns) * static_cast<double>(scan.rows);
-  const double pixels = gridPixelsAtMost(scan.points, steps);
+void requireGridOfTheStationsSize(const StationGrid& station, const AngularSteps& steps, const std::string& path,
+                                  const std::string& scan) {
+  const double points = static_cast<double>(station.columns) * static_cast<double>(station.rows);
+  const double pixels = gridPixelsAtMost(station.points, steps);
   if (!(pixels <= kMaxPixelsPerPoint * points + kSpareGridPixels))
-    throw InputError(path, describePtxScan(scan.index, scan.firstLine, scan.lastLine) + ": its returns span up to " +
+    throw InputError(path, scan + ": its returns span up to " +
                                rounded(pixels) + " pixels of its grid's steps (" + rounded(steps.azimuth) + " x " +
                                rounded(steps.elevation) + " rad), more than " + rounded(kMaxPixelsPerPoint) +
-                               " per point of its " + std::to_string(scan.columns) + " columns x " +
-                               std::to_string(scan.rows) + " rows: its points do not lie on one scanner's grid");
+                               " per point of its " + std::to_string(station.columns) + " columns x " +
+                               std::to_string(station.rows) + " rows: its points do not lie on one scanner's grid");
 }
 
-void requireReturnsOnTheirOwnPixels(const PtxScan& scan, const RangeMap& map, const std::string& path) {
-  if (2 * map.validCount() >= scan.returns) return;
+void requireReturnsOnTheirOwnPixels(const StationGrid& station, const RangeMap& map, const std::string& path,
+                                    const std::string& scan) {
+  if (2 * map.validCount() >= station.returns) return;
   const SphericalProjection& grid = map.sphericalProjection();
-  throw InputError(path, describePtxScan(scan.index, scan.firstLine, scan.lastLine) + ": its " +
-                             std::to_string(scan.returns) + " returns fill only " + std::to_string(map.validCount()) +
+  throw InputError(path, scan + ": its " + std::to_string(station.returns) + " returns fill only " + std::to_string(map.validCount()) +
                              " pixels of its grid (" + std::to_string(map.width()) + " x " +
                              std::to_string(map.height()) + " of " + rounded(std::fabs(grid.azimuthStep)) + " x " +
                              rounded(std::fabs(grid.elevationStep)) +
                              " rad): its points do not lie on one scanner's grid");
+}
+
+RangeMap rangeMapFromStationGrid(const StationGrid& station, double sigma, const std::string& path,
+                                 const std::string& scan, const std::string& name) {
+  try {
+    const AngularSteps steps = stepsOfGrid(station.points, station.columns, station.rows);
+    requireGridOfTheStationsSize(station, steps, path, scan);
+    RangeMap map = sphericalMapFromPoints(station.points, steps, station.scannerToWorld, sigma, name, station.colours);
+    requireReturnsOnTheirOwnPixels(station, map, path, scan);
+    return map;
+  } catch (const std::invalid_argument& e) {  // the returns make no grid, or no map
+    throw InputError(path, scan + ": " + e.what());
+  }
 }
 
 }  // namespace levelfuse::io

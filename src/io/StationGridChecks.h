@@ -1,11 +1,11 @@
-// levelfuse: checks that a PTX scan's points lie on one scanner's grid
-// (private to the PTX reader). A scanner's own grid comes back about pixel for
+// levelfuse: checks that a station's points lie on one scanner's grid
+// (private to the readers). A scanner's own grid comes back about pixel for
 // pixel: a grid much larger than the scan's declared points is refused before
 // it is allocated, and a map on which many returns share a pixel after it is
 // made.
 #pragma once
 
-#include <levelfuse/io/PtxScans.h>
+#include <levelfuse/io/StationGrid.h>
 #include <levelfuse/scan/SphericalScan.h>
 
 #include <string>
@@ -23,12 +23,15 @@ inline constexpr double kSpareGridPixels = 16.0;
 /// span of elevations, in steps.
 double gridPixelsAtMost(const std::vector<openvdb::Vec3d>& points, const AngularSteps& steps);
 
-/// Throws InputError naming `path` and the scan if binning its returns with
-/// `steps` could make more than kMaxPixelsPerPoint pixels per point.
-void requireGridOfTheScansSize(const PtxScan& scan, const AngularSteps& steps, const std::string& path);
+/// Throws InputError naming `path` and `scan` if binning the station's
+/// returns with `steps` could make more than kMaxPixelsPerPoint pixels per
+/// point.
+void requireGridOfTheStationsSize(const StationGrid& station, const AngularSteps& steps, const std::string& path,
+                                  const std::string& scan);
 
-/// Throws InputError naming `path` and the scan if `map`, the scan binned,
+/// Throws InputError naming `path` and `scan` if `map`, the station binned,
 /// has readings for fewer than half its returns (the others shared a pixel).
-void requireReturnsOnTheirOwnPixels(const PtxScan& scan, const RangeMap& map, const std::string& path);
+void requireReturnsOnTheirOwnPixels(const StationGrid& station, const RangeMap& map, const std::string& path,
+                                    const std::string& scan);
 
 }  // namespace levelfuse::io
