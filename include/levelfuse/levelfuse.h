@@ -25,6 +25,7 @@
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/ColourImages.h>
 #include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/E57Scans.h>
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/LoadProgress.h>
@@ -37,6 +38,7 @@
 #include <levelfuse/io/PtxScans.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/StationGrid.h>
 #include <levelfuse/io/TextRecords.h>
 #include <levelfuse/io/TumScans.h>
 #include <levelfuse/io/VdbFile.h>

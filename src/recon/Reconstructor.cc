@@ -77,7 +77,7 @@ struct ScanFacts {
   double raySpacing = 0.0;  ///< the median distance between neighbouring rays
   double sigma = 0.0;       ///< the median noise
   double extent = 0.0;      ///< the largest side of the readings' box
-  bool depthFrames = false; ///< scans of a scene (Scenes.h)
+  bool scene = false;  ///< scans of a scene (ScanSummary::aScene)
 };
 
 /// The voxel size: as given, or the scans' ray spacing; checked.
@@ -102,10 +102,10 @@ double resolveVoxelSize(const std::optional<double>& given, const ScanFacts& sca
   return voxelSize;
 }
 
-/// The number of grids: as given, or a coarsest grid about 64 voxels across (one for depth frames); checked.
+/// The number of grids: as given, or a coarsest grid about 64 voxels across (one for a scene); checked.
 int resolveLevels(const std::optional<int>& given, double voxelSize, const ScanFacts& scans) {
   const int levels = given.value_or(
-      scans.depthFrames ? 1 : 1 + std::max(0, static_cast<int>(std::lround(std::log2(scans.extent / (64.0 * voxelSize))))));
+      scans.scene ? 1 : 1 + std::max(0, static_cast<int>(std::lround(std::log2(scans.extent / (64.0 * voxelSize))))));
   if (levels < 1 || levels > 12) throw std::invalid_argument("reconstruction: the number of grids must be 1 to 12");
   return levels;
 }
@@ -125,9 +125,9 @@ double resolveEpsilon(const std::optional<double>& given, const ScanFacts& scans
   return epsilon;
 }
 
-/// The prior's weight: as given, or max(0.5, sigma / voxel) (0 for depth frames); checked.
+/// The prior's weight: as given, or max(0.5, sigma / voxel) (0 for a scene); checked.
 double resolveBeta(const std::optional<double>& given, double voxelSize, const ScanFacts& scans) {
-  const double beta = given.value_or(scans.depthFrames ? 0.0 : std::max(0.5, scans.sigma / voxelSize));
+  const double beta = given.value_or(scans.scene ? 0.0 : std::max(0.5, scans.sigma / voxelSize));
   if (!(beta >= 0.0) || !std::isfinite(beta))
     throw std::invalid_argument("reconstruction: beta must be finite and not negative (0 turns the prior off)");
   return beta;
@@ -177,7 +177,7 @@ ReconstructionOptions resolveReconstructionOptions(const ReconstructionOptions& 
   facts.raySpacing = scans.medianRaySpacing();
   facts.sigma = scans.medianSigma();
   facts.extent = bounds.extents()[bounds.maxExtent()];
-  facts.depthFrames = scans.aScene();
+  facts.scene = scans.aScene();
   ReconstructionOptions o = options;
   o.voxelSize = resolveVoxelSize(options.voxelSize, facts);
   o.levels = resolveLevels(options.levels, *o.voxelSize, facts);

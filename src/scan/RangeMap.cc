@@ -54,6 +54,7 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
     }
   }
   mReadings = std::move(readings);
+  if (mKind == Kind::kSpherical) mMedianReading = medianReading();
   mSigma = sigma;
   mBlocksX = (mWidth + kBlock - 1) / kBlock;
   mBlocksY = (mHeight + kBlock - 1) / kBlock;
@@ -514,10 +515,7 @@ openvdb::Vec3d sphericalDirection(const SphericalProjection& p, double u, double
   return Vec3d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
 }
 
-bool RangeMap::ofAScene() const {
-  if (mKind == Kind::kPinhole) return true;
-  return mKind == Kind::kSpherical && mReadingBounds.isInside(scannerPosition());
-}
+bool RangeMap::ofAScene() const { return mKind != Kind::kOrthographic; }
 
 openvdb::Vec3d RangeMap::scannerPosition() const {
   if (mKind != Kind::kOrthographic) return mMapToWorld.transform(Vec3d(0.0));
@@ -529,6 +527,22 @@ openvdb::Vec3d RangeMap::scannerPosition() const {
                      mOrtho.origin.y() + 0.5 * (mHeight - 1) * mOrtho.pixelSize,
                      (zmin == std::numeric_limits<double>::max() ? 0.0 : zmin) - 10.0 * extent);
   return mMapToWorld.transform(centre);
+}
+
+double RangeMap::medianReading() const {
+  std::vector<float> valid;
+  valid.reserve(mValidCount);
+  for (float r : mReadings)
+    if (r == r) valid.push_back(r);
+  if (valid.empty()) return 0.0;
+  const auto middle = valid.begin() + static_cast<std::ptrdiff_t>(valid.size() / 2);
+  std::nth_element(valid.begin(), middle, valid.end());
+  return *middle;
+}
+
+double RangeMap::typicalRaySpacing() const {
+  if (mKind != Kind::kSpherical) return maxRaySpacing();
+  return mMedianReading * std::sqrt(std::fabs(mSpherical.azimuthStep) * std::fabs(mSpherical.elevationStep));
 }
 
 double RangeMap::maxRaySpacing() const {

@@ -16,7 +16,7 @@ void ScanSummary::add(const RangeMap& map) {
   mReadings += map.validCount();
   mPoints += map.sampleCount();
   mBounds.expand(map.readingBounds());
-  mRaySpacings.push_back(map.maxRaySpacing());
+  mRaySpacings.push_back(map.typicalRaySpacing());
   mSigmas.push_back(map.sigma());
   mScenes += map.ofAScene();
   mColoured += map.hasColours();

@@ -100,7 +100,58 @@ struct BinnedScan {
   SphericalProjection grid;
   std::vector<float> ranges;
   std::vector<Rgb8> colours;  ///< of the nearest point of each pixel, if the points have colours
+  /// Where each pixel's point lies from the pixel's centre, in pixels (each
+  /// within half a pixel): its column and row offsets.
+  std::vector<float> columnOffsets, rowOffsets;
+  bool closedTurn = false;  ///< the last column repeats the first
 };
+
+/// The slope of the readings across a pixel from its two neighbours along
+/// one direction, each measured between the points' own places: the smaller
+/// of the two where they agree in sign, else 0 (minmod). A depth step on one
+/// side, or a thin structure between two, then bends no reading.
+double limitedSlope(double before, double after) {
+  if (before * after <= 0.0) return 0.0;
+  return std::fabs(before) < std::fabs(after) ? before : after;
+}
+
+/// Moves each reading from its point's direction to its pixel's centre along
+/// the surface the neighbouring readings show (their limited slopes): a
+/// point up to half a pixel off its pixel's centre would otherwise be read
+/// as lying on the centre's ray, displaced sideways by up to half the
+/// distance between rays, which on a surface seen at an angle is a
+/// displacement along its normal. A reading without a neighbour on either
+/// side of a direction is not moved along it. (The last column of a closed
+/// turn, a copy of the first, is filled after.)
+void centreReadingsOnPixels(BinnedScan& scan) {
+  const long width = scan.width, height = scan.height;
+  const long columns = scan.closedTurn ? width - 1 : width;  // distinct columns
+  const std::vector<float> ranges = scan.ranges;
+  const auto at = [&](long u, long v) {
+    return static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u);
+  };
+  const auto valid = [&](std::size_t i) { return ranges[i] == ranges[i]; };
+  // The reading's change per pixel from the point of pixel a to that of b,
+  // b one pixel after a along a direction whose offsets are `offsets`.
+  const auto slope = [&](std::size_t a, std::size_t b, const std::vector<float>& offsets) {
+    return (ranges[b] - ranges[a]) / (1.0 + offsets[b] - offsets[a]);
+  };
+  for (long v = 0; v < height; ++v)
+    for (long u = 0; u < columns; ++u) {
+      const std::size_t i = at(u, v);
+      if (!valid(i)) continue;
+      double centred = ranges[i];
+      const long left = u > 0 ? u - 1 : (scan.closedTurn ? columns - 1 : -1);
+      const long right = u + 1 < columns ? u + 1 : (scan.closedTurn ? 0 : -1);
+      if (left >= 0 && right >= 0 && valid(at(left, v)) && valid(at(right, v)))
+        centred -= scan.columnOffsets[i] * limitedSlope(slope(at(left, v), i, scan.columnOffsets),
+                                                        slope(i, at(right, v), scan.columnOffsets));
+      if (v > 0 && v + 1 < height && valid(at(u, v - 1)) && valid(at(u, v + 1)))
+        centred -= scan.rowOffsets[i] * limitedSlope(slope(at(u, v - 1), i, scan.rowOffsets),
+                                                     slope(i, at(u, v + 1), scan.rowOffsets));
+      scan.ranges[i] = static_cast<float>(centred);
+    }
+}
 
 BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>& colours, AngularSteps steps,
                       const std::string& name) {
@@ -158,6 +209,14 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
     const long u = nearest((turnOf(d) - startTurn) / steps.azimuth);
     return turn.closed ? ((u % wholeColumns) + wholeColumns) % wholeColumns : std::max(0L, u);
   };
+  const auto columnOffsetOf = [&](const BinnedPoint& d) {
+    const double u = (turnOf(d) - startTurn) / steps.azimuth;
+    return static_cast<float>(u - static_cast<double>(nearest(u)));
+  };
+  const auto rowOffsetOf = [&](const BinnedPoint& d) {
+    const double v = unevenRows ? rowOfElevation(rowsGiven, d.elevation) : (d.elevation - elevationPhase) / steps.elevation;
+    return static_cast<float>(v - static_cast<double>(nearest(v)));
+  };
   long lastColumn = 0;
   for (const BinnedPoint& d : directions) lastColumn = std::max(lastColumn, columnOf(d));
 
@@ -181,6 +240,9 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   scan.ranges.assign(pixels, std::numeric_limits<float>::quiet_NaN());
   if (!colours.empty()) scan.colours.assign(pixels, Rgb8{0, 0, 0});
+  scan.columnOffsets.assign(pixels, 0.0f);
+  scan.rowOffsets.assign(pixels, 0.0f);
+  scan.closedTurn = turn.closed;
   for (const BinnedPoint& d : directions) {
     const long u = columnOf(d);
     const long v = rowOf(d) - lowestRow;
@@ -188,8 +250,11 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
     const std::size_t at = static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u);
     if (scan.ranges[at] <= d.range) continue;  // the nearest point of a pixel
     scan.ranges[at] = d.range;
+    scan.columnOffsets[at] = columnOffsetOf(d);
+    scan.rowOffsets[at] = rowOffsetOf(d);
     if (!colours.empty()) scan.colours[at] = colours[d.point];
   }
+  centreReadingsOnPixels(scan);
   if (turn.closed)  // the first column again after the last: no seam
     for (long v = 0; v < height; ++v) {
       const std::size_t row = static_cast<std::size_t>(v) * static_cast<std::size_t>(width);

@@ -129,7 +129,8 @@ TEST(Reconstructor, SphericalScansOfASphere) {
   scan.noise = 0.02;  // of the diameter at the scanners' distance from the centre: 0.04
   const synth::Scene scene = synth::analyticScene(synth::standardShape(shapes::AnalyticShape::Kind::kSphere), scan);
   const Reconstructor r(scene.maps, smallOptions());
-  EXPECT_FALSE(r.summary().aScene());  // the scanners stood around the object, but fanned out from their centres
+  // Spherical scanners are stations: a scene's defaults (one grid, no prior), even around an object.
+  EXPECT_TRUE(r.summary().aScene());
   const ReconstructionResult result = r.run();
   EXPECT_EQ(openvdb::tools::checkLevelSet(*result.levelSet, 6), "");
   EXPECT_EQ(insideComponents(*result.levelSet), 1);

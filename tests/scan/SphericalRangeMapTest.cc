@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -226,6 +227,66 @@ TEST(SphericalScan, ASweepAcrossTheBackOfTheScannerKeepsItsColumns) {
     for (int u = 0; u < map.width(); ++u)
       ASSERT_NEAR((map.readingPoint(u, v) - points[static_cast<std::size_t>(u) * 20 + v]).length(), 0.0, 1e-5)
           << u << " " << v;
+}
+
+TEST(SphericalScan, ReadingsOffTheirPixelsCentresAreMovedThereAlongTheSurface) {
+  // A line scanner's columns lean: the azimuth drifts by a step over a
+  // column's 60 rows (as on the pump-room station), so its points lie up to
+  // half a pixel off the centres of the map's regular grid. A wall seen at
+  // 50 to 70 degrees of incidence: a reading left on its point's range along
+  // its pixel's centre ray would stand off the wall by up to half the
+  // distance between rays times sin(incidence).
+  const double step = 0.5 * kDegree;
+  std::vector<Vec3d> points;
+  const int columns = 80, rows = 60;
+  for (int column = 0; column < columns; ++column)
+    for (int row = 0; row < rows; ++row) {
+      const double azimuth = (30.0 + 0.5 * column) * kDegree + step * row / rows;
+      const double elevation = (row - 30) * step;
+      const Vec3d ray(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                      std::sin(elevation));
+      points.push_back(ray * (2.0 / ray.x()));  // the wall x = 2
+    }
+  const RangeMap map =
+      sphericalMapFromPoints(points, stepsOfGrid(points, columns, rows), Mat4d::identity(), 0.002, "leaning");
+  const auto onWall = [&](int u, int v) { return std::fabs(map.readingPoint(u, v).x() - 2.0); };
+  double farthest = 0.0, spacing = 0.0;
+  int interior = 0;
+  for (int v = 1; v + 1 < map.height(); ++v)
+    for (int u = 1; u + 1 < map.width(); ++u) {
+      if (!map.valid(u, v) || !map.valid(u - 1, v) || !map.valid(u + 1, v) || !map.valid(u, v - 1) ||
+          !map.valid(u, v + 1))
+        continue;
+      ++interior;
+      farthest = std::max(farthest, onWall(u, v));
+      spacing = std::max(spacing, map.readingPoint(u, v).length() * step);
+    }
+  ASSERT_GT(interior, columns * rows / 2);
+  EXPECT_LT(farthest, 0.02 * spacing) << "of a ray spacing of " << spacing << " m";
+}
+
+TEST(SphericalScan, AStationIsASceneWhoseRaysAreTypicallyAsFarApartAsAtItsMedianRange) {
+  // A wedge of a room seen from a corner: the scanner stands outside the
+  // readings' box, and the station is still a scene. Ranges 2 to 6 m along
+  // a wall seen obliquely; azimuth steps four times the elevation steps.
+  const double azimuthStep = 0.4 * kDegree, elevationStep = 0.1 * kDegree;
+  std::vector<Vec3d> points;
+  std::vector<double> ranges;
+  for (int column = 0; column < 60; ++column)
+    for (int row = 0; row < 200; ++row) {
+      const double azimuth = (20.0 + 0.4 * column) * kDegree, elevation = (row - 100) * elevationStep;
+      const Vec3d ray(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                      std::sin(elevation));
+      points.push_back(ray * (1.0 / ray.y()));  // the wall y = 1, seen from 20 to 44 degrees of azimuth
+      ranges.push_back(points.back().length());
+    }
+  const RangeMap map = sphericalMapFromPoints(points, AngularSteps{azimuthStep, elevationStep}, Mat4d::identity(),
+                                              0.002, "wedge");
+  EXPECT_FALSE(map.readingBounds().isInside(map.scannerPosition()));
+  EXPECT_TRUE(map.ofAScene());
+  std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2, ranges.end());
+  EXPECT_NEAR(map.typicalRaySpacing(), ranges[ranges.size() / 2] * std::sqrt(azimuthStep * elevationStep), 1e-3);
+  EXPECT_GT(map.maxRaySpacing(), 2.0 * map.typicalRaySpacing());  // the farthest reading at the coarser step
 }
 
 TEST(SphericalScan, StepsOfAStructuredGrid) {

@@ -115,7 +115,7 @@ nlohmann::json describeScans(const std::string& path, const InfoSettings& s) {
                     {"height", m.height()},
                     {"points", m.sampleCount()},
                     {"readings", m.validCount()},
-                    {"ray_spacing", m.maxRaySpacing()},
+                    {"ray_spacing", m.typicalRaySpacing()},
                     {"sigma", m.sigma()},
                     {"coloured", m.hasColours()},
                     {scannerKey, {scanner.x(), scanner.y(), scanner.z()}}});

@@ -637,11 +637,11 @@ Command addReconstructCommand(CLI::App& app) {
                                    "Finest voxel size, world units (default: the scans' ray spacing)")
       ->check(numberIn(0.0, 1e6, true));
   cmd->add_option_function<int>("--levels", [s](int v) { s->options.levels = v; },
-                                "Coarse-to-fine grids, each halving the voxel (default: coarsest ~64 across; 1 for depth frames)")
+                                "Coarse-to-fine grids, each halving the voxel (default: coarsest ~64 across; 1 for scenes: depth frames, stations, LiDAR sweeps)")
       ->check(CLI::Range(1, 12));
   cmd->add_option_function<double>(
          "--beta", [s](double v) { s->options.beta = v; },
-         "Surface-area prior, in finest voxels: larger is smoother, 0 off (default: max(0.5, sigma / voxel); 0 for depth frames)")
+         "Surface-area prior, in finest voxels: larger is smoother, 0 off (default: max(0.5, sigma / voxel); 0 for scenes)")
       ->check(numberIn(0.0, 1e3));
   cmd->add_option_function<double>("--epsilon", [s](double v) { s->options.epsilon = v; },
                                    "Window width of a reading, world units (default: sigma; at least a voxel)")
@@ -672,13 +672,13 @@ Command addReconstructCommand(CLI::App& app) {
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   cmd->add_option("--view", s->view,
-                  "Preview: direction from the surface toward the camera, x,y,z (default: for depth frames, the "
+                  "Preview: direction from the surface toward the camera, x,y,z (default: for scenes, the "
                   "first frame's camera, inside the scene)")
       ->check(threeNumbers());
   cmd->add_option("--up", s->up, "Preview: the world direction that is up in the picture, x,y,z (default 0,1,0)")
       ->check(threeNumbers());
   addTrimUnseenOptions(cmd, s->trimUnseen, "Mesh and preview",
-                       "Default: on for depth frames (pinhole cameras), off for other scans.");
+                       "Default: on for scenes (depth frames, stations, LiDAR sweeps), off for objects (Stanford scans, parallel rays).");
   cmd->add_option("--threads", s->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--max-memory", s->maxMemoryGiB,
                   "Memory to use at most, GiB (default: the machine's); a run that would need more stops at once "

@@ -329,8 +329,9 @@ class RangeMap {
   bool raysFromOneCentre() const { return mKind != Kind::kOrthographic; }
   /// True for a scan of a scene around its scanner rather than of an object
   /// before it: a depth frame (a camera among the surfaces it films), or a
-  /// spherical scan whose readings surround the scanner (a room, a street;
-  /// not a region scan of an object from a tripod outside it).
+  /// spherical scan (a station of a terrestrial scanner or a LiDAR sweep,
+  /// which measures whatever surrounds it, a room, a street, a plant, and
+  /// sees each surface from one side).
   bool ofAScene() const;
   /// The quantity a point's readings are compared with, for a point in the
   /// map's frame: its z along parallel rays or a camera's optical axis, its
@@ -358,6 +359,12 @@ class RangeMap {
   /// Largest distance between neighbouring rays at the readings (world units):
   /// the scanner's, for a map resampled from its samples.
   double maxRaySpacing() const;
+  /// The distance between neighbouring rays where most of the surface is seen
+  /// (world units): for a spherical scanner, whose rays spread over ranges of
+  /// many times the nearest, the side of the patch a ray has to itself at the
+  /// median reading (median range x sqrt(azimuth step x elevation step)); for
+  /// other maps maxRaySpacing().
+  double typicalRaySpacing() const;
 
   /// Memory held (bytes): the readings and what the map derived from them.
   std::size_t memoryBytes() const;
@@ -397,6 +404,8 @@ class RangeMap {
   }
   /// sigma(z) of the depth noise, as a float; a pixel without a reading counts as 1 m deep.
   float depthNoiseSigma(float reading) const;
+  /// The median of the readings (0 without readings).
+  double medianReading() const;
   /// Marks the 2x2 cells of readings that may be interpolated.
   void findUsableCells();
   /// Works out mBlockMin, mBlockMax and mBlockComplete from the readings.
@@ -436,6 +445,7 @@ class RangeMap {
   int mDropoutReach = 2;
   std::size_t mValidCount = 0;
   double mLargestReading = 0.0;  ///< the largest reading (0 without readings)
+  double mMedianReading = 0.0;   ///< of a spherical map, the median reading (0 without readings)
   openvdb::BBoxd mReadingBounds;  ///< world box of the reading points
   double mReadingStep = 0.0;
   double mSigma = 0.0;

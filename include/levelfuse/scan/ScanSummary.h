@@ -37,15 +37,15 @@ class ScanSummary {
   std::size_t points() const { return mPoints; }
   /// World box of the readings.
   const openvdb::BBoxd& bounds() const { return mBounds; }
-  /// The median of the scans' largest distance between neighbouring rays
-  /// (RangeMap::maxRaySpacing); 0 without scans.
+  /// The median of the scans' typical distance between neighbouring rays
+  /// (RangeMap::typicalRaySpacing); 0 without scans.
   double medianRaySpacing() const;
   /// The median of the scans' noise sigma; 0 without scans.
   double medianSigma() const;
   /// True when every scan is of a scene around its scanner
-  /// (RangeMap::ofAScene: depth frames, spherical scans that surround their
-  /// scanner): the surface is a scene seen from inside (a room, a desk, a
-  /// street) rather than an object seen from around it.
+  /// (RangeMap::ofAScene: depth frames, stations and LiDAR sweeps): the
+  /// surface is a scene seen from inside (a room, a desk, a street) rather
+  /// than an object seen from around it.
   bool aScene() const { return !mSigmas.empty() && mScenes == mSigmas.size(); }
   /// How many scans carry colour (RangeMap::hasColours).
   std::size_t colouredScans() const { return mColoured; }
