@@ -30,6 +30,12 @@ constexpr std::uint64_t kRecordsPerCheck = 1 << 16;
 /// point, intensity and colour, and its share of the range map.
 constexpr double kBytesPerCell = 48.0;
 
+/// A station's grid may have at most this many cells per record (and a few
+/// more, kSpareCells): rays without a return (the sky, a doorway) leave
+/// cells empty, but a grid mostly empty is not the scanner's.
+constexpr double kMaxCellsPerRecord = 16.0;
+constexpr double kSpareCells = 1024.0;
+
 /// "scan 1 ('pumpA')", for messages.
 std::string describeE57Scan(int index, const std::string& name) {
   return "scan " + std::to_string(index) + (name.empty() ? "" : " (" + quote(name) + ")");
@@ -147,19 +153,33 @@ class ScanBuilder {
   }
 
  private:
+  /// The cells of a grid of these rows and columns, refused if it has more
+  /// than kMaxCellsPerRecord per record, more than 2^31, or more than the
+  /// memory budget holds.
+  double checkedGridCells(const E57IndexRange& rows, const E57IndexRange& columns, std::uint64_t records) const {
+    const double cells = (static_cast<double>(rows.maximum) - static_cast<double>(rows.minimum) + 1.0) *
+                         (static_cast<double>(columns.maximum) - static_cast<double>(columns.minimum) + 1.0);
+    const std::string grid = mWho + ": a grid of rows " + std::to_string(rows.minimum) + " to " +
+                             std::to_string(rows.maximum) + " and columns " + std::to_string(columns.minimum) + " to " +
+                             std::to_string(columns.maximum);
+    if (cells > kMaxCellsPerRecord * static_cast<double>(records) + kSpareCells)
+      throw InputError(mPath, grid + " has " + std::to_string(static_cast<long long>(cells)) + " cells for " +
+                                  std::to_string(records) + " records, more than " +
+                                  std::to_string(static_cast<int>(kMaxCellsPerRecord)) +
+                                  " per record: its indexBounds or indices are not the scanner's grid");
+    if (!(cells <= static_cast<double>(std::numeric_limits<int>::max())))
+      throw InputError(mPath, grid + " has more than 2^31 cells");
+    requireMemory(mPath, cells * kBytesPerCell, mWho + "'s grid of " + std::to_string(static_cast<long long>(cells)) + " rays",
+                  "split the scan, or use a machine with more memory");
+    return cells;
+  }
+
   void placeOnGrid(const RecordDecoder& decoder, StationGrid& station) const {
     const std::uint64_t records = mXml.points.recordCount;
     const FieldPlaces& places = decoder.places();
     const E57IndexRange rows = indexSpan(mXml.rows, decoder, places.row, records);
     const E57IndexRange columns = indexSpan(mXml.columns, decoder, places.column, records);
-    const double cells = (static_cast<double>(rows.maximum) - static_cast<double>(rows.minimum) + 1.0) *
-                         (static_cast<double>(columns.maximum) - static_cast<double>(columns.minimum) + 1.0);
-    if (!(cells <= static_cast<double>(std::numeric_limits<int>::max())))
-      throw InputError(mPath, mWho + ": a grid of rows " + std::to_string(rows.minimum) + " to " +
-                                  std::to_string(rows.maximum) + " and columns " + std::to_string(columns.minimum) +
-                                  " to " + std::to_string(columns.maximum) + " has more than 2^31 cells");
-    requireMemory(mPath, cells * kBytesPerCell, mWho + "'s grid of " + std::to_string(static_cast<long long>(cells)) + " rays",
-                  "split the scan, or use a machine with more memory");
+    const double cells = checkedGridCells(rows, columns, records);
     station.rows = static_cast<int>(rows.maximum - rows.minimum + 1);
     station.columns = static_cast<int>(columns.maximum - columns.minimum + 1);
     const std::size_t count = static_cast<std::size_t>(cells);

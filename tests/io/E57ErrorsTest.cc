@@ -153,6 +153,10 @@ const DamagedFile kDamaged[] = {
     {"an_index_outside_the_bounds",
      [](const std::string& p) { writeWith(p, [](E57ScanSpec& s) { s.indexBounds = std::array<long long, 4>{0, 9, 0, 23}; }); },
      "scan 1 ('hall'): record 10 has row 10 and column 0, outside its grid's rows 0 to 9 and columns 0 to 23"},
+    {"index_bounds_far_larger_than_the_records",
+     [](const std::string& p) { writeWith(p, [](E57ScanSpec& s) { s.indexBounds = std::array<long long, 4>{0, 99999, 0, 99999}; }); },
+     "scan 1 ('hall'): a grid of rows 0 to 99999 and columns 0 to 99999 has 10000000000 cells for 384 records, more "
+     "than 16 per record: its indexBounds or indices are not the scanner's grid"},
     {"no_returns",
      [](const std::string& p) {
        writeWith(p, [](E57ScanSpec& s) { s.fields.back().values.assign(s.fields.back().values.size(), 2.0); });
