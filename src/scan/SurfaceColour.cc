@@ -9,6 +9,7 @@
 #include "ReadingWeight.h"
 #include "TrilinearCorners.h"
 
+#include <openvdb/tools/Prune.h>
 #include <openvdb/tree/LeafManager.h>
 
 #include <algorithm>
@@ -36,14 +37,34 @@ bool centredOnMultiples(const openvdb::math::Transform& transform) {
          transform.indexToWorld(Coord(0)).length() <= 1e-9 * h;
 }
 
+/// Voxels farther than this from the zero set (in voxels) take no colour:
+/// the corners of every cell the surface passes through lie within
+/// sqrt(3) voxels of it, and a colour is sampled at the surface alone
+/// (ColourSampler).
+constexpr double kColouredHalfWidth = 1.7320508075688772;
+
 /// Where a voxel's colour is looked for: its nearest surface point y = x -
-/// phi N, as the step from the voxel's centre (-phi N), and the outward
-/// normal N there (world).
+/// phi N, and the outward normal N there (world).
 struct SurfaceStep {
   openvdb::Index offset;  ///< the voxel in its leaf
-  Vec3f toSurface;
   Vec3f normal;
 };
+
+/// The colour tree: the voxels of the level set's band within
+/// kColouredHalfWidth voxels of its zero set, at `grey`; leaves without one
+/// are pruned.
+std::shared_ptr<ColourTree> colouredVoxels(const openvdb::FloatGrid& levelSet, const Vec3f& grey) {
+  auto tree = std::make_shared<ColourTree>(levelSet.tree(), grey, Vec3f(0.0f), openvdb::TopologyCopy());
+  const float halfWidth = static_cast<float>(kColouredHalfWidth * levelSet.voxelSize()[0]);
+  openvdb::tree::LeafManager<ColourTree> leaves(*tree);
+  leaves.foreach([&](ColourTree::LeafNodeType& leaf, std::size_t) {
+    const openvdb::FloatTree::LeafNodeType* phi = levelSet.tree().probeConstLeaf(leaf.origin());
+    for (auto it = leaf.beginValueOn(); it; ++it)
+      if (!phi || std::fabs(phi->getValue(it.pos())) > halfWidth) leaf.setValueOff(it.pos());
+  });
+  openvdb::tools::pruneInactive(*tree);
+  return tree;
+}
 /// The steps of a leaf's voxels that have a normal, in order.
 using LeafSurfaceSteps = std::vector<SurfaceStep>;
 
@@ -61,7 +82,7 @@ std::vector<LeafSurfaceSteps> surfaceSteps(const openvdb::FloatGrid& levelSet,
         const Coord ijk = it.getCoord();
         Vec3d normal;
         if (!normals.at(phi, ijk, normal)) continue;
-        steps[i].push_back({it.pos(), Vec3f(-normal * static_cast<double>(phi.getValue(ijk))), Vec3f(normal)});
+        steps[i].push_back({it.pos(), Vec3f(normal)});
       }
   });
   interrupt.throwIfStopped();
@@ -88,13 +109,15 @@ struct AddMapColoursOp {
     const std::uint8_t cubes = cull ? detail::leafCubesMayBeReached(*spans, sums.origin(), h, cullReach) : 0xFF;
     if (cubes == 0) return;
     openvdb::FloatTree::LeafNodeType* weightLeaf = weights->probeLeaf(sums.origin());
+    const openvdb::FloatTree::LeafNodeType* phi = levelSet->tree().probeConstLeaf(sums.origin());
     const openvdb::math::Mat4d& toMap = map->worldToMap();
     const openvdb::math::Mat4d& toWorld = map->mapToWorld();
     const double reach = window->reach();
     RangeMap::LocalSample s;
     for (const SurfaceStep& step : (*steps)[leaf]) {
       if (!(cubes & (1u << detail::cubeOfOffset(step.offset)))) continue;
-      const Vec3d nearest = levelSet->indexToWorld(sums.offsetToGlobalCoord(step.offset)) + Vec3d(step.toSurface);
+      const Vec3d toSurface = -Vec3d(step.normal) * static_cast<double>(phi->getValue(step.offset));
+      const Vec3d nearest = levelSet->indexToWorld(sums.offsetToGlobalCoord(step.offset)) + toSurface;
       const Vec3d p = toMap.transform(nearest);
       if (!map->sampleLocal(p, reach, s)) continue;
       if (!(toWorld.transform3x3(s.lineOfSight).dot(Vec3d(step.normal)) < 0.0)) continue;  // Eq. 37
@@ -134,10 +157,10 @@ openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const 
   const Vec3f grey(kUnseenGrey);
   auto colour = openvdb::Vec3fGrid::create(grey);
   colour->setTransform(levelSet.transform().copy());
-  colour->setTree(std::make_shared<ColourTree>(levelSet.tree(), grey, Vec3f(0.0f), openvdb::TopologyCopy()));
+  colour->setTree(colouredVoxels(levelSet, grey));
   colour->setName(kColourGridName);
   colour->setGridClass(openvdb::GRID_UNKNOWN);
-  openvdb::FloatTree weights(levelSet.tree(), 0.0f, openvdb::TopologyCopy());
+  openvdb::FloatTree weights(colour->tree(), 0.0f, openvdb::TopologyCopy());
 
   const ParallelInterrupt interrupt(interrupter);
   openvdb::tree::LeafManager<ColourTree> leaves(colour->tree());

@@ -33,8 +33,9 @@ inline constexpr const char* kColourGridName = "Cd";
 /// the colour grid's background.
 inline constexpr float kUnseenGrey = 0.5f;
 
-/// The colour the maps of `scans` that carry one saw at every active voxel of
-/// `levelSet`'s narrow band (see above), with the data term's `window` and
+/// The colour the maps of `scans` that carry one saw at every voxel of
+/// `levelSet`'s narrow band within sqrt(3) voxels of its zero set (the
+/// corners of the cells the surface crosses; see above), with the data term's `window` and
 /// sigma_x^2 `positionVariance` of Eq. 38. A Vec3fGrid named kColourGridName,
 /// GRID_UNKNOWN, the level set's transform, active where some reading gave a
 /// colour, background kUnseenGrey, with levelfuse_* metadata. Parallel over
