@@ -54,16 +54,16 @@ struct SurfaceStep {
 /// kColouredHalfWidth voxels of its zero set, at `grey`; leaves without one
 /// are pruned.
 std::shared_ptr<ColourTree> colouredVoxels(const openvdb::FloatGrid& levelSet, const Vec3f& grey) {
-  auto tree = std::make_shared<ColourTree>(levelSet.tree(), grey, Vec3f(0.0f), openvdb::TopologyCopy());
+  openvdb::MaskTree near(levelSet.tree(), false, openvdb::TopologyCopy());  // a bit a voxel while it is sorted out
   const float halfWidth = static_cast<float>(kColouredHalfWidth * levelSet.voxelSize()[0]);
-  openvdb::tree::LeafManager<ColourTree> leaves(*tree);
-  leaves.foreach([&](ColourTree::LeafNodeType& leaf, std::size_t) {
+  openvdb::tree::LeafManager<openvdb::MaskTree> leaves(near);
+  leaves.foreach([&](openvdb::MaskTree::LeafNodeType& leaf, std::size_t) {
     const openvdb::FloatTree::LeafNodeType* phi = levelSet.tree().probeConstLeaf(leaf.origin());
     for (auto it = leaf.beginValueOn(); it; ++it)
       if (!phi || std::fabs(phi->getValue(it.pos())) > halfWidth) leaf.setValueOff(it.pos());
   });
-  openvdb::tools::pruneInactive(*tree);
-  return tree;
+  openvdb::tools::pruneInactive(near);
+  return std::make_shared<ColourTree>(near, grey, Vec3f(0.0f), openvdb::TopologyCopy());
 }
 /// The steps of a leaf's voxels that have a normal, in order.
 using LeafSurfaceSteps = std::vector<SurfaceStep>;
