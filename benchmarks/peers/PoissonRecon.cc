@@ -15,8 +15,12 @@ PeerMesh poissonReconstruct(const std::vector<PoissonScan>& scans, int depth, in
     open3d::geometry::PointCloud cloud;
     for (const auto& p : scan.points) cloud.points_.emplace_back(p[0], p[1], p[2]);
     cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamKNN(12));
-    cloud.OrientNormalsToAlignWithDirection(
-        Eigen::Vector3d(scan.towardScanner[0], scan.towardScanner[1], scan.towardScanner[2]));
+    if (scan.scannerPosition)
+      cloud.OrientNormalsTowardsCameraLocation(
+          Eigen::Vector3d((*scan.scannerPosition)[0], (*scan.scannerPosition)[1], (*scan.scannerPosition)[2]));
+    else
+      cloud.OrientNormalsToAlignWithDirection(
+          Eigen::Vector3d(scan.towardScanner[0], scan.towardScanner[1], scan.towardScanner[2]));
     // Row vectors: p_world = p * M, so the rotation acts as its transpose on columns.
     Eigen::Matrix3d rotation;
     Eigen::Vector3d translation;
