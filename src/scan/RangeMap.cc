@@ -281,6 +281,32 @@ void RangeMap::setColours(std::vector<Rgb8> colours) {
   mColours = std::move(colours);
 }
 
+bool RangeMap::extendEdge(int i, int j, double& fu, double& fv, double& r, double& ru, double& rv) const {
+  const int cornerU = fu < 0.5 ? 0 : 1, cornerV = fv < 0.5 ? 0 : 1;
+  const int pu = i + cornerU, pv = j + cornerV;
+  const double reading = mReadings[index(pu, pv)];
+  if (!(reading == reading)) return false;
+  // The slopes along u and v of the usable cells around the pixel, on the
+  // edges that meet at it.
+  double slopeU = 0.0, slopeV = 0.0;
+  int cellsU = 0, cellsV = 0;
+  for (int a = pu - 1; a <= pu; ++a)
+    for (int b = pv - 1; b <= pv; ++b) {
+      if (a < 0 || b < 0 || a + 1 >= mWidth || b + 1 >= mHeight || !mUsableCell[index(a, b)]) continue;
+      slopeU += mReadings[index(a + 1, pv)] - mReadings[index(a, pv)];
+      slopeV += mReadings[index(pu, b + 1)] - mReadings[index(pu, b)];
+      ++cellsU;
+      ++cellsV;
+    }
+  if (cellsU == 0) return false;
+  ru = slopeU / cellsU;
+  rv = slopeV / cellsV;
+  r = reading + ru * (fu - cornerU) + rv * (fv - cornerV);
+  fu = cornerU;
+  fv = cornerV;
+  return true;
+}
+
 bool RangeMap::colourAt(const openvdb::Vec3d& p, openvdb::Vec3f& rgb) const {
   if (mColours.empty()) return false;
   if (mKind == Kind::kPinhole && !(p.z() > 0.0)) return false;

@@ -71,6 +71,47 @@ TEST(SphericalRangeMap, ASphereAroundTheScanner) {
   EXPECT_FALSE(map.sample(pose.transform(Vec3d(0.0, 0.0, 0.0)), s));   // at the scanner
 }
 
+TEST(SphericalRangeMap, AStationsSurfacesReachHalfAPixelBeyondTheirLastRays) {
+  // A board 2 m away (x = 2) before the wall x = 4, the board's edge between
+  // columns 119 and 120 (azimuth -0.5 and 0 degrees); a lone return at 3 m
+  // among rays without one, above the wall.
+  const SphericalProjection grid = halfDegreeGrid();
+  std::vector<float> ranges = rangesOf(grid, kColumns, kRows, [](const Vec3d& d) {
+    return (std::atan2(d.y(), d.x()) < -0.25 * kDegree ? 2.0 : 4.0) / d.x();
+  });
+  const auto at = [](int u, int v) { return static_cast<std::size_t>(v) * kColumns + static_cast<std::size_t>(u); };
+  for (int v = 130; v < kRows; ++v)
+    for (int u = 0; u < kColumns; ++u) ranges[at(u, v)] = std::numeric_limits<float>::quiet_NaN();
+  ranges[at(60, 135)] = 3.0f;
+  const RangeMap map = RangeMap::spherical(kColumns, kRows, ranges, grid, Mat4d::identity(), 0.002, "board");
+  const auto onRay = [&](double u, double v, double range) {
+    const double azimuth = grid.azimuthStart + u * grid.azimuthStep;
+    const double elevation = grid.elevationStart + v * grid.elevationStep;
+    return Vec3d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                 std::sin(elevation)) * range;
+  };
+  const auto onBoard = [&](double u, double v) {
+    const Vec3d d = onRay(u, v, 1.0);
+    return d * (2.0 / d.x());
+  };
+  RangeSample s;
+  // A third of a pixel beyond the board's last column: still on the board.
+  ASSERT_TRUE(map.sample(onBoard(119.3, 40.2), s));
+  EXPECT_NEAR(s.D, 0.0, 1e-4);
+  EXPECT_NEAR(s.gradD.dot(Vec3d(1.0, 0.0, 0.0)) / s.gradD.length(), 1.0, 1e-3);  // the board faces the scanner
+  // And the wall a third of a pixel before its first column there.
+  const Vec3d wallDirection = onRay(119.7, 40.2, 1.0);
+  ASSERT_TRUE(map.sample(wallDirection * (4.0 / wallDirection.x()), s));
+  EXPECT_NEAR(s.D, 0.0, 1e-4);
+  // Not half a pixel beyond: there the wall's reading speaks.
+  ASSERT_TRUE(map.sample(onBoard(119.6, 40.2), s));
+  EXPECT_LT(s.D, -1.0);
+  // A lone return is a corner of no usable cell: nothing to extend.
+  EXPECT_FALSE(map.sample(onRay(60.1, 135.1, 3.0), s));
+  // Nor does the wall reach into the rays without a return above it.
+  EXPECT_FALSE(map.sample(onRay(80.0, 130.6, 4.0 / std::cos(20.0 * kDegree)), s));
+}
+
 TEST(SphericalRangeMap, AWallGradientIsThatOfItsDistance) {
   const Mat4d pose = scannerPose();
   const RangeMap map = wall(pose);

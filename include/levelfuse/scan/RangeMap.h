@@ -420,6 +420,15 @@ class RangeMap {
   /// and its derivatives; false without one.
   bool interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
                    double& fv) const;
+  /// A station's surface reaches half a pixel beyond its last rays: in cell
+  /// (i, j), which may not be interpolated (it straddles a depth step or a
+  /// missing reading), the reading of the pixel nearest (i + fu, j + fv),
+  /// extended along the slopes of the usable cells it is a corner of; false
+  /// if that pixel has no reading or is a corner of no usable cell (a lone
+  /// return, such as a mixed pixel). fu and fv become that pixel's corner of
+  /// the cell (0 or 1), so that what is blended across the cell (colours)
+  /// is that pixel's.
+  bool extendEdge(int i, int j, double& fu, double& fv, double& r, double& ru, double& rv) const;
 
   static constexpr int kBlock = 8;  ///< pixels per side of a block of reading bounds
   int mBlocksX = 0, mBlocksY = 0;
@@ -480,10 +489,11 @@ inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, dou
   i = static_cast<int>(u);
   j = static_cast<int>(v);
   const std::size_t at = index(i, j);
-  // Never across a missing reading nor a depth discontinuity.
-  if (!mUsableCell[at]) return false;
   fu = u - i;
   fv = v - j;
+  // Never across a missing reading nor a depth discontinuity; a station's
+  // surfaces end half a pixel beyond their last rays.
+  if (!mUsableCell[at]) return mKind == Kind::kSpherical && extendEdge(i, j, fu, fv, r, ru, rv);
   const double r00 = mReadings[at], r10 = mReadings[at + 1];
   const double r01 = mReadings[at + static_cast<std::size_t>(mWidth)];
   const double r11 = mReadings[at + static_cast<std::size_t>(mWidth) + 1];
