@@ -13,6 +13,7 @@
 #include <openvdb/tree/LeafManager.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -50,11 +51,23 @@ struct SurfaceStep {
   Vec3f normal;
 };
 
-/// The colour tree: the voxels of the level set's band within
-/// kColouredHalfWidth voxels of its zero set, at `grey`; leaves without one
-/// are pruned.
-std::shared_ptr<ColourTree> colouredVoxels(const openvdb::FloatGrid& levelSet, const Vec3f& grey) {
-  openvdb::MaskTree near(levelSet.tree(), false, openvdb::TopologyCopy());  // a bit a voxel while it is sorted out
+/// What colouring holds of a leaf, made when a map's readings may first
+/// reach it: the steps of its voxels that have a normal, in order, and,
+/// once a reading gave one of them a colour, the leaf's weighted sums.
+/// Leaves no map reaches (most of a scene's unseen faces) hold nothing.
+struct LeafColouring {
+  std::vector<SurfaceStep> steps;
+  struct Sums {
+    std::array<Vec3f, openvdb::MaskTree::LeafNodeType::SIZE> colour;
+    std::array<float, openvdb::MaskTree::LeafNodeType::SIZE> weight;
+  };
+  std::unique_ptr<Sums> sums;
+};
+
+/// The voxels of the level set's band within kColouredHalfWidth voxels of
+/// its zero set, a bit each; leaves without one are pruned.
+openvdb::MaskTree colouredVoxels(const openvdb::FloatGrid& levelSet) {
+  openvdb::MaskTree near(levelSet.tree(), false, openvdb::TopologyCopy());
   const float halfWidth = static_cast<float>(kColouredHalfWidth * levelSet.voxelSize()[0]);
   openvdb::tree::LeafManager<openvdb::MaskTree> leaves(near);
   leaves.foreach([&](openvdb::MaskTree::LeafNodeType& leaf, std::size_t) {
@@ -63,29 +76,17 @@ std::shared_ptr<ColourTree> colouredVoxels(const openvdb::FloatGrid& levelSet, c
       if (!phi || std::fabs(phi->getValue(it.pos())) > halfWidth) leaf.setValueOff(it.pos());
   });
   openvdb::tools::pruneInactive(near);
-  return std::make_shared<ColourTree>(near, grey, Vec3f(0.0f), openvdb::TopologyCopy());
+  return near;
 }
-/// The steps of a leaf's voxels that have a normal, in order.
-using LeafSurfaceSteps = std::vector<SurfaceStep>;
 
-/// The surface steps of every active voxel of the leaves, found once for all
-/// the maps (parallel over the leaves).
-std::vector<LeafSurfaceSteps> surfaceSteps(const openvdb::FloatGrid& levelSet,
-                                           const openvdb::tree::LeafManager<ColourTree>& leaves,
-                                           const ParallelInterrupt& interrupt) {
-  std::vector<LeafSurfaceSteps> steps(leaves.leafCount());
-  const VoxelNormals normals(levelSet);
-  parallelFor(steps.size(), 1, [&](std::size_t begin, std::size_t end) {
-    openvdb::FloatGrid::ConstAccessor phi = levelSet.getConstAccessor();
-    for (std::size_t i = begin; i < end && !interrupt.stop(); ++i)
-      for (auto it = leaves.leaf(i).cbeginValueOn(); it; ++it) {
-        const Coord ijk = it.getCoord();
-        Vec3d normal;
-        if (!normals.at(phi, ijk, normal)) continue;
-        steps[i].push_back({it.pos(), Vec3f(normal)});
-      }
-  });
-  interrupt.throwIfStopped();
+/// The steps of a leaf's coloured voxels.
+std::vector<SurfaceStep> surfaceSteps(const openvdb::MaskTree::LeafNodeType& leaf, const VoxelNormals& normals,
+                                      openvdb::FloatGrid::ConstAccessor& phi) {
+  std::vector<SurfaceStep> steps;
+  for (auto it = leaf.cbeginValueOn(); it; ++it) {
+    Vec3d normal;
+    if (normals.at(phi, it.getCoord(), normal)) steps.push_back({it.pos(), Vec3f(normal)});
+  }
   return steps;
 }
 
@@ -93,31 +94,36 @@ std::vector<LeafSurfaceSteps> surfaceSteps(const openvdb::FloatGrid& levelSet,
 /// whose nearest surface point it sees from outside.
 struct AddMapColoursOp {
   const openvdb::FloatGrid* levelSet;
-  const std::vector<LeafSurfaceSteps>* steps;  ///< per leaf of the colour tree's LeafManager
+  const VoxelNormals* normals;
+  std::vector<std::unique_ptr<LeafColouring>>* colouring;  ///< per leaf of the mask's LeafManager
   const RangeMap* map;
   const detail::UsableSpans* spans;  ///< the map's, when culling
   const DataWindow* window;
   double positionVariance;
   bool cull;            ///< cubes of leaves the map's readings cannot reach are skipped
   double cullReach;     ///< the window's reach plus the band's half-width
-  openvdb::FloatTree* weights;
   const ParallelInterrupt* interrupt;
 
-  void operator()(ColourTree::LeafNodeType& sums, std::size_t leaf) const {
+  void operator()(const openvdb::MaskTree::LeafNodeType& mask, std::size_t leaf) const {
     if (interrupt->stop()) return;
     const double h = levelSet->voxelSize()[0];
-    const std::uint8_t cubes = cull ? detail::leafCubesMayBeReached(*spans, sums.origin(), h, cullReach) : 0xFF;
+    const std::uint8_t cubes = cull ? detail::leafCubesMayBeReached(*spans, mask.origin(), h, cullReach) : 0xFF;
     if (cubes == 0) return;
-    openvdb::FloatTree::LeafNodeType* weightLeaf = weights->probeLeaf(sums.origin());
-    const openvdb::FloatTree::LeafNodeType* phi = levelSet->tree().probeConstLeaf(sums.origin());
+    std::unique_ptr<LeafColouring>& held = (*colouring)[leaf];
+    if (!held) {
+      openvdb::FloatGrid::ConstAccessor phiAccess = levelSet->getConstAccessor();
+      held = std::make_unique<LeafColouring>();
+      held->steps = surfaceSteps(mask, *normals, phiAccess);
+    }
+    const openvdb::FloatTree::LeafNodeType* phi = levelSet->tree().probeConstLeaf(mask.origin());
     const openvdb::math::Mat4d& toMap = map->worldToMap();
     const openvdb::math::Mat4d& toWorld = map->mapToWorld();
     const double reach = window->reach();
     RangeMap::LocalSample s;
-    for (const SurfaceStep& step : (*steps)[leaf]) {
+    for (const SurfaceStep& step : held->steps) {
       if (!(cubes & (1u << detail::cubeOfOffset(step.offset)))) continue;
       const Vec3d toSurface = -Vec3d(step.normal) * static_cast<double>(phi->getValue(step.offset));
-      const Vec3d nearest = levelSet->indexToWorld(sums.offsetToGlobalCoord(step.offset)) + toSurface;
+      const Vec3d nearest = levelSet->indexToWorld(mask.offsetToGlobalCoord(step.offset)) + toSurface;
       const Vec3d p = toMap.transform(nearest);
       if (!map->sampleLocal(p, reach, s)) continue;
       if (!(toWorld.transform3x3(s.lineOfSight).dot(Vec3d(step.normal)) < 0.0)) continue;  // Eq. 37
@@ -126,27 +132,33 @@ struct AddMapColoursOp {
       Vec3f rgb;
       if (!map->colourAt(p, rgb)) continue;
       const double weight = detail::readingWeight(w, s, positionVariance);  // Eq. 38
-      sums.setValueOnly(step.offset, sums.getValue(step.offset) + rgb * static_cast<float>(weight));
-      weightLeaf->setValueOnly(step.offset, weightLeaf->getValue(step.offset) + static_cast<float>(weight));
+      if (!held->sums) {
+        held->sums = std::make_unique<LeafColouring::Sums>();
+        held->sums->colour.fill(Vec3f(0.0f));
+        held->sums->weight.fill(0.0f);
+      }
+      held->sums->colour[step.offset] += rgb * static_cast<float>(weight);
+      held->sums->weight[step.offset] += static_cast<float>(weight);
     }
   }
 };
 
-/// Each voxel's weighted sum divided by its weight; voxels no colour reached
-/// are left inactive, at the background.
-struct MeanColourOp {
-  const openvdb::FloatTree* weights;
-  void operator()(ColourTree::LeafNodeType& sums, std::size_t) const {
-    const openvdb::FloatTree::LeafNodeType* weightLeaf = weights->probeConstLeaf(sums.origin());
-    for (auto it = sums.beginValueOn(); it; ++it) {
-      const float w = weightLeaf->getValue(it.pos());
-      if (w > 0.0f)
-        it.setValue(*it / w);
-      else
-        sums.setValueOff(it.pos(), Vec3f(kUnseenGrey));
-    }
+/// The colour tree: each voxel some reading coloured, at its weighted mean
+/// colour; background `grey`.
+std::shared_ptr<ColourTree> meanColours(const openvdb::tree::LeafManager<const openvdb::MaskTree>& leaves,
+                                        const std::vector<std::unique_ptr<LeafColouring>>& colouring,
+                                        const Vec3f& grey) {
+  auto tree = std::make_shared<ColourTree>(grey);
+  for (std::size_t i = 0; i < colouring.size(); ++i) {
+    if (!colouring[i] || !colouring[i]->sums) continue;
+    const LeafColouring::Sums& sums = *colouring[i]->sums;
+    auto* leaf = new ColourTree::LeafNodeType(leaves.leaf(i).origin(), grey, false);
+    for (openvdb::Index n = 0; n < ColourTree::LeafNodeType::SIZE; ++n)
+      if (sums.weight[n] > 0.0f) leaf->setValueOn(n, sums.colour[n] / sums.weight[n]);
+    tree->addLeaf(leaf);
   }
-};
+  return tree;
+}
 
 }  // namespace
 
@@ -154,21 +166,14 @@ openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const 
                                       const DataWindow& window, double positionVariance,
                                       const Interrupter& interrupter) {
   requireLevelSet(levelSet, "surfaceColour");
-  const Vec3f grey(kUnseenGrey);
-  auto colour = openvdb::Vec3fGrid::create(grey);
-  colour->setTransform(levelSet.transform().copy());
-  colour->setTree(colouredVoxels(levelSet, grey));
-  colour->setName(kColourGridName);
-  colour->setGridClass(openvdb::GRID_UNKNOWN);
-  openvdb::FloatTree weights(colour->tree(), 0.0f, openvdb::TopologyCopy());
-
+  const openvdb::MaskTree near = colouredVoxels(levelSet);
+  openvdb::tree::LeafManager<const openvdb::MaskTree> leaves(near);
+  std::vector<std::unique_ptr<LeafColouring>> colouring(leaves.leafCount());
+  const VoxelNormals normals(levelSet);
   const ParallelInterrupt interrupt(interrupter);
-  openvdb::tree::LeafManager<ColourTree> leaves(colour->tree());
   const double bandHalfWidth = std::abs(static_cast<double>(levelSet.background()));
-  const std::vector<LeafSurfaceSteps> steps = surfaceSteps(levelSet, leaves, interrupt);
-  AddMapColoursOp add{&levelSet, &steps, nullptr, nullptr, &window, positionVariance,
-                      centredOnMultiples(levelSet.transform()), window.reach() + bandHalfWidth, &weights,
-                      &interrupt};
+  AddMapColoursOp add{&levelSet, &normals, &colouring, nullptr, nullptr, &window, positionVariance,
+                      centredOnMultiples(levelSet.transform()), window.reach() + bandHalfWidth, &interrupt};
   scans([&](const RangeMap& map) {
     checkInterrupter(interrupter);
     if (!map.hasColours()) return;
@@ -179,8 +184,13 @@ openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const 
     leaves.foreach(add);
     interrupt.throwIfStopped();
   });
-  leaves.foreach(MeanColourOp{&weights});
 
+  const Vec3f grey(kUnseenGrey);
+  auto colour = openvdb::Vec3fGrid::create(grey);
+  colour->setTransform(levelSet.transform().copy());
+  colour->setTree(meanColours(leaves, colouring, grey));
+  colour->setName(kColourGridName);
+  colour->setGridClass(openvdb::GRID_UNKNOWN);
   colour->insertMeta("levelfuse_surface", openvdb::StringMetadata(levelSet.getName()));
   colour->insertMeta("levelfuse_units", openvdb::StringMetadata("red, green, blue from 0 to 1"));
   colour->insertMeta("levelfuse_description",
