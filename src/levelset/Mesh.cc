@@ -34,26 +34,56 @@ double TriangleMesh::area() const {
   return 0.5 * sum;
 }
 
-TriangleMesh meshFromLevelSet(const openvdb::FloatGrid& levelSet, double adaptivity) {
-  requireLevelSet(levelSet, "meshFromLevelSet");
-  if (!(adaptivity >= 0.0 && adaptivity <= 1.0))
-    throw std::invalid_argument("meshFromLevelSet: the adaptivity must lie in [0, 1]");
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> triangles;
-  std::vector<openvdb::Vec4I> quads;
-  openvdb::tools::volumeToMesh(levelSet, points, triangles, quads, 0.0, adaptivity);
+namespace {
+
+/// The mesh a VolumeToMesh made: its points, and its polygons as triangles
+/// turned to face outward (VolumeToMesh orders the corners of a level set's
+/// polygons clockwise seen from outside).
+TriangleMesh meshOf(const openvdb::tools::VolumeToMesh& mesher) {
   TriangleMesh mesh;
-  mesh.xyz.reserve(points.size() * 3);
-  for (const openvdb::Vec3s& p : points) mesh.xyz.insert(mesh.xyz.end(), {p.x(), p.y(), p.z()});
-  mesh.triangles.reserve(3 * (triangles.size() + 2 * quads.size()));
-  // volumeToMesh orders the corners of a level set's polygons clockwise seen
-  // from outside: reversed here.
-  for (const openvdb::Vec3I& t : triangles) mesh.triangles.insert(mesh.triangles.end(), {t[2], t[1], t[0]});
-  for (const openvdb::Vec4I& q : quads) {
-    mesh.triangles.insert(mesh.triangles.end(), {q[2], q[1], q[0]});
-    mesh.triangles.insert(mesh.triangles.end(), {q[3], q[2], q[0]});
+  mesh.xyz.reserve(mesher.pointListSize() * 3);
+  for (std::size_t i = 0; i < mesher.pointListSize(); ++i) {
+    const openvdb::Vec3s& p = mesher.pointList()[i];
+    mesh.xyz.insert(mesh.xyz.end(), {p.x(), p.y(), p.z()});
+  }
+  const openvdb::tools::PolygonPoolList& pools = mesher.polygonPoolList();
+  for (std::size_t n = 0; n < mesher.polygonPoolListSize(); ++n) {
+    const openvdb::tools::PolygonPool& pool = pools[n];
+    for (std::size_t t = 0; t < pool.numTriangles(); ++t) {
+      const openvdb::Vec3I& c = pool.triangle(t);
+      mesh.triangles.insert(mesh.triangles.end(), {c[2], c[1], c[0]});
+    }
+    for (std::size_t q = 0; q < pool.numQuads(); ++q) {
+      const openvdb::Vec4I& c = pool.quad(q);
+      mesh.triangles.insert(mesh.triangles.end(), {c[2], c[1], c[0]});
+      mesh.triangles.insert(mesh.triangles.end(), {c[3], c[2], c[0]});
+    }
   }
   return mesh;
+}
+
+void requireAdaptivity(double adaptivity) {
+  if (!(adaptivity >= 0.0 && adaptivity <= 1.0))
+    throw std::invalid_argument("meshFromLevelSet: the adaptivity must lie in [0, 1]");
+}
+
+}  // namespace
+
+TriangleMesh meshFromLevelSet(const openvdb::FloatGrid& levelSet, double adaptivity) {
+  requireLevelSet(levelSet, "meshFromLevelSet");
+  requireAdaptivity(adaptivity);
+  openvdb::tools::VolumeToMesh mesher(0.0, adaptivity);
+  mesher(levelSet);
+  return meshOf(mesher);
+}
+
+TriangleMesh meshFromLevelSet(const openvdb::FloatGrid& levelSet, double adaptivity, const openvdb::BoolGrid& within) {
+  requireLevelSet(levelSet, "meshFromLevelSet");
+  requireAdaptivity(adaptivity);
+  openvdb::tools::VolumeToMesh mesher(0.0, adaptivity);
+  mesher.setSurfaceMask(openvdb::BoolGrid::ConstPtr(&within, [](const openvdb::BoolGrid*) {}));
+  mesher(levelSet);
+  return meshOf(mesher);
 }
 
 openvdb::FloatGrid::Ptr levelSetFromMesh(const TriangleMesh& mesh, double voxelSize, float halfWidth) {

@@ -4,6 +4,8 @@
 #include <levelfuse/levelset/MeshTrim.h>
 
 #include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/Morphology.h>
+#include <openvdb/tree/LeafManager.h>
 
 #include <cmath>
 #include <cstdint>
@@ -59,6 +61,23 @@ TriangleMesh trimMesh(const TriangleMesh& mesh, const openvdb::FloatGrid& weight
     if (keep[t])
       for (int k = 0; k < 3; ++k) trimmed.triangles.push_back(renumbered[mesh.triangles[3 * t + k]]);
   return trimmed;
+}
+
+openvdb::BoolGrid::Ptr voxelsToMesh(const openvdb::FloatGrid& weight, double minWeight) {
+  auto mask = openvdb::BoolGrid::create(false);
+  mask->setTransform(weight.transform().copy());
+  mask->tree().topologyUnion(weight.tree());
+  const float threshold = static_cast<float>(minWeight);
+  openvdb::tree::LeafManager<openvdb::BoolTree> leaves(mask->tree());
+  leaves.foreach([&](openvdb::BoolTree::LeafNodeType& leaf, std::size_t) {
+    const openvdb::FloatTree::LeafNodeType* w = weight.tree().probeConstLeaf(leaf.origin());
+    for (auto it = leaf.beginValueOn(); it; ++it)
+      if (!w || !(w->getValue(it.pos()) >= threshold)) leaf.setValueOff(it.pos());
+  });
+  // A cell is named by its lowest corner: the voxels one step below a
+  // corner that is seen name cells it is a corner of.
+  openvdb::tools::dilateActiveValues(mask->tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX);
+  return mask;
 }
 
 }  // namespace levelfuse

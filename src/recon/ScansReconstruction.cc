@@ -48,7 +48,8 @@ bool trimsUnseen(bool scene, std::optional<bool> asked) { return asked.value_or(
 
 TriangleMesh meshShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatGrid* trimBy, double adaptivity,
                        const openvdb::Vec3fGrid* colour) {
-  TriangleMesh mesh = meshFromLevelSet(levelSet, adaptivity);
+  TriangleMesh mesh = trimBy ? meshFromLevelSet(levelSet, adaptivity, *voxelsToMesh(*trimBy, kObservedWeight))
+                             : meshFromLevelSet(levelSet, adaptivity);
   if (trimBy) mesh = trimMesh(mesh, *trimBy, kObservedWeight);
   if (colour) paintMesh(mesh, *colour);
   return mesh;

@@ -46,6 +46,9 @@ void forEachTileBoxOfRows(const RangeMap& m, double reach, int first, int last, 
             farthest = std::max(farthest, m.reading(u, v));
           }
       if (nearest > farthest) continue;
+      // A station's edges reach a little beyond their pixels' readings (RangeMap::edgeReadings).
+      nearest -= static_cast<float>(m.edgeExtensionReach(nearest));
+      farthest += static_cast<float>(m.edgeExtensionReach(farthest));
       double front = nearest - reach;
       if (m.kind() == RangeMap::Kind::kPinhole) front = std::max(front, 1e-6 * farthest);
       if (m.kind() == RangeMap::Kind::kSpherical) front = std::max(front, 0.0);

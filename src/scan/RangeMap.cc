@@ -281,26 +281,55 @@ void RangeMap::setColours(std::vector<Rgb8> colours) {
   mColours = std::move(colours);
 }
 
+bool RangeMap::extendableCorner(int u, int v) const {
+  const float reading = mReadings[index(u, v)];
+  if (!(reading == reading)) return false;
+  for (int a = u - 1; a <= u; ++a)
+    for (int b = v - 1; b <= v; ++b)
+      if (a >= 0 && b >= 0 && a + 1 < mWidth && b + 1 < mHeight && mUsableCell[index(a, b)]) return true;
+  return false;
+}
+
+double RangeMap::edgeExtensionReach(double reading) const {
+  // Half a pixel along each direction at the steepest slope.
+  return mKind == Kind::kSpherical ? kSteepestEdgeSlope * reading * mAngularStep : 0.0;
+}
+
+bool RangeMap::edgeReadings(int i, int j, float& lo, float& hi) const {
+  if (mKind != Kind::kSpherical || mUsableCell[index(i, j)]) return false;
+  lo = std::numeric_limits<float>::max();
+  hi = -lo;
+  for (int c = 0; c < 4; ++c) {
+    const int u = i + (c & 1), v = j + (c >> 1);
+    if (!extendableCorner(u, v)) continue;
+    const double reading = mReadings[index(u, v)], reach = edgeExtensionReach(reading);
+    lo = std::min(lo, static_cast<float>(reading - reach));
+    hi = std::max(hi, static_cast<float>(reading + reach));
+  }
+  return lo <= hi;
+}
+
 bool RangeMap::extendEdge(int i, int j, double& fu, double& fv, double& r, double& ru, double& rv) const {
   const int cornerU = fu < 0.5 ? 0 : 1, cornerV = fv < 0.5 ? 0 : 1;
   const int pu = i + cornerU, pv = j + cornerV;
+  if (!extendableCorner(pu, pv)) return false;
   const double reading = mReadings[index(pu, pv)];
-  if (!(reading == reading)) return false;
   // The slopes along u and v of the usable cells around the pixel, on the
   // edges that meet at it.
   double slopeU = 0.0, slopeV = 0.0;
-  int cellsU = 0, cellsV = 0;
+  int cells = 0;
   for (int a = pu - 1; a <= pu; ++a)
     for (int b = pv - 1; b <= pv; ++b) {
       if (a < 0 || b < 0 || a + 1 >= mWidth || b + 1 >= mHeight || !mUsableCell[index(a, b)]) continue;
       slopeU += mReadings[index(a + 1, pv)] - mReadings[index(a, pv)];
       slopeV += mReadings[index(pu, b + 1)] - mReadings[index(pu, b)];
-      ++cellsU;
-      ++cellsV;
+      ++cells;
     }
-  if (cellsU == 0) return false;
-  ru = slopeU / cellsU;
-  rv = slopeV / cellsV;
+  // Near a convex object's limb the ranges fall away without bound: the half
+  // pixel beyond the last ray follows the surface no steeper than this.
+  const double steepest = kSteepestEdgeSlope * reading * mAngularStep;
+  ru = std::clamp(slopeU / cells, -steepest, steepest);
+  rv = std::clamp(slopeV / cells, -steepest, steepest);
   r = reading + ru * (fu - cornerU) + rv * (fv - cornerV);
   fu = cornerU;
   fv = cornerV;

@@ -36,7 +36,8 @@ void UsableSpans::findSpans(int b, int c) {
   };
   // Neighbouring cells of a row share two readings, so a run of usable cells
   // spans one stretch: a span per run.
-  std::array<Span, kBlock * ((kBlock + 1) / 2)> spans;  // at most a run in every other cell of each row
+  // At most a run in every other cell of each row, and a station's edges in the others.
+  std::array<Span, kBlock * kBlock> spans;
   std::size_t count = 0;
   const int i0 = b * kBlock, i1 = std::min((b + 1) * kBlock, mMap.width() - 1);
   for (int j = c * kBlock; j < std::min((c + 1) * kBlock, mMap.height() - 1); ++j) {
@@ -44,6 +45,8 @@ void UsableSpans::findSpans(int b, int c) {
     for (int i = i0; i < i1; ++i) {
       if (!mMap.cellUsable(i, j)) {
         inRun = false;
+        Span edge;
+        if (mMap.edgeReadings(i, j, edge.lo, edge.hi)) spans[count++] = edge;
         continue;
       }
       const float r[4] = {mMap.reading(i, j), mMap.reading(i + 1, j), mMap.reading(i, j + 1),

@@ -10,8 +10,9 @@
 namespace levelfuse::detail {
 
 /// Per block of kBlock x kBlock cells (those whose first pixel lies in it):
-/// the smallest and largest reading of its usable cells, and the widest open
-/// stretch between them that no cell's readings span (a depth
+/// the smallest and largest reading of its usable cells (and of a station's
+/// edges extended into the others, RangeMap::edgeReadings), and the widest
+/// open stretch between them that no cell's readings span (a depth
 /// discontinuity's: the cells across it are not usable). Worked out from the
 /// map when accumulation takes it up, in parallel over rows of blocks; the
 /// map must outlive it.
@@ -23,7 +24,8 @@ class UsableSpans {
   /// Whether a reading interpolated in a usable cell whose corner pixel (its
   /// first) lies in the window [u0, u1] x [v0, v1] (clamped to the map) may
   /// lie between lo and hi. A reading interpolated in a cell lies between the
-  /// cell's four.
+  /// cell's four; one extended from a station's edge, within its
+  /// edgeReadings.
   bool meet(double u0, double v0, double u1, double v1, double lo, double hi) const;
 
   static constexpr int kBlock = 8;  ///< cells per side of a block

@@ -27,6 +27,9 @@ struct TriangleMesh {
 /// The zero set of `levelSet` by OpenVDB's volumeToMesh (quads split into
 /// triangles), with `adaptivity` in [0, 1] (0: uniform, as fine as the grid).
 TriangleMesh meshFromLevelSet(const openvdb::FloatGrid& levelSet, double adaptivity = 0.0);
+/// The same, its polygons made only in the voxels `within` marks (active):
+/// the part of a surface a mask keeps, without meshing the rest.
+TriangleMesh meshFromLevelSet(const openvdb::FloatGrid& levelSet, double adaptivity, const openvdb::BoolGrid& within);
 
 /// A closed mesh as an OpenVDB level set of `voxelSize` (world units) with a
 /// narrow band of `halfWidth` voxels on either side, by meshToLevelSet: how a

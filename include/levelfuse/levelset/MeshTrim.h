@@ -15,4 +15,10 @@ namespace levelfuse {
 /// a `minWeight` that is not finite or a mesh whose indices are out of range.
 TriangleMesh trimMesh(const TriangleMesh& mesh, const openvdb::FloatGrid& weight, double minWeight);
 
+/// The voxels whose cells a triangle that trimMesh keeps may lie in: those
+/// with a corner where `weight` is at least `minWeight`, as a mask for
+/// meshFromLevelSet, so that a scene's unseen faces are not meshed only to
+/// be trimmed.
+openvdb::BoolGrid::Ptr voxelsToMesh(const openvdb::FloatGrid& weight, double minWeight);
+
 }  // namespace levelfuse

@@ -311,6 +311,14 @@ class RangeMap {
   /// Whether cell (i, j), between pixels i to i + 1 and j to j + 1, is usable:
   /// its four readings are valid and span no depth discontinuity.
   bool cellUsable(int i, int j) const { return mUsableCell[index(i, j)]; }
+  /// The readings a station's surface extended beyond its last rays may give
+  /// in cell (i, j), which is not usable (sample's edge extension): false if
+  /// it gives none there (a usable cell, a map that is no station, no corner
+  /// to extend), else between lo and hi.
+  bool edgeReadings(int i, int j, float& lo, float& hi) const;
+  /// How far an edge's extension may take a reading from the pixel's own
+  /// (world units): 0 but for a station.
+  double edgeExtensionReach(double reading) const;
   /// Pixel coordinates of a point in the map's frame (may lie outside the map).
   openvdb::math::Vec2d project(const openvdb::Vec3d& p) const;
 
@@ -420,15 +428,23 @@ class RangeMap {
   /// and its derivatives; false without one.
   bool interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
                    double& fv) const;
+  /// The steepest an edge's surface is extended beyond its last ray
+  /// (extendEdge): two ray spacings of range a pixel (63 degrees of
+  /// incidence), so that half a pixel moves a reading by at most one spacing.
+  static constexpr double kSteepestEdgeSlope = 2.0;
   /// A station's surface reaches half a pixel beyond its last rays: in cell
   /// (i, j), which may not be interpolated (it straddles a depth step or a
   /// missing reading), the reading of the pixel nearest (i + fu, j + fv),
-  /// extended along the slopes of the usable cells it is a corner of; false
+  /// extended along the slopes of the usable cells it is a corner of (no
+  /// steeper than kSteepestEdgeSlope); false
   /// if that pixel has no reading or is a corner of no usable cell (a lone
   /// return, such as a mixed pixel). fu and fv become that pixel's corner of
   /// the cell (0 or 1), so that what is blended across the cell (colours)
   /// is that pixel's.
   bool extendEdge(int i, int j, double& fu, double& fv, double& r, double& ru, double& rv) const;
+  /// Whether pixel (u, v) has a reading and is a corner of a usable cell:
+  /// one an edge's surface may be extended from.
+  bool extendableCorner(int u, int v) const;
 
   static constexpr int kBlock = 8;  ///< pixels per side of a block of reading bounds
   int mBlocksX = 0, mBlocksY = 0;
