@@ -463,9 +463,17 @@ bool RangeMap::mayBeSeenIn(const openvdb::BBoxd& box) const {
 
 RangeMap::Sight RangeMap::sightAtPixel(double u, double v, double along, double margin) const {
   if (!(u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1)) return Sight::kOutside;
-  // The four pixels around x must agree: near a depth discontinuity or a
-  // silhouette the nearest ray alone could pass either side of x.
   const int i = std::min(static_cast<int>(u), mWidth - 2), j = std::min(static_cast<int>(v), mHeight - 2);
+  // Where the data term interpolates, the reading it interpolates (Eq. 13's
+  // r_j(x)) decides: no point is left unknown between the window's reach and
+  // the carved space, where a surface seen at grazing incidence would settle
+  // inside.
+  if (mUsableCell[index(i, j)]) {
+    const double D = along - bilinearReading(index(i, j), u - i, v - j);
+    return D < -margin ? Sight::kEmpty : D > margin ? Sight::kBehind : Sight::kUnknown;
+  }
+  // Elsewhere the four pixels around x must agree: near a depth discontinuity
+  // or a silhouette the nearest ray alone could pass either side of x.
   const bool missesAreEmpty = !mMisses.empty();
   int empty = 0, behind = 0;
   for (int c = 0; c < 4; ++c) {

@@ -1,7 +1,8 @@
 // Which 2x2 cells of readings a range map interpolates (its usable cells): a
 // smooth surface seen at grazing incidence, whose neighbouring readings lie
 // many ray spacings apart, is interpolated; a depth step is not, even among
-// steep readings.
+// steep readings. Where a cell is usable, space carving asks the reading the
+// data term interpolates.
 
 #include "support/ScannerPoses.h"
 
@@ -21,6 +22,7 @@ namespace {
 
 using openvdb::Vec3d;
 using Mat4d = openvdb::math::Mat4d;
+using Sight = RangeMap::Sight;
 using test::kDegree;
 
 /// A grid of rays with its size.
@@ -199,6 +201,50 @@ TEST(UsableCells, TheRoomsCellsAcrossItsEdgesAreNotInterpolated) {
     EXPECT_GT(usable, 0.9 * map.validCount()) << map.name();
     EXPECT_EQ(offTheRoom, 0u) << map.name() << ": " << usable << " usable cells";
   }
+}
+
+// ---- what carving asks ----
+
+TEST(UsableCells, TheSightOfAPointInAUsableCellIsThatOfTheReadingTheDataTermInterpolates) {
+  // On the floor at 80 degrees a cell's readings span 3 cm: a point 1 cm
+  // before the interpolated reading lies behind some of them and before
+  // others, yet it is in front of the surface the data term sees.
+  const RayGrid g = floorGrid(70.0, 86.0);
+  const RangeMap map = floorMap(g, rangesAlong(g, floorRange), 0.0005);
+  const double margin = 0.006;
+  int asked = 0;
+  for (const double u : {20.3, 50.5, 71.8})
+    for (const double v : {99.25, 100.5, 101.75}) {
+      const Vec3d ray = sphericalDirection(g.projection, u, v);
+      ASSERT_NEAR(floorIncidence(ray), 80.0, 0.3);
+      ASSERT_TRUE(map.cellUsable(static_cast<int>(u), static_cast<int>(v)));
+      RangeSample s;
+      ASSERT_TRUE(map.sample(ray * floorRange(ray), s));
+      const double reading = floorRange(ray) - s.D;  // the interpolated reading along the ray
+      EXPECT_EQ(map.sight(ray * (reading - 0.01), margin), Sight::kEmpty) << u << ", " << v;
+      EXPECT_EQ(map.sight(ray * (reading + 0.01), margin), Sight::kBehind) << u << ", " << v;
+      EXPECT_EQ(map.sight(ray * (reading - 0.5 * margin), margin), Sight::kUnknown) << u << ", " << v;
+      EXPECT_EQ(map.sight(ray * (reading + 0.5 * margin), margin), Sight::kUnknown) << u << ", " << v;
+      ++asked;
+    }
+  EXPECT_EQ(asked, 9);
+}
+
+TEST(UsableCells, AcrossAStepTheFourReadingsMustAgree) {
+  // A point between the box and the wall, on a ray through a cell across the
+  // box's edge: behind the box's readings, before the wall's.
+  const RayGrid g = wallGrid();
+  const RangeMap map = RangeMap::spherical(g.columns, g.rows, rangesAlong(g, wallBehindABox), g.projection,
+                                           Mat4d::identity(), 0.002, "box");
+  const int i = 40;
+  int j = 0;
+  while (j + 1 < g.rows && !(onTheBox(g, i, j) && !onTheBox(g, i, j + 1))) ++j;  // the box's top edge
+  ASSERT_LT(j + 1, g.rows);
+  ASSERT_FALSE(map.cellUsable(i, j));
+  const Vec3d ray = sphericalDirection(g.projection, i + 0.5, j + 0.5);
+  EXPECT_EQ(map.sight(ray * 3.5 / ray.x(), 0.006), Sight::kUnknown);
+  EXPECT_EQ(map.sight(ray * 2.5 / ray.x(), 0.006), Sight::kEmpty);
+  EXPECT_EQ(map.sight(ray * 4.5 / ray.x(), 0.006), Sight::kBehind);
 }
 
 }  // namespace

@@ -267,11 +267,17 @@ class RangeMap {
     kEmpty,    ///< the ray passed the point before its reading, or missed everything
     kBehind,   ///< the point lies behind the reading
   };
-  /// The sight of world point x from the four pixels around it: empty if x
-  /// lies in front of all their readings by more than `margin` (or a pixel
-  /// missed, where misses are empty, see below), behind if it lies behind all
-  /// four by more than `margin` (depths along the optical axis for a pinhole),
-  /// unknown where they disagree.
+  /// The sight of world point x from the four pixels around it. Where their
+  /// cell is usable (cellUsable), the reading interpolated there as the data
+  /// term interpolates it decides: empty if x lies in front of it by more
+  /// than `margin`, behind if behind it by more than `margin` (depths along
+  /// the optical axis for a pinhole), else unknown: with the data window's
+  /// reach for margin, every point of the line of sight that the data term
+  /// does not reach is either empty or behind. Elsewhere the four
+  /// must agree: empty if x lies in front of all their readings by more than
+  /// `margin` (or a pixel missed, where misses are empty, see below), behind
+  /// if it lies behind all four by more than `margin`, unknown where they
+  /// disagree.
   Sight sight(const openvdb::Vec3d& x, double margin) const;
   /// False only where sight() says kOutside at every point of the world box
   /// `box`, whatever the readings: the box lies behind the camera, or beside
@@ -430,6 +436,9 @@ class RangeMap {
   /// axis (those with readings; none: false), plus `noise`: the cell lies on
   /// a smooth surface, however steep.
   bool changesLikeItsNeighbours(int i, int j, const double (&r)[4], double noise) const;
+  /// The reading interpolated bilinearly at fraction (fu, fv) of the cell
+  /// whose first pixel is `at` (Eq. 13's r_j(x)).
+  double bilinearReading(std::size_t at, double fu, double fv) const;
   /// Works out mBlockMin, mBlockMax and mBlockComplete from the readings.
   void findBlockBounds();
   /// A camera's or parallel rays' point in the map's frame (pointAt) from
@@ -497,6 +506,13 @@ inline openvdb::math::Vec2d RangeMap::project(const openvdb::Vec3d& p) const {
   return sphericalPixel(mSpherical, mAzimuthPeriod, p);
 }
 
+inline double RangeMap::bilinearReading(std::size_t at, double fu, double fv) const {
+  const double r00 = mReadings[at], r10 = mReadings[at + 1];
+  const double r01 = mReadings[at + static_cast<std::size_t>(mWidth)];
+  const double r11 = mReadings[at + static_cast<std::size_t>(mWidth) + 1];
+  return (1 - fv) * ((1 - fu) * r00 + fu * r10) + fv * ((1 - fu) * r01 + fu * r11);
+}
+
 inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
                                   double& fv) const {
   if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
@@ -510,7 +526,7 @@ inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, dou
   const double r00 = mReadings[at], r10 = mReadings[at + 1];
   const double r01 = mReadings[at + static_cast<std::size_t>(mWidth)];
   const double r11 = mReadings[at + static_cast<std::size_t>(mWidth) + 1];
-  r = (1 - fv) * ((1 - fu) * r00 + fu * r10) + fv * ((1 - fu) * r01 + fu * r11);
+  r = bilinearReading(at, fu, fv);
   ru = (1 - fv) * (r10 - r00) + fv * (r11 - r01);
   rv = (1 - fu) * (r01 - r00) + fu * (r11 - r10);
   return true;
