@@ -35,7 +35,8 @@ struct RayGrid {
 std::vector<float> rangesAlong(const RayGrid& g, const std::function<double(const Vec3d&)>& rangeOf) {
   std::vector<float> ranges;
   for (int v = 0; v < g.rows; ++v)
-    for (int u = 0; u < g.columns; ++u) ranges.push_back(static_cast<float>(rangeOf(sphericalDirection(g.projection, u, v))));
+    for (int u = 0; u < g.columns; ++u)
+      ranges.push_back(static_cast<float>(rangeOf(sphericalDirection(g.projection, u, v))));
   return ranges;
 }
 
@@ -151,7 +152,8 @@ TEST(UsableCells, ABoxBeforeAWallIsNotInterpolatedAcrossItsEdges) {
   int across = 0;
   for (int j = 0; j + 1 < g.rows; ++j)
     for (int i = 0; i + 1 < g.columns; ++i) {
-      const int boxPixels = onTheBox(g, i, j) + onTheBox(g, i + 1, j) + onTheBox(g, i, j + 1) + onTheBox(g, i + 1, j + 1);
+      const int boxPixels =
+          onTheBox(g, i, j) + onTheBox(g, i + 1, j) + onTheBox(g, i, j + 1) + onTheBox(g, i + 1, j + 1);
       const bool straddles = boxPixels > 0 && boxPixels < 4;
       across += straddles;
       EXPECT_EQ(map.cellUsable(i, j), !straddles) << i << ", " << j;
