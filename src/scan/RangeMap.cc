@@ -110,23 +110,65 @@ void RangeMap::findUsableCells() {
     std::swap(above, below);
     sigmasOfRow(j + 1, below);
     for (int i = 0; i + 1 < mWidth; ++i) {
-      const std::size_t at = index(i, j);
-      const float r[4] = {mReadings[at], mReadings[at + 1], mReadings[at + static_cast<std::size_t>(mWidth)],
-                          mReadings[at + static_cast<std::size_t>(mWidth) + 1]};
-      if (!(r[0] == r[0] && r[1] == r[1] && r[2] == r[2] && r[3] == r[3])) continue;
-      const double lo = std::min(std::min(r[0], r[1]), std::min(r[2], r[3]));
-      const double hi = std::max(std::max(r[0], r[1]), std::max(r[2], r[3]));
-      // The distance between neighbouring rays at the readings, and the noise:
-      // two readings of one surface differ by sqrt(2) sigma typically.
-      const double spacing = mKind == Kind::kOrthographic ? mOrtho.pixelSize
-                             : mKind == Kind::kPinhole    ? hi / std::min(mPinhole.fx, mPinhole.fy)
-                                                          : hi * mAngularStep;
+      double r[4];
+      if (!cellReadings(i, j, r)) continue;
+      // Two readings of one surface differ by sqrt(2) sigma typically.
       const std::size_t u = static_cast<std::size_t>(i);
       const double sigma = std::max(std::max(above[u], above[u + 1]), std::max(below[u], below[u + 1]));
-      mUsableCell.set(at, hi - lo <= mJumpFactor * spacing + kJumpNoise * sigma);
+      mUsableCell.set(index(i, j), spansNoDiscontinuity(i, j, r, kJumpNoise * sigma));
     }
   }
-  mLargestStep = mJumpFactor * mOrtho.pixelSize + kJumpNoise * largestSigma;
+  mLargestStep = std::max(mJumpFactor, kSteepSlopeSpacings) * mOrtho.pixelSize + kJumpNoise * largestSigma;
+}
+
+bool RangeMap::cellReadings(int i, int j, double (&r)[4]) const {
+  if (i < 0 || j < 0 || i + 1 >= mWidth || j + 1 >= mHeight) return false;
+  const std::size_t at = index(i, j);
+  const float readings[4] = {mReadings[at], mReadings[at + 1], mReadings[at + static_cast<std::size_t>(mWidth)],
+                             mReadings[at + static_cast<std::size_t>(mWidth) + 1]};
+  for (int c = 0; c < 4; ++c) r[c] = readings[c];
+  return readings[0] == readings[0] && readings[1] == readings[1] && readings[2] == readings[2] &&
+         readings[3] == readings[3];
+}
+
+double RangeMap::raySpacingAt(double reading) const {
+  if (mKind == Kind::kOrthographic) return mOrtho.pixelSize;
+  if (mKind == Kind::kPinhole) return reading / std::min(mPinhole.fx, mPinhole.fy);
+  return reading * mAngularStep;
+}
+
+namespace {
+
+/// How much the readings of a cell (cellReadings' order) change from one
+/// column to the next, and from one row to the next: the larger of its two.
+double changeAlongColumns(const double (&r)[4]) { return std::max(std::fabs(r[1] - r[0]), std::fabs(r[3] - r[2])); }
+double changeAlongRows(const double (&r)[4]) { return std::max(std::fabs(r[2] - r[0]), std::fabs(r[3] - r[1])); }
+
+}  // namespace
+
+bool RangeMap::spansNoDiscontinuity(int i, int j, const double (&r)[4], double noise) const {
+  const double lo = std::min(std::min(r[0], r[1]), std::min(r[2], r[3]));
+  const double hi = std::max(std::max(r[0], r[1]), std::max(r[2], r[3]));
+  const double spacing = raySpacingAt(hi);
+  if (hi - lo <= mJumpFactor * spacing + noise) return true;
+  // Steeper than the factor allows: a surface seen at grazing incidence, if
+  // it changes as gradually as the cells beside it.
+  return hi - lo <= kSteepSlopeSpacings * spacing + noise && changesLikeItsNeighbours(i, j, r, noise);
+}
+
+bool RangeMap::changesLikeItsNeighbours(int i, int j, const double (&r)[4], double noise) const {
+  // The neighbours' smaller change on each axis (of those with readings): a
+  // step beside a steep surface changes far more than the cell on its other side.
+  const double none = std::numeric_limits<double>::infinity();
+  double alongColumns = none, alongRows = none;
+  double n[4];
+  if (cellReadings(i - 1, j, n)) alongColumns = std::min(alongColumns, changeAlongColumns(n));
+  if (cellReadings(i + 1, j, n)) alongColumns = std::min(alongColumns, changeAlongColumns(n));
+  if (cellReadings(i, j - 1, n)) alongRows = std::min(alongRows, changeAlongRows(n));
+  if (cellReadings(i, j + 1, n)) alongRows = std::min(alongRows, changeAlongRows(n));
+  if (alongColumns == none || alongRows == none) return false;
+  return changeAlongColumns(r) <= kSteepSlopeStepRatio * alongColumns + noise &&
+         changeAlongRows(r) <= kSteepSlopeStepRatio * alongRows + noise;
 }
 
 void RangeMap::setDiscontinuityFactor(double factor) {
@@ -477,9 +519,17 @@ bool RangeMap::mayBeSeenIn(const openvdb::BBoxd& box) const {
 
 RangeMap::Sight RangeMap::sightAtPixel(double u, double v, double along, double margin) const {
   if (!(u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1)) return Sight::kOutside;
-  // The four pixels around x must agree: near a depth discontinuity or a
-  // silhouette the nearest ray alone could pass either side of x.
   const int i = std::min(static_cast<int>(u), mWidth - 2), j = std::min(static_cast<int>(v), mHeight - 2);
+  // Where the data term interpolates, the reading it interpolates (Eq. 13's
+  // r_j(x)) decides: no point is left unknown between the window's reach and
+  // the carved space, where a surface seen at grazing incidence would settle
+  // inside.
+  if (mUsableCell[index(i, j)]) {
+    const double D = along - bilinearReading(index(i, j), u - i, v - j);
+    return D < -margin ? Sight::kEmpty : D > margin ? Sight::kBehind : Sight::kUnknown;
+  }
+  // Elsewhere the four pixels around x must agree: near a depth discontinuity
+  // or a silhouette the nearest ray alone could pass either side of x.
   const bool missesAreEmpty = !mMisses.empty();
   int empty = 0, behind = 0;
   for (int c = 0; c < 4; ++c) {

@@ -224,8 +224,24 @@ class RangeMap {
   /// A 2x2 cell whose readings differ by more than `factor` times the distance
   /// between its rays, plus six sigma of noise (four standard deviations of
   /// the difference of two readings), is a depth discontinuity: never
-  /// interpolated across. The factor is 4 by default.
+  /// interpolated across. The factor is 4 by default. A surface seen at
+  /// grazing incidence theta spreads a cell's readings over about tan(theta)
+  /// ray spacings (4 at 76 degrees), smoothly: a cell that spans more than
+  /// `factor` spacings is still interpolated when it spans at most
+  /// kSteepSlopeSpacings of them (plus the noise; about 85 degrees) and, along
+  /// each of the map's axes, its readings change by at most
+  /// kSteepSlopeStepRatio times the smaller change of the cells beside it on
+  /// that axis, plus the noise. A depth step stands out from its neighbours,
+  /// from the one on the far surface at least where the near one is steep (a
+  /// pillar's side at grazing incidence before a wall).
   void setDiscontinuityFactor(double factor);
+  /// The most ray spacings a cell on a steep smooth surface may span (see
+  /// setDiscontinuityFactor), on top of six sigma of noise.
+  static constexpr double kSteepSlopeSpacings = 12.0;
+  /// How many times the change of its neighbours along an axis the readings
+  /// of a cell on a steep smooth surface may change along it (see
+  /// setDiscontinuityFactor), on top of six sigma of noise.
+  static constexpr double kSteepSlopeStepRatio = 3.0;
 
   /// The reading on the line of sight through x, interpolated bilinearly
   /// between the four surrounding readings; false where one of them is missing
@@ -251,11 +267,17 @@ class RangeMap {
     kEmpty,    ///< the ray passed the point before its reading, or missed everything
     kBehind,   ///< the point lies behind the reading
   };
-  /// The sight of world point x from the four pixels around it: empty if x
-  /// lies in front of all their readings by more than `margin` (or a pixel
-  /// missed, where misses are empty, see below), behind if it lies behind all
-  /// four by more than `margin` (depths along the optical axis for a pinhole),
-  /// unknown where they disagree.
+  /// The sight of world point x from the four pixels around it. Where their
+  /// cell is usable (cellUsable), the reading interpolated there as the data
+  /// term interpolates it decides: empty if x lies in front of it by more
+  /// than `margin`, behind if behind it by more than `margin` (depths along
+  /// the optical axis for a pinhole), else unknown: with the data window's
+  /// reach for margin, every point of the line of sight that the data term
+  /// does not reach is either empty or behind. Elsewhere the four
+  /// must agree: empty if x lies in front of all their readings by more than
+  /// `margin` (or a pixel missed, where misses are empty, see below), behind
+  /// if it lies behind all four by more than `margin`, unknown where they
+  /// disagree.
   Sight sight(const openvdb::Vec3d& x, double margin) const;
   /// False only where sight() says kOutside at every point of the world box
   /// `box`, whatever the readings: the box lies behind the camera, or beside
@@ -309,7 +331,8 @@ class RangeMap {
     return true;
   }
   /// Whether cell (i, j), between pixels i to i + 1 and j to j + 1, is usable:
-  /// its four readings are valid and span no depth discontinuity.
+  /// its four readings are valid and span no depth discontinuity
+  /// (setDiscontinuityFactor says which do).
   bool cellUsable(int i, int j) const { return mUsableCell[index(i, j)]; }
   /// The readings a station's surface extended beyond its last rays may give
   /// in cell (i, j), which is not usable (sample's edge extension): false if
@@ -416,6 +439,23 @@ class RangeMap {
   double medianReading() const;
   /// Marks the 2x2 cells of readings that may be interpolated.
   void findUsableCells();
+  /// The readings of cell (i, j), at pixels (i, j), (i + 1, j), (i, j + 1) and
+  /// (i + 1, j + 1); false unless the cell lies in the map and all four are valid.
+  bool cellReadings(int i, int j, double (&r)[4]) const;
+  /// The distance between neighbouring rays at a reading (world units).
+  double raySpacingAt(double reading) const;
+  /// Whether cell (i, j), whose readings `r` are valid and may differ by
+  /// `noise` on top of the surface's own change, spans no depth
+  /// discontinuity (the rule setDiscontinuityFactor states).
+  bool spansNoDiscontinuity(int i, int j, const double (&r)[4], double noise) const;
+  /// Whether the readings of cell (i, j) change along each axis by at most
+  /// kSteepSlopeStepRatio times the smaller change of its neighbours on that
+  /// axis (those with readings; none: false), plus `noise`: the cell lies on
+  /// a smooth surface, however steep.
+  bool changesLikeItsNeighbours(int i, int j, const double (&r)[4], double noise) const;
+  /// The reading interpolated bilinearly at fraction (fu, fv) of the cell
+  /// whose first pixel is `at` (Eq. 13's r_j(x)).
+  double bilinearReading(std::size_t at, double fu, double fv) const;
   /// Works out mBlockMin, mBlockMax and mBlockComplete from the readings.
   void findBlockBounds();
   /// A camera's or parallel rays' point in the map's frame (pointAt) from
@@ -456,8 +496,8 @@ class RangeMap {
   std::string mName;
   std::vector<float> mReadings;  ///< NaN where there is no reading
   /// Per cell (i, j) between pixels i..i+1, j..j+1: true if its four readings
-  /// are valid and span no depth discontinuity (indexed like the pixels; a bit
-  /// per cell).
+  /// are valid and span no depth discontinuity (spansNoDiscontinuity; indexed
+  /// like the pixels; a bit per cell).
   PixelFlags mUsableCell;
   std::vector<openvdb::Vec3f> mDirections;
   std::vector<float> mSigmas;
@@ -476,7 +516,9 @@ class RangeMap {
   double mSigma = 0.0;
   double mJumpFactor = 4.0;
   static constexpr double kJumpNoise = 6.0;  ///< sigmas of noise a cell may span on top
-  double mLargestStep = 0.0;  ///< the most a usable cell's readings differ (parallel rays)
+  /// The most a usable cell's readings may differ (parallel rays): the
+  /// larger of mJumpFactor and kSteepSlopeSpacings pixels, plus the noise.
+  double mLargestStep = 0.0;
   OrthographicProjection mOrtho;
   double mInversePixel = 1.0;  ///< 1 / pixel size (orthographic)
   double mRayDensity = 1.0;    ///< gamma of an orthographic map: rays per unit area (1 / pixel size^2 by default)
@@ -499,6 +541,13 @@ inline openvdb::math::Vec2d RangeMap::project(const openvdb::Vec3d& p) const {
   return sphericalPixel(mSpherical, mAzimuthPeriod, p);
 }
 
+inline double RangeMap::bilinearReading(std::size_t at, double fu, double fv) const {
+  const double r00 = mReadings[at], r10 = mReadings[at + 1];
+  const double r01 = mReadings[at + static_cast<std::size_t>(mWidth)];
+  const double r11 = mReadings[at + static_cast<std::size_t>(mWidth) + 1];
+  return (1 - fv) * ((1 - fu) * r00 + fu * r10) + fv * ((1 - fu) * r01 + fu * r11);
+}
+
 inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
                                   double& fv) const {
   if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
@@ -513,7 +562,7 @@ inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, dou
   const double r00 = mReadings[at], r10 = mReadings[at + 1];
   const double r01 = mReadings[at + static_cast<std::size_t>(mWidth)];
   const double r11 = mReadings[at + static_cast<std::size_t>(mWidth) + 1];
-  r = (1 - fv) * ((1 - fu) * r00 + fu * r10) + fv * ((1 - fu) * r01 + fu * r11);
+  r = bilinearReading(at, fu, fv);
   ru = (1 - fv) * (r10 - r00) + fv * (r11 - r01);
   rv = (1 - fu) * (r01 - r00) + fu * (r11 - r10);
   return true;
