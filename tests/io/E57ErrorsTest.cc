@@ -178,8 +178,9 @@ TEST_P(E57Errors, AreRefusedNamingTheFileAndTheProblem) {
   EXPECT_LE(largest.bytes(), std::size_t(16) << 20);
 }
 
-INSTANTIATE_TEST_SUITE_P(Files, E57Errors, ::testing::ValuesIn(kDamaged),
-                         [](const ::testing::TestParamInfo<DamagedFile>& info) { return std::string(info.param.name); });
+std::string damageName(const ::testing::TestParamInfo<DamagedFile>& damaged) { return damaged.param.name; }
+
+INSTANTIATE_TEST_SUITE_P(Files, E57Errors, ::testing::ValuesIn(kDamaged), damageName);
 
 TEST(E57Errors, TheUndamagedFileReads) {
   test::TempDir dir;
