@@ -65,6 +65,11 @@ struct Return {
   Rgb8 colour;
 };
 
+/// An intensity as a float: beyond a float's range, or not a number, 0.
+float intensityOf(double value) {
+  return std::fabs(value) <= static_cast<double>(std::numeric_limits<float>::max()) ? static_cast<float>(value) : 0.0f;
+}
+
 /// Decodes the records of one scan.
 class RecordDecoder {
  public:
@@ -83,7 +88,7 @@ class RecordDecoder {
     if (!std::isfinite(r.point.x()) || !std::isfinite(r.point.y()) || !std::isfinite(r.point.z()) ||
         r.point == Vec3d(0.0))
       return std::nullopt;
-    if (mPlaces.intensity) r.intensity = static_cast<float>(value(mPlaces.intensity, record));
+    if (mPlaces.intensity) r.intensity = intensityOf(value(mPlaces.intensity, record));
     if (mPlaces.coloured())
       r.colour = Rgb8{channel(mPlaces.red, 0, record), channel(mPlaces.green, 1, record), channel(mPlaces.blue, 2, record)};
     return r;

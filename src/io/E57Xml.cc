@@ -191,12 +191,21 @@ openvdb::math::Mat4d poseOf(const pugi::xml_node& scanNode, const ScanContext& s
   return m;
 }
 
+/// A grid index the indexBounds give, a whole number of at most 2^40 either way.
+std::int64_t indexOf(double value, const char* name, const ScanContext& scan) {
+  constexpr double kLargestIndex = 1099511627776.0;
+  if (!(std::fabs(value) <= kLargestIndex) || value != std::floor(value))
+    scan.fail(std::string("its indexBounds give ") + name + " " + std::to_string(value) +
+              ", not a whole number within 2^40");
+  return static_cast<std::int64_t>(value);
+}
+
 std::optional<E57IndexRange> indexRangeOf(const pugi::xml_node& bounds, const char* minimum, const char* maximum,
                                           const ScanContext& scan) {
   if (!bounds || !bounds.child(maximum)) return std::nullopt;
   E57IndexRange range;
-  range.minimum = static_cast<std::int64_t>(numberOrDefault(bounds, minimum, 0.0, scan));
-  range.maximum = static_cast<std::int64_t>(numberOrDefault(bounds, maximum, 0.0, scan));
+  range.minimum = indexOf(numberOrDefault(bounds, minimum, 0.0, scan), minimum, scan);
+  range.maximum = indexOf(numberOrDefault(bounds, maximum, 0.0, scan), maximum, scan);
   if (range.minimum > range.maximum)
     scan.fail(std::string("its indexBounds give ") + minimum + " " + std::to_string(range.minimum) + " above " +
               maximum + " " + std::to_string(range.maximum));

@@ -157,6 +157,14 @@ const DamagedFile kDamaged[] = {
      [](const std::string& p) { writeWith(p, [](E57ScanSpec& s) { s.indexBounds = std::array<long long, 4>{0, 99999, 0, 99999}; }); },
      "scan 1 ('hall'): a grid of rows 0 to 99999 and columns 0 to 99999 has 10000000000 cells for 384 records, more "
      "than 16 per record: its indexBounds or indices are not the scanner's grid"},
+    {"index_bounds_beyond_any_grid",
+     [](const std::string& p) {
+       writeWith(p, {}, [](std::string& x) {
+         replaceIn(x, "<rowMaximum type=\"Integer\">15</rowMaximum>", "<rowMaximum type=\"Float\">1e30</rowMaximum>");
+       });
+     },
+     "scan 1 ('hall'): its indexBounds give rowMaximum 1000000000000000019884624838656.000000, not a whole number "
+     "within 2^40"},
     {"no_returns",
      [](const std::string& p) {
        writeWith(p, [](E57ScanSpec& s) { s.fields.back().values.assign(s.fields.back().values.size(), 2.0); });
