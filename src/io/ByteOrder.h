@@ -1,6 +1,6 @@
 // levelfuse: the byte order of files against the machine's (private to the
 // readers and writers). Each file format fixes its order (PLY and PFM say it
-// in their headers, KITTI and EXR are little-endian, PNG big-endian); values
+// in their headers, KITTI, EXR and E57 are little-endian, PNG and E57's page checksums big-endian); values
 // are turned into the machine's order here and nowhere else.
 #pragma once
 
@@ -34,6 +34,12 @@ inline void toFileOrder(unsigned char* bytes, std::size_t count, bool littleEndi
 inline std::uint32_t littleEndian32(const unsigned char* bytes) {
   return std::uint32_t(bytes[0]) | std::uint32_t(bytes[1]) << 8 | std::uint32_t(bytes[2]) << 16 |
          std::uint32_t(bytes[3]) << 24;
+}
+
+/// The unsigned 32-bit value stored big-endian at `bytes`.
+inline std::uint32_t bigEndian32(const unsigned char* bytes) {
+  return std::uint32_t(bytes[0]) << 24 | std::uint32_t(bytes[1]) << 16 | std::uint32_t(bytes[2]) << 8 |
+         std::uint32_t(bytes[3]);
 }
 
 /// The unsigned value of `count` bytes (at most 8) stored little-endian at `bytes`.

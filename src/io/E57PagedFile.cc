@@ -22,11 +22,6 @@ constexpr std::size_t kSignatureBytes = 8;
 constexpr std::size_t kHeaderBytes = 48;
 constexpr std::uint64_t kNoPage = std::numeric_limits<std::uint64_t>::max();
 
-std::uint32_t bigEndian32(const unsigned char* bytes) {
-  return std::uint32_t(bytes[0]) << 24 | std::uint32_t(bytes[1]) << 16 | std::uint32_t(bytes[2]) << 8 |
-         std::uint32_t(bytes[3]);
-}
-
 /// The file's size, a positive whole number of pages.
 std::uint64_t pagedSize(const std::string& path) {
   std::error_code ec;
@@ -124,7 +119,7 @@ void E57PagedFile::loadPage(std::uint64_t page) {
       std::fread(mPage.data(), 1, kE57PageBytes, mFile.get()) != kE57PageBytes)
     throw InputError(mPath, "cannot read page " + std::to_string(page) + " (an input/output error, or the file "
                                                                         "shrank while it was read)");
-  const std::uint32_t stored = bigEndian32(mPage.data() + kE57PageDataBytes);
+  const std::uint32_t stored = detail::bigEndian32(mPage.data() + kE57PageDataBytes);
   const std::uint32_t computed = detail::crc32c(mPage.data(), kE57PageDataBytes);
 #ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
   const bool checked = false;  // the fuzzers reach past the checksums, as is customary

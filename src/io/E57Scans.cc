@@ -36,11 +36,6 @@ constexpr double kBytesPerCell = 48.0;
 constexpr double kMaxCellsPerRecord = 16.0;
 constexpr double kSpareCells = 1024.0;
 
-/// "scan 1 ('pumpA')", for messages.
-std::string describeE57Scan(int index, const std::string& name) {
-  return "scan " + std::to_string(index) + (name.empty() ? "" : " (" + quote(name) + ")");
-}
-
 /// Where each field levelfuse reads sits among a scan's fields.
 struct FieldPlaces {
   explicit FieldPlaces(const E57PointRecords& r)
@@ -273,8 +268,7 @@ std::vector<RangeMap> loadE57Scans(const std::string& path, const ScanLoadOption
       path,
       [&](E57Scan&& scan) {
         const std::string name = scan.name.empty() ? stem + " scan " + std::to_string(scan.index) : scan.name;
-        scans.offer(rangeMapFromE57Scan(scan, options.stationSigma, path, name));
-        reportLoaded(options.progress, scans.delivered(), scans.delivered());
+        scans.offerAsRead(rangeMapFromE57Scan(scan, options.stationSigma, path, name), options.progress);
       },
       options.interrupter);
   return scans.kept();

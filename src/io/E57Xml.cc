@@ -3,6 +3,7 @@
 #include "E57Xml.h"
 
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/TextRecords.h>
 
 #include <pugixml.hpp>
 
@@ -22,8 +23,11 @@ using Type = E57Field::Type;
 class ScanContext {
  public:
   ScanContext(const std::string& path, std::size_t index, const std::string& name)
-      : mPath(path), mWho("scan " + std::to_string(index + 1) + (name.empty() ? "" : " (" + quote(name) + ")")) {}
+      : mPath(path), mWho(describeE57Scan(static_cast<int>(index + 1), name)) {}
   [[noreturn]] void fail(const std::string& problem) const { throw InputError(mPath, mWho + ": " + problem); }
+  const std::string& path() const { return mPath; }
+  /// "scan 1 ('pumpA'): ", the start of a message about it.
+  std::string at() const { return mWho + ": "; }
 
  private:
   const std::string& mPath;
@@ -62,11 +66,7 @@ std::uint64_t countOf(const char* text, const std::string& what, const ScanConte
 
 double realOf(const char* text, const std::string& what, const ScanContext& scan) {
   const std::string s = trimmed(text);
-  if (s.empty()) return 0.0;
-  char* end = nullptr;
-  const double value = std::strtod(s.c_str(), &end);
-  if (end != s.c_str() + s.size() || !std::isfinite(value)) scan.fail(what + " is " + quote(s) + ", not a finite number");
-  return value;
+  return s.empty() ? 0.0 : finiteNumber(s, scan.path(), scan.at() + what + ": ");
 }
 
 std::string typeOf(const pugi::xml_node& node) { return node.attribute("type").value(); }
@@ -161,6 +161,10 @@ E57PointRecords pointsOf(const pugi::xml_node& scanNode, const ScanContext& scan
   return r;
 }
 
+/// How far from 1 the norm of a pose's quaternion may be (values written to a
+/// few digits).
+constexpr double kQuaternionTolerance = 1e-3;
+
 /// The scan's pose: world = R x + t with R the unit quaternion `rotation`.
 openvdb::math::Mat4d poseOf(const pugi::xml_node& scanNode, const ScanContext& scan) {
   const pugi::xml_node pose = scanNode.child("pose");
@@ -173,22 +177,10 @@ openvdb::math::Mat4d poseOf(const pugi::xml_node& scanNode, const ScanContext& s
     y = numberOrDefault(rotation, "y", 0.0, scan);
     z = numberOrDefault(rotation, "z", 0.0, scan);
   }
-  const double norm = std::sqrt(w * w + x * x + y * y + z * z);
-  if (!(std::fabs(norm - 1.0) <= 1e-3))
-    scan.fail("its pose's rotation has a quaternion of norm " + std::to_string(norm) +
-              ": a rotation needs a unit quaternion");
-  w /= norm, x /= norm, y /= norm, z /= norm;
-  const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
-                          {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
-                          {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
-  openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) m[i][j] = r[j][i];  // row-vector layout: row i is the scan's axis i
-  if (translation)
-    m.setTranslation(openvdb::math::Vec3d(numberOrDefault(translation, "x", 0.0, scan),
-                                    numberOrDefault(translation, "y", 0.0, scan),
-                                    numberOrDefault(translation, "z", 0.0, scan)));
-  return m;
+  const openvdb::math::Vec3d t(numberOrDefault(translation, "x", 0.0, scan), numberOrDefault(translation, "y", 0.0, scan),
+                               numberOrDefault(translation, "z", 0.0, scan));
+  return rigidMotion(unitQuaternion(x, y, z, w, scan.path(), scan.at() + "its pose's rotation: ", kQuaternionTolerance),
+                     t);
 }
 
 /// A grid index the indexBounds give, a whole number of at most 2^40 either way.
@@ -228,6 +220,10 @@ void colourRangesOf(const pugi::xml_node& scanNode, E57ColourRange (&ranges)[3],
 }
 
 }  // namespace
+
+std::string describeE57Scan(int index, const std::string& name) {
+  return "scan " + std::to_string(index) + (name.empty() ? "" : " (" + quote(name) + ")");
+}
 
 int E57Field::bits() const {
   if (type == Type::kFloat) return doublePrecision ? 64 : 32;

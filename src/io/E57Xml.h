@@ -56,6 +56,10 @@ struct E57ScanXml {
   E57PointRecords points;
 };
 
+/// How messages name a file's scan: "scan 1 ('pumpA')" (`index` from 1), or
+/// "scan 1" for one without a name.
+std::string describeE57Scan(int index, const std::string& name);
+
 /// The 3D scans the XML section `xml` of the E57 file `path` describes.
 /// Throws InputError naming the file for XML that does not parse, no
 /// `e57Root` or no `data3D` scans, a scan without `points` or whose points

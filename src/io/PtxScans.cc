@@ -34,8 +34,9 @@ std::vector<RangeMap> loadPtxScans(const std::string& path, const ScanLoadOption
   readPtxScans(
       path,
       [&](PtxScan&& scan) {
-        scans.offer(rangeMapFromPtxScan(scan, options.stationSigma, path, stem + " scan " + std::to_string(scan.index)));
-        reportLoaded(options.progress, scans.delivered(), scans.delivered());
+        scans.offerAsRead(
+            rangeMapFromPtxScan(scan, options.stationSigma, path, stem + " scan " + std::to_string(scan.index)),
+            options.progress);
       },
       options.interrupter);
   return scans.kept();

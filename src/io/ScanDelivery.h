@@ -20,6 +20,12 @@ class ScanDelivery {
   void offer(RangeMap&& map) {
     if (!mWanted || mWanted(mOffered++)) deliver(std::move(map));
   }
+  /// Offers `map`, the next scan of a file that does not say how many it
+  /// holds, and tells `progress` (k, k) after the k-th delivered.
+  void offerAsRead(RangeMap&& map, const LoadProgress& progress) {
+    offer(std::move(map));
+    reportLoaded(progress, mDelivered, mDelivered);
+  }
   /// Hands `map` over, or keeps it: a scan already found wanted.
   void deliver(RangeMap&& map) {
     ++mDelivered;

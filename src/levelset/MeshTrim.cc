@@ -3,9 +3,10 @@
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/levelset/MeshTrim.h>
 
+#include <levelfuse/levelset/detail/VoxelsWhere.h>
+
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/Morphology.h>
-#include <openvdb/tree/LeafManager.h>
 
 #include <cmath>
 #include <cstdint>
@@ -64,16 +65,10 @@ TriangleMesh trimMesh(const TriangleMesh& mesh, const openvdb::FloatGrid& weight
 }
 
 openvdb::BoolGrid::Ptr voxelsToMesh(const openvdb::FloatGrid& weight, double minWeight) {
-  auto mask = openvdb::BoolGrid::create(false);
-  mask->setTransform(weight.transform().copy());
-  mask->tree().topologyUnion(weight.tree());
   const float threshold = static_cast<float>(minWeight);
-  openvdb::tree::LeafManager<openvdb::BoolTree> leaves(mask->tree());
-  leaves.foreach([&](openvdb::BoolTree::LeafNodeType& leaf, std::size_t) {
-    const openvdb::FloatTree::LeafNodeType* w = weight.tree().probeConstLeaf(leaf.origin());
-    for (auto it = leaf.beginValueOn(); it; ++it)
-      if (!w || !(w->getValue(it.pos()) >= threshold)) leaf.setValueOff(it.pos());
-  });
+  auto mask = openvdb::BoolGrid::create(std::make_shared<openvdb::BoolTree>(
+      detail::voxelsWhere<openvdb::BoolTree>(weight.tree(), [&](float w) { return w >= threshold; })));
+  mask->setTransform(weight.transform().copy());
   // A cell is named by its lowest corner: the voxels one step below a
   // corner that is seen name cells it is a corner of.
   openvdb::tools::dilateActiveValues(mask->tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX);

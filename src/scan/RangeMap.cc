@@ -323,18 +323,24 @@ void RangeMap::setColours(std::vector<Rgb8> colours) {
   mColours = std::move(colours);
 }
 
+template <typename Visit>
+void RangeMap::forEachUsableCellAt(int u, int v, const Visit& visit) const {
+  for (int a = u - 1; a <= u; ++a)
+    for (int b = v - 1; b <= v; ++b)
+      if (a >= 0 && b >= 0 && a + 1 < mWidth && b + 1 < mHeight && mUsableCell[index(a, b)]) visit(a, b);
+}
+
 bool RangeMap::extendableCorner(int u, int v) const {
   const float reading = mReadings[index(u, v)];
   if (!(reading == reading)) return false;
-  for (int a = u - 1; a <= u; ++a)
-    for (int b = v - 1; b <= v; ++b)
-      if (a >= 0 && b >= 0 && a + 1 < mWidth && b + 1 < mHeight && mUsableCell[index(a, b)]) return true;
-  return false;
+  bool corner = false;
+  forEachUsableCellAt(u, v, [&](int, int) { corner = true; });
+  return corner;
 }
 
 double RangeMap::edgeExtensionReach(double reading) const {
   // Half a pixel along each direction at the steepest slope.
-  return mKind == Kind::kSpherical ? kSteepestEdgeSlope * reading * mAngularStep : 0.0;
+  return mKind == Kind::kSpherical ? kSteepestEdgeSlope * raySpacingAt(reading) : 0.0;
 }
 
 bool RangeMap::edgeReadings(int i, int j, float& lo, float& hi) const {
@@ -360,16 +366,14 @@ bool RangeMap::extendEdge(int i, int j, double& fu, double& fv, double& r, doubl
   // edges that meet at it.
   double slopeU = 0.0, slopeV = 0.0;
   int cells = 0;
-  for (int a = pu - 1; a <= pu; ++a)
-    for (int b = pv - 1; b <= pv; ++b) {
-      if (a < 0 || b < 0 || a + 1 >= mWidth || b + 1 >= mHeight || !mUsableCell[index(a, b)]) continue;
-      slopeU += mReadings[index(a + 1, pv)] - mReadings[index(a, pv)];
-      slopeV += mReadings[index(pu, b + 1)] - mReadings[index(pu, b)];
-      ++cells;
-    }
+  forEachUsableCellAt(pu, pv, [&](int a, int b) {
+    slopeU += mReadings[index(a + 1, pv)] - mReadings[index(a, pv)];
+    slopeV += mReadings[index(pu, b + 1)] - mReadings[index(pu, b)];
+    ++cells;
+  });
   // Near a convex object's limb the ranges fall away without bound: the half
   // pixel beyond the last ray follows the surface no steeper than this.
-  const double steepest = kSteepestEdgeSlope * reading * mAngularStep;
+  const double steepest = kSteepestEdgeSlope * raySpacingAt(reading);
   ru = std::clamp(slopeU / cells, -steepest, steepest);
   rv = std::clamp(slopeV / cells, -steepest, steepest);
   r = reading + ru * (fu - cornerU) + rv * (fv - cornerV);

@@ -179,9 +179,13 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
   const double elevationPhase =
       unevenRows ? 0.0 : phaseOf(directions, [](const BinnedPoint& d) { return d.elevation; }, steps.elevation);
   const auto nearest = [](double x) { return static_cast<long>(std::floor(x + 0.5)); };
-  const auto rowOf = [&](const BinnedPoint& d) {
-    return nearest(unevenRows ? rowOfElevation(rowsGiven, d.elevation)
-                              : (d.elevation - elevationPhase) / steps.elevation);
+  // A point's fractional row, its row, and how far it lies from that row's centre.
+  const auto rowPositionOf = [&](const BinnedPoint& d) {
+    return unevenRows ? rowOfElevation(rowsGiven, d.elevation) : (d.elevation - elevationPhase) / steps.elevation;
+  };
+  const auto rowOf = [&](const BinnedPoint& d) { return nearest(rowPositionOf(d)); };
+  const auto offsetOf = [&](double position) {
+    return static_cast<float>(position - static_cast<double>(nearest(position)));
   };
 
   // The sweep's columns, counted from its first by each point's azimuth from
@@ -205,17 +209,11 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
   // The first column on the points' phase, at most half a step from the first point.
   const double startTurn =
       turnPhase + steps.azimuth * static_cast<double>(nearest((firstTurn - turnPhase) / steps.azimuth));
+  // A point's fractional column from the first, and its column.
+  const auto columnPositionOf = [&](const BinnedPoint& d) { return (turnOf(d) - startTurn) / steps.azimuth; };
   const auto columnOf = [&](const BinnedPoint& d) {
-    const long u = nearest((turnOf(d) - startTurn) / steps.azimuth);
+    const long u = nearest(columnPositionOf(d));
     return turn.closed ? ((u % wholeColumns) + wholeColumns) % wholeColumns : std::max(0L, u);
-  };
-  const auto columnOffsetOf = [&](const BinnedPoint& d) {
-    const double u = (turnOf(d) - startTurn) / steps.azimuth;
-    return static_cast<float>(u - static_cast<double>(nearest(u)));
-  };
-  const auto rowOffsetOf = [&](const BinnedPoint& d) {
-    const double v = unevenRows ? rowOfElevation(rowsGiven, d.elevation) : (d.elevation - elevationPhase) / steps.elevation;
-    return static_cast<float>(v - static_cast<double>(nearest(v)));
   };
   long lastColumn = 0;
   for (const BinnedPoint& d : directions) lastColumn = std::max(lastColumn, columnOf(d));
@@ -250,8 +248,8 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
     const std::size_t at = static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u);
     if (scan.ranges[at] <= d.range) continue;  // the nearest point of a pixel
     scan.ranges[at] = d.range;
-    scan.columnOffsets[at] = columnOffsetOf(d);
-    scan.rowOffsets[at] = rowOffsetOf(d);
+    scan.columnOffsets[at] = offsetOf(columnPositionOf(d));
+    scan.rowOffsets[at] = offsetOf(rowPositionOf(d));
     if (!colours.empty()) scan.colours[at] = colours[d.point];
   }
   centreReadingsOnPixels(scan);

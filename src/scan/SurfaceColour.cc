@@ -3,13 +3,13 @@
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/levelset/VoxelNormals.h>
+#include <levelfuse/levelset/detail/VoxelsWhere.h>
 #include <levelfuse/scan/SurfaceColour.h>
 
 #include "LeavesReached.h"
 #include "ReadingWeight.h"
 #include "TrilinearCorners.h"
 
-#include <openvdb/tools/Prune.h>
 #include <openvdb/tree/LeafManager.h>
 
 #include <algorithm>
@@ -67,16 +67,8 @@ struct LeafColouring {
 /// The voxels of the level set's band within kColouredHalfWidth voxels of
 /// its zero set, a bit each; leaves without one are pruned.
 openvdb::MaskTree colouredVoxels(const openvdb::FloatGrid& levelSet) {
-  openvdb::MaskTree near(levelSet.tree(), false, openvdb::TopologyCopy());
   const float halfWidth = static_cast<float>(kColouredHalfWidth * levelSet.voxelSize()[0]);
-  openvdb::tree::LeafManager<openvdb::MaskTree> leaves(near);
-  leaves.foreach([&](openvdb::MaskTree::LeafNodeType& leaf, std::size_t) {
-    const openvdb::FloatTree::LeafNodeType* phi = levelSet.tree().probeConstLeaf(leaf.origin());
-    for (auto it = leaf.beginValueOn(); it; ++it)
-      if (!phi || std::fabs(phi->getValue(it.pos())) > halfWidth) leaf.setValueOff(it.pos());
-  });
-  openvdb::tools::pruneInactive(near);
-  return near;
+  return detail::voxelsWhere<openvdb::MaskTree>(levelSet.tree(), [&](float phi) { return std::fabs(phi) <= halfWidth; });
 }
 
 /// The steps of a leaf's coloured voxels.

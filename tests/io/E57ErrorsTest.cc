@@ -149,7 +149,7 @@ const DamagedFile kDamaged[] = {
      "its points have neither cartesianX, Y and Z nor sphericalRange, Azimuth and Elevation"},
     {"a_rotation_that_is_not_a_unit_quaternion",
      [](const std::string& p) { writeWith(p, [](E57ScanSpec& s) { s.rotation = std::array<double, 4>{2.0, 0.0, 0.0, 0.0}; }); },
-     "its pose's rotation has a quaternion of norm 2.000000: a rotation needs a unit quaternion"},
+     "scan 1 ('hall'): its pose's rotation: the quaternion has norm 2.000000, not 1: not a rotation"},
     {"an_index_outside_the_bounds",
      [](const std::string& p) { writeWith(p, [](E57ScanSpec& s) { s.indexBounds = std::array<long long, 4>{0, 9, 0, 23}; }); },
      "scan 1 ('hall'): record 10 has row 10 and column 0, outside its grid's rows 0 to 9 and columns 0 to 23"},

@@ -485,6 +485,9 @@ class RangeMap {
   /// Whether pixel (u, v) has a reading and is a corner of a usable cell:
   /// one an edge's surface may be extended from.
   bool extendableCorner(int u, int v) const;
+  /// Calls visit(i, j) for each usable cell (i, j) that pixel (u, v) is a corner of.
+  template <typename Visit>
+  void forEachUsableCellAt(int u, int v, const Visit& visit) const;
 
   static constexpr int kBlock = 8;  ///< pixels per side of a block of reading bounds
   int mBlocksX = 0, mBlocksY = 0;
