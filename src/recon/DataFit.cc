@@ -5,7 +5,8 @@
 #include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/recon/DataFit.h>
 
-#include <openvdb/tools/VolumeToSpheres.h>
+#include "ZeroSetDistance.h"
+
 
 #include <algorithm>
 #include <cmath>
@@ -160,23 +161,19 @@ DataFit measureDataFit(const openvdb::FloatGrid& levelSet, const std::vector<ope
       if (std::fabs(psi.value) <= 1e-3 * voxel) distance[i] = (x - start).length() * voxel;
     }
   });
-  // Readings beyond the band: the distance to the nearest point of the zero
-  // set's mesh (its vertices lie on the zero set about a voxel apart, so the
-  // distance is at most a few hundredths of a voxel too long this far out).
-  std::vector<openvdb::Vec3R> farPoints;
+  // Readings beyond the band: the distance to the zero set's mesh, made
+  // only around them.
+  std::vector<openvdb::Vec3d> farPoints;
   std::vector<std::size_t> farIndices;
   for (std::size_t i = 0; i < points.size(); ++i)
     if (beyond[i]) {
       farPoints.push_back(points[i]);
       farIndices.push_back(i);
     }
-  if (!farPoints.empty()) {
-    std::vector<float> farDistances;
-    const auto surface = openvdb::tools::ClosestSurfacePoint<openvdb::FloatGrid>::create(levelSet);
-    if (surface && surface->search(farPoints, farDistances))
-      for (std::size_t k = 0; k < farIndices.size(); ++k)
-        distance[farIndices[k]] = std::max<double>(distance[farIndices[k]], farDistances[k]);
-  }
+  const std::vector<double> farDistances = detail::distancesToZeroSet(levelSet, farPoints);
+  for (std::size_t k = 0; k < farIndices.size(); ++k)
+    if (std::isfinite(farDistances[k]))
+      distance[farIndices[k]] = std::max(distance[farIndices[k]], farDistances[k]);
   return summarise(std::move(distance), &beyond, voxel);
 }
 

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <vector>
 
 namespace levelfuse {
 
@@ -16,26 +17,32 @@ namespace {
 using openvdb::Coord;
 using openvdb::Vec3d;
 
-/// Per active voxel of the band: the facing readings (Eq. 37) at the voxel for
-/// the level set's outward normal there.
+/// Per leaf of the band: the facing readings (Eq. 37) at each active voxel
+/// for the level set's outward normal there, as a leaf with the band leaf's
+/// active voxels, or none when no reading faces any of them (most of a
+/// scene's unseen faces, which space carving closed).
 template <typename Data>
 struct FacingWeightOp {
   const openvdb::FloatGrid* levelSet;
   const Data* data;
   VoxelNormals normals;
+  std::vector<std::unique_ptr<openvdb::FloatTree::LeafNodeType>>* weighed;  ///< per leaf of the band
   const ParallelInterrupt* interrupt;
 
-  void operator()(openvdb::FloatTree::LeafNodeType& leaf, std::size_t) const {
+  void operator()(const openvdb::FloatTree::LeafNodeType& band, std::size_t n) const {
     if (interrupt->stop()) return;
     openvdb::FloatGrid::ConstAccessor phi = levelSet->getConstAccessor();
-    for (auto it = leaf.beginValueOn(); it; ++it) {
+    auto leaf = std::make_unique<openvdb::FloatTree::LeafNodeType>(band, 0.0f, openvdb::TopologyCopy());
+    bool faced = false;
+    for (auto it = leaf->beginValueOn(); it; ++it) {
       const Coord ijk = it.getCoord();
       Vec3d normal;
-      float value = 0.0f;
-      if (normals.at(phi, ijk, normal))
-        value = static_cast<float>(data->facingTerms(levelSet->indexToWorld(ijk), normal).readings);
+      if (!normals.at(phi, ijk, normal)) continue;
+      const auto value = static_cast<float>(data->facingTerms(levelSet->indexToWorld(ijk), normal).readings);
       it.setValue(value);
+      faced = faced || value > 0.0f;
     }
+    if (faced) (*weighed)[n] = std::move(leaf);
   }
 };
 
@@ -43,17 +50,18 @@ template <typename Data>
 openvdb::FloatGrid::Ptr facingWeight(const openvdb::FloatGrid& levelSet, const Data& data,
                                      const Interrupter& interrupter) {
   requireLevelSet(levelSet, "surfaceWeight");
+  const ParallelInterrupt interrupt(interrupter);
+  openvdb::tree::LeafManager<const openvdb::FloatTree> band(levelSet.tree());
+  std::vector<std::unique_ptr<openvdb::FloatTree::LeafNodeType>> weighed(band.leafCount());
+  band.foreach(FacingWeightOp<Data>{&levelSet, &data, VoxelNormals(levelSet), &weighed, &interrupt});
+  interrupt.throwIfStopped();
+
   auto weight = openvdb::FloatGrid::create(0.0f);
   weight->setTransform(levelSet.transform().copy());
-  weight->setTree(std::make_shared<openvdb::FloatTree>(levelSet.tree(), 0.0f, openvdb::TopologyCopy()));
+  for (auto& leaf : weighed)
+    if (leaf) weight->tree().addLeaf(leaf.release());
   weight->setName(kWeightGridName);
   weight->setGridClass(openvdb::GRID_UNKNOWN);
-
-  const ParallelInterrupt interrupt(interrupter);
-  FacingWeightOp<Data> op{&levelSet, &data, VoxelNormals(levelSet), &interrupt};
-  openvdb::tree::LeafManager<openvdb::FloatTree> leaves(weight->tree());
-  leaves.foreach(op);
-  interrupt.throwIfStopped();
 
   weight->insertMeta("levelfuse_surface", openvdb::StringMetadata(levelSet.getName()));
   weight->insertMeta("levelfuse_units", openvdb::StringMetadata("readings"));

@@ -385,14 +385,15 @@ SparseField linearSolutionField(AccumulatedField field, const RangeMapSequence& 
                                 LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
   if (field.g->tree().leafCount() == 0)
     throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
-  return SparseField::fromLevelSet(*linearSolutionGrid(std::move(field), maps, margin, band, interrupter, nullptr),
+  // The grid is let go once the field has read it.
+  return SparseField::fromLevelSet(linearSolutionGrid(std::move(field), maps, margin, band, interrupter, nullptr),
                                    engine);
 }
 
 SlabField linearSolutionSlabField(AccumulatedField data, const RangeMapSequence& maps, double margin, LinearBand band,
                                   const SlabOfTheData& slab, const SlabBounds& own, const SparseFieldOptions& engine,
                                   const Interrupter& interrupter) {
-  return SlabField::fromLevelSet(*linearSolutionGrid(std::move(data), maps, margin, band, interrupter, &slab), own,
+  return SlabField::fromLevelSet(linearSolutionGrid(std::move(data), maps, margin, band, interrupter, &slab), own,
                                  engine);
 }
 

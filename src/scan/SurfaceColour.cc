@@ -13,7 +13,6 @@
 #include <openvdb/tree/LeafManager.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -53,15 +52,13 @@ struct SurfaceStep {
 
 /// What colouring holds of a leaf, made when a map's readings may first
 /// reach it: the steps of its voxels that have a normal, in order, and,
-/// once a reading gave one of them a colour, the leaf's weighted sums.
-/// Leaves no map reaches (most of a scene's unseen faces) hold nothing.
+/// once a reading gave one of them a colour, the weighted sums of each
+/// step's voxel. Leaves no map reaches (most of a scene's unseen faces) hold
+/// nothing.
 struct LeafColouring {
   std::vector<SurfaceStep> steps;
-  struct Sums {
-    std::array<Vec3f, openvdb::MaskTree::LeafNodeType::SIZE> colour;
-    std::array<float, openvdb::MaskTree::LeafNodeType::SIZE> weight;
-  };
-  std::unique_ptr<Sums> sums;
+  std::vector<Vec3f> colour;  ///< per step, empty until a reading gives one a colour
+  std::vector<float> weight;  ///< per step, as `colour`
 };
 
 /// The voxels of the level set's band within kColouredHalfWidth voxels of
@@ -79,6 +76,7 @@ std::vector<SurfaceStep> surfaceSteps(const openvdb::MaskTree::LeafNodeType& lea
     Vec3d normal;
     if (normals.at(phi, it.getCoord(), normal)) steps.push_back({it.pos(), Vec3f(normal)});
   }
+  steps.shrink_to_fit();
   return steps;
 }
 
@@ -112,7 +110,8 @@ struct AddMapColoursOp {
     const openvdb::math::Mat4d& toWorld = map->mapToWorld();
     const double reach = window->reach();
     RangeMap::LocalSample s;
-    for (const SurfaceStep& step : held->steps) {
+    for (std::size_t k = 0; k < held->steps.size(); ++k) {
+      const SurfaceStep& step = held->steps[k];
       if (!(cubes & (1u << detail::cubeOfOffset(step.offset)))) continue;
       const Vec3d toSurface = -Vec3d(step.normal) * static_cast<double>(phi->getValue(step.offset));
       const Vec3d nearest = levelSet->indexToWorld(mask.offsetToGlobalCoord(step.offset)) + toSurface;
@@ -124,13 +123,12 @@ struct AddMapColoursOp {
       Vec3f rgb;
       if (!map->colourAt(p, rgb)) continue;
       const double weight = detail::readingWeight(w, s, positionVariance);  // Eq. 38
-      if (!held->sums) {
-        held->sums = std::make_unique<LeafColouring::Sums>();
-        held->sums->colour.fill(Vec3f(0.0f));
-        held->sums->weight.fill(0.0f);
+      if (held->weight.empty()) {
+        held->colour.assign(held->steps.size(), Vec3f(0.0f));
+        held->weight.assign(held->steps.size(), 0.0f);
       }
-      held->sums->colour[step.offset] += rgb * static_cast<float>(weight);
-      held->sums->weight[step.offset] += static_cast<float>(weight);
+      held->colour[k] += rgb * static_cast<float>(weight);
+      held->weight[k] += static_cast<float>(weight);
     }
   }
 };
@@ -142,11 +140,11 @@ std::shared_ptr<ColourTree> meanColours(const openvdb::tree::LeafManager<const o
                                         const Vec3f& grey) {
   auto tree = std::make_shared<ColourTree>(grey);
   for (std::size_t i = 0; i < colouring.size(); ++i) {
-    if (!colouring[i] || !colouring[i]->sums) continue;
-    const LeafColouring::Sums& sums = *colouring[i]->sums;
+    if (!colouring[i] || colouring[i]->weight.empty()) continue;
+    const LeafColouring& sums = *colouring[i];
     auto* leaf = new ColourTree::LeafNodeType(leaves.leaf(i).origin(), grey, false);
-    for (openvdb::Index n = 0; n < ColourTree::LeafNodeType::SIZE; ++n)
-      if (sums.weight[n] > 0.0f) leaf->setValueOn(n, sums.colour[n] / sums.weight[n]);
+    for (std::size_t k = 0; k < sums.steps.size(); ++k)
+      if (sums.weight[k] > 0.0f) leaf->setValueOn(sums.steps[k].offset, sums.colour[k] / sums.weight[k]);
     tree->addLeaf(leaf);
   }
   return tree;

@@ -47,17 +47,19 @@ struct SideWeights {
   std::size_t seen = 0, unseen = 0;
 };
 
-SideWeights sideWeights(const openvdb::FloatGrid& weight) {
+SideWeights sideWeights(const openvdb::FloatGrid& weight, const openvdb::FloatGrid& levelSet) {
   SideWeights sides;
-  for (auto it = weight.cbeginValueOn(); it; ++it) {
-    const Vec3d p = weight.indexToWorld(it.getCoord());
+  const openvdb::FloatGrid::ConstAccessor weightAt = weight.getConstAccessor();
+  for (auto it = levelSet.cbeginValueOn(); it; ++it) {
+    const Vec3d p = levelSet.indexToWorld(it.getCoord());
     if (std::fabs(p.length() - 1.0) > 0.5 * kVoxel) continue;  // near the surface
+    const auto w = static_cast<double>(weightAt.getValue(it.getCoord()));
     if (p.z() > 0.4) {
-      sides.seenLeast = std::min(sides.seenLeast, static_cast<double>(*it));
-      if (p.z() > 0.9) sides.topLeast = std::min(sides.topLeast, static_cast<double>(*it));
+      sides.seenLeast = std::min(sides.seenLeast, w);
+      if (p.z() > 0.9) sides.topLeast = std::min(sides.topLeast, w);
       ++sides.seen;
     } else if (p.z() < -0.4) {
-      sides.unseenMost = std::max(sides.unseenMost, static_cast<double>(*it));
+      sides.unseenMost = std::max(sides.unseenMost, w);
       ++sides.unseen;
     }
   }
@@ -68,7 +70,9 @@ void expectTheWeightGridOf(const openvdb::FloatGrid& weight, const openvdb::Floa
   EXPECT_EQ(weight.getName(), kWeightGridName);
   EXPECT_EQ(weight.getGridClass(), openvdb::GRID_UNKNOWN);
   EXPECT_EQ(weight.transform(), levelSet.transform());
-  EXPECT_TRUE(weight.tree().hasSameTopology(levelSet.tree()));
+  std::size_t facedLeaves = 0;
+  EXPECT_TRUE(test::weighsTheBand(weight, levelSet, &facedLeaves));
+  EXPECT_GT(facedLeaves, 0u);
   EXPECT_EQ(weight.metaValue<std::string>("levelfuse_surface"), levelSet.getName());
   EXPECT_EQ(weight.metaValue<std::string>("levelfuse_units"), "readings");
 }
@@ -82,7 +86,7 @@ TEST(SurfaceWeight, IsOneReadingWhereOneScanSawAndZeroBehind) {
   grids.integrate(map);
   for (const auto& weight : {surfaceWeight(*sphere, perMap), surfaceWeight(*sphere, grids)}) {
     expectTheWeightGridOf(*weight, *sphere);
-    const SideWeights sides = sideWeights(*weight);
+    const SideWeights sides = sideWeights(*weight, *sphere);
     ASSERT_GT(sides.seen, 100u);
     ASSERT_GT(sides.unseen, 100u);
     // One scan saw the top: one reading, less the window's fall-off within
@@ -94,6 +98,23 @@ TEST(SurfaceWeight, IsOneReadingWhereOneScanSawAndZeroBehind) {
     EXPECT_EQ(sides.unseenMost, 0.0);
     EXPECT_NEAR(weightAt(*weight, Vec3d(0.0, 0.0, 1.0)), 1.0, 0.02);
   }
+}
+
+TEST(SurfaceWeight, HoldsOnlyTheLeavesThatAReadingFaces) {
+  // Seen from above, the sphere's lower half is faced by no reading: its
+  // leaves are left out of the weight grid, which reads 0 there.
+  const auto sphere = test::makeSphere(1.0 / kVoxel, Vec3d(0.0), kVoxel);
+  const ForceField data({viewFromAbove()}, forceOptions());
+  const auto weight = surfaceWeight(*sphere, data);
+  EXPECT_TRUE(test::weighsTheBand(*weight, *sphere));
+  EXPECT_LT(weight->tree().leafCount(), 0.6 * sphere->tree().leafCount());
+  EXPECT_GT(weight->tree().leafCount(), 0.3 * sphere->tree().leafCount());
+  const openvdb::Coord bottom = openvdb::Coord::round(sphere->worldToIndex(Vec3d(0.0, 0.0, -1.0)));
+  ASSERT_NE(sphere->tree().probeConstLeaf(bottom), nullptr);
+  EXPECT_EQ(weight->tree().probeConstLeaf(bottom), nullptr);
+  EXPECT_EQ(weightAt(*weight, Vec3d(0.0, 0.0, -1.0)), 0.0);
+  const openvdb::Coord top = openvdb::Coord::round(sphere->worldToIndex(Vec3d(0.0, 0.0, 1.0)));
+  EXPECT_NE(weight->tree().probeConstLeaf(top), nullptr);
 }
 
 TEST(SurfaceWeight, CountsOnlyReadingsThatFaceTheSurface) {

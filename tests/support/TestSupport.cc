@@ -103,6 +103,20 @@ std::string treeBytes(const openvdb::FloatGrid& grid) {
 
 bool sameTreeBytes(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) { return treeBytes(a) == treeBytes(b); }
 
+bool weighsTheBand(const openvdb::FloatGrid& weight, const openvdb::FloatGrid& levelSet, std::size_t* facedLeaves) {
+  std::size_t leaves = 0;
+  for (auto leaf = weight.tree().cbeginLeaf(); leaf; ++leaf) {
+    const openvdb::FloatTree::LeafNodeType* band = levelSet.tree().probeConstLeaf(leaf->origin());
+    if (!band || leaf->getValueMask() != band->getValueMask()) return false;
+    bool faced = false;
+    for (auto v = leaf->cbeginValueOn(); v; ++v) faced = faced || *v > 0.0f;
+    if (!faced) return false;
+    ++leaves;
+  }
+  if (facedLeaves) *facedLeaves = leaves;
+  return weight.tree().activeTileCount() == 0 && weight.background() == 0.0f;
+}
+
 openvdb::FloatGrid::Ptr clippedToSlab(const openvdb::FloatGrid& levelSet, const SlabBounds& slab) {
   // Far beyond any grid's voxels, yet the box's extent fits an Int32.
   constexpr openvdb::Int32 far = 1 << 29;

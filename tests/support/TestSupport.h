@@ -26,6 +26,13 @@ bool identical(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b, std::st
 /// bytes: internal nodes and tiles alike, as a .vdb file of them would be.
 bool sameTreeBytes(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b);
 
+/// True if `weight` is a weight grid of `levelSet` (recon/SurfaceWeight.h):
+/// each of its leaves is a leaf of the band, with the band's active voxels,
+/// that some reading faces (a weight above 0), it has no tiles and its
+/// background is 0; `facedLeaves`, if given, receives how many leaves it holds.
+bool weighsTheBand(const openvdb::FloatGrid& weight, const openvdb::FloatGrid& levelSet,
+                   std::size_t* facedLeaves = nullptr);
+
 /// `levelSet` within the x range of `slab` (its tiles split at the slab's
 /// faces, background beyond them; Tree::clip), pruned as a level set: what a
 /// piece of it (LevelSetPieces.h) must be.

@@ -15,8 +15,8 @@ namespace levelfuse {
 /// units): each reading is projected onto the zero set of the trilinear
 /// interpolant along its gradient (the band's values are distances only near
 /// the zero set) and the distance it went is measured. Readings beyond the
-/// narrow band are measured to the nearest vertex of the zero set's mesh and
-/// counted in `beyondBand`: a hole in the surface where the scans saw it shows
+/// narrow band are measured to the nearest triangle of the zero set's mesh
+/// (made only around them) and counted in `beyondBand`: a hole in the surface where the scans saw it shows
 /// there.
 struct DataFit {
   std::size_t readings = 0;   ///< points measured

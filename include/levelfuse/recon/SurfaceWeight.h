@@ -37,8 +37,11 @@ inline constexpr double kObservedWeight = 0.1;
 
 /// The number of readings that face the surface at
 /// every active voxel of `levelSet`'s narrow band (GRID_UNKNOWN, named
-/// kWeightGridName, the level set's transform and active topology, background
-/// 0, with levelfuse_* metadata saying what it is). The outward normal at a
+/// kWeightGridName, the level set's transform, background 0, with levelfuse_*
+/// metadata saying what it is). It holds the leaves of the band where some
+/// reading faces the surface, with their active voxels; a leaf that no
+/// reading faces (the unseen faces of a scene) is left out, its weight the
+/// background 0, so the grid grows with what the scans saw. The outward normal at a
 /// voxel is the level set's gradient there. Parallel over leaf nodes and
 /// deterministic. Throws std::invalid_argument for a grid that is not a level
 /// set, Interrupted if `interrupter` asks to stop.
