@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -40,19 +41,18 @@ void validateOptions(const SparseFieldOptions& options) {
     throw std::invalid_argument("SparseFieldOptions::stiffnessStepLimit must be positive");
 }
 
-/// A seed of the active set: a voxel on a zero crossing and its value.
-using Seed = std::pair<openvdb::Coord, float>;
-
-/// Builds the state from the active set `seeds` (values in [-1/2, 1/2] voxel).
-/// `insideOf(accessorFactory)`: Probe is constructed per task and answers
-/// inside(ijk) for any voxel, so the leaves around the layers get the right side.
-/// Leaves are made only where their origin lies in `domain`. `probed` is
-/// called once no probe is made any more.
+/// Builds the state from `activeSet`, the voxels of the active set (a bit
+/// each). `makeProbe()` is called per task; its Probe answers inside(ijk) for
+/// any voxel, so the leaves around the layers get the right side, and
+/// activeValue(ijk), the value of a voxel of the active set, in [-1/2, 1/2]
+/// voxel. Leaves are made only where their origin lies in `domain`; `probed`
+/// is called once no probe is made any more.
 template <typename ProbeFactory>
-std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform& transform,
-                                                 const SparseFieldOptions& options, std::vector<Seed> seeds,
-                                                 const ProbeFactory& makeProbe, const detail::XRange& domain = {},
-                                                 const std::function<void()>& probed = {}) {
+std::unique_ptr<SparseFieldState> buildFromActiveSet(const openvdb::math::Transform& transform,
+                                                     const SparseFieldOptions& options, openvdb::MaskTree&& activeSet,
+                                                     const ProbeFactory& makeProbe,
+                                                     const detail::XRange& domain = {},
+                                                     const std::function<void()>& probed = {}) {
   auto state = std::make_unique<SparseFieldState>();
   state->options = options;
   state->domain = domain;
@@ -61,22 +61,19 @@ std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform&
   state->grid = openvdb::FloatGrid::create(state->background);
   state->grid->setTransform(transform.copy());
   state->grid->setGridClass(openvdb::GRID_LEVEL_SET);
-  std::sort(seeds.begin(), seeds.end(), [](const Seed& a, const Seed& b) { return a.first < b.first; });
 
   // Leaves for every voxel within N of the active set.
-  openvdb::MaskTree reach;
   {
-    openvdb::tree::ValueAccessor<openvdb::MaskTree> acc(reach);
-    for (const Seed& s : seeds) acc.setValueOn(s.first);
+    openvdb::MaskTree reach(activeSet);
+    openvdb::tools::dilateActiveValues(reach, options.layers, openvdb::tools::NN_FACE,
+                                       openvdb::tools::IGNORE_TILES);
+    for (auto it = reach.cbeginLeaf(); it; ++it)
+      if (domain.contains(it->origin().x())) state->tree().touchLeaf(it->origin());
   }
-  openvdb::tools::dilateActiveValues(reach, options.layers, openvdb::tools::NN_FACE,
-                                     openvdb::tools::IGNORE_TILES);
   detail::FloatTree& tree = state->tree();
-  for (auto it = reach.cbeginLeaf(); it; ++it)
-    if (domain.contains(it->origin().x())) tree.touchLeaf(it->origin());
-  reach.clear();
 
-  // Every voxel of those leaves starts at the background of its side.
+  // Every voxel of those leaves starts at the background of its side, and
+  // the active set at its value.
   {
     std::vector<FloatLeaf*> leaves;
     tree.getNodes(leaves);
@@ -89,6 +86,8 @@ std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform&
         float* values = leaf.buffer().data();
         for (openvdb::Index o = 0; o < FloatLeaf::SIZE; ++o)
           values[o] = probe.inside(leaf.offsetToGlobalCoord(o)) ? -background : background;
+        if (const auto* active = activeSet.probeConstLeaf(leaf.origin()))
+          for (auto it = active->cbeginValueOn(); it; ++it) values[it.pos()] = probe.activeValue(it.getCoord());
       }
     });
   }
@@ -97,33 +96,75 @@ std::unique_ptr<SparseFieldState> buildFromSeeds(const openvdb::math::Transform&
   // The active set itself.
   state->table.build(tree);
   state->fitRecordArrays();
-  {
-    openvdb::tree::ValueAccessor<detail::FloatTree> acc(tree);
-    for (const Seed& s : seeds) {
-      FloatLeaf* leaf = acc.probeLeaf(s.first);
-      const openvdb::Index o = FloatLeaf::coordToOffset(s.first);
-      leaf->setValueOnly(o, s.second);
-      LeafRecord& record = state->table[state->table.find(leaf->origin())];
-      record.next.setOn(o);
-    }
+  for (auto active = activeSet.cbeginLeaf(); active; ++active) {
+    if (!tree.probeConstLeaf(active->origin())) continue;
+    LeafRecord& record = state->table[state->table.find(active->origin())];
+    record.next |= active->getValueMask();
   }
-  std::vector<Seed>().swap(seeds);  // placed: let go before the layers are built
+  activeSet.clear();  // placed: let go before the layers are built
   detail::rebuildLayers(*state);
   openvdb::tools::signedFloodFill(tree);
   return state;
 }
 
-/// Answers inside/outside from an OpenVDB level set, one accessor per task.
+/// Answers inside/outside from an OpenVDB level set, one accessor per task;
+/// a point of the active set keeps its value, clamped to half a voxel (where
+/// both members of a crossing lie beyond it, stateOfLevelSet made the nearer
+/// one active).
 struct LevelSetProbe {
   openvdb::FloatGrid::ConstAccessor acc;
+  float half;
   bool inside(const openvdb::Coord& ijk) const { return acc.getValue(ijk) < 0.0f; }
+  float activeValue(const openvdb::Coord& ijk) const { return std::clamp(acc.getValue(ijk), -half, half); }
 };
 
-/// Answers inside/outside from a mask (active = inside), one accessor per task.
+/// Answers inside/outside from a mask (active = inside), one accessor per
+/// task; a point of the active set lies half a voxel from the surface.
 struct MaskProbe {
   openvdb::MaskGrid::ConstAccessor acc;
+  float half;
   bool inside(const openvdb::Coord& ijk) const { return acc.isValueOn(ijk); }
+  float activeValue(const openvdb::Coord& ijk) const { return inside(ijk) ? -half : half; }
 };
+
+/// The active set around a mask's inside (active = inside): each inside voxel
+/// next to an outside one, and that outside voxel, which lie half a voxel
+/// from the surface.
+openvdb::MaskTree activeSetOfMask(const openvdb::MaskGrid& inside) {
+  openvdb::MaskTree activeSet;
+  openvdb::tree::ValueAccessor<openvdb::MaskTree> active(activeSet);
+  openvdb::MaskGrid::ConstAccessor acc = inside.getConstAccessor();
+  const auto visit = [&](const openvdb::Coord& ijk) {
+    for (const auto& e : detail::kFaceOffset) {
+      const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
+      if (!acc.isValueOn(n)) {
+        active.setValueOn(ijk);
+        active.setValueOn(n);
+      }
+    }
+  };
+  for (auto it = inside.tree().cbeginValueOn(); it; ++it) {
+    if (it.isVoxelValue()) {
+      visit(it.getCoord());
+      continue;
+    }
+    // An active tile: only its boundary voxels can touch the outside.
+    openvdb::CoordBBox box;
+    it.getBoundingBox(box);
+    const openvdb::Coord lo = box.min(), hi = box.max();
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y) {
+        const bool side = x == lo.x() || x == hi.x() || y == lo.y() || y == hi.y();
+        if (side) {
+          for (int z = lo.z(); z <= hi.z(); ++z) visit(openvdb::Coord(x, y, z));
+        } else {
+          visit(openvdb::Coord(x, y, lo.z()));
+          visit(openvdb::Coord(x, y, hi.z()));
+        }
+      }
+  }
+  return activeSet;
+}
 
 }  // namespace
 
@@ -169,11 +210,12 @@ std::unique_ptr<SparseFieldState> stateOfLevelSet(const openvdb::FloatGrid& leve
   leaves.erase(std::remove_if(leaves.begin(), leaves.end(),
                               [&](const auto* leaf) { return !domain.contains(leaf->origin().x()); }),
                leaves.end());
-  std::vector<std::vector<Seed>> found(leaves.size());
+  std::vector<std::unique_ptr<openvdb::MaskTree::LeafNodeType>> found(leaves.size());
   parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
     openvdb::FloatGrid::ConstAccessor acc = levelSet.getConstAccessor();
     for (std::size_t l = begin; l != end; ++l) {
       const auto& leaf = *leaves[l];
+      auto active = std::make_unique<openvdb::MaskTree::LeafNodeType>(leaf.origin(), false);
       for (openvdb::Index o = 0; o < FloatLeaf::SIZE; ++o) {
         const float u = leaf.getValue(o);
         const openvdb::Coord ijk = leaf.offsetToGlobalCoord(o);
@@ -185,28 +227,24 @@ std::unique_ptr<SparseFieldState> stateOfLevelSet(const openvdb::FloatGrid& leve
         for (const auto& e : detail::kFaceOffset) {
           const float v = acc.getValue(ijk.offsetBy(e[0], e[1], e[2]));
           if ((u < 0.0f) != (v < 0.0f) && (std::fabs(u) <= half || std::fabs(u) <= std::fabs(v))) {
-            found[l].emplace_back(ijk, std::clamp(u, -half, half));
+            active->setValueOn(o);
             break;
           }
         }
       }
+      if (!active->isEmpty()) found[l] = std::move(active);
     }
   });
-  std::size_t count = 0;
-  for (const auto& f : found) count += f.size();
-  std::vector<Seed> seeds;
-  seeds.reserve(count);
-  for (auto& f : found) {
-    seeds.insert(seeds.end(), f.begin(), f.end());
-    std::vector<Seed>().swap(f);
-  }
-  if (seeds.empty() && domain.begin == XRange{}.begin && domain.end == XRange{}.end)
+  openvdb::MaskTree activeSet;
+  for (auto& leaf : found)
+    if (leaf) activeSet.addLeaf(leaf.release());
+  if (activeSet.empty() && domain.begin == XRange{}.begin && domain.end == XRange{}.end)
     throw std::invalid_argument("SparseField::fromLevelSet: " + describeGrid(levelSet) +
                                 " has no zero crossing: there is no surface to evolve");
 
   const std::string name = levelSet.getName();
-  auto state = buildFromSeeds(levelSet.transform(), options, std::move(seeds),
-                              [&] { return LevelSetProbe{levelSet.getConstAccessor()}; }, domain, read);
+  auto state = buildFromActiveSet(levelSet.transform(), options, std::move(activeSet),
+                                  [&] { return LevelSetProbe{levelSet.getConstAccessor(), half}; }, domain, read);
   state->grid->setName(name);
   return state;
 }
@@ -240,47 +278,13 @@ SparseField SparseField::fromMask(const openvdb::MaskGrid& inside, const SparseF
   if (const std::string problem = transformProblem(inside); !problem.empty())
     throw std::invalid_argument("SparseField::fromMask: " + problem);
   const float half = static_cast<float>(0.5 * inside.voxelSize()[0]);
-  std::vector<Seed> seeds;
-  openvdb::MaskGrid::ConstAccessor acc = inside.getConstAccessor();
-  // Each inside voxel next to an outside one, and that outside voxel, lie half
-  // a voxel from the surface.
-  const auto visit = [&](const openvdb::Coord& ijk) {
-    for (const auto& e : detail::kFaceOffset) {
-      const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
-      if (!acc.isValueOn(n)) {
-        seeds.emplace_back(ijk, -half);
-        seeds.emplace_back(n, half);
-      }
-    }
-  };
-  for (auto it = inside.tree().cbeginValueOn(); it; ++it) {
-    if (it.isVoxelValue()) {
-      visit(it.getCoord());
-      continue;
-    }
-    // An active tile: only its boundary voxels can touch the outside.
-    openvdb::CoordBBox box;
-    it.getBoundingBox(box);
-    const openvdb::Coord lo = box.min(), hi = box.max();
-    for (int x = lo.x(); x <= hi.x(); ++x)
-      for (int y = lo.y(); y <= hi.y(); ++y) {
-        const bool side = x == lo.x() || x == hi.x() || y == lo.y() || y == hi.y();
-        if (side) {
-          for (int z = lo.z(); z <= hi.z(); ++z) visit(openvdb::Coord(x, y, z));
-        } else {
-          visit(openvdb::Coord(x, y, lo.z()));
-          visit(openvdb::Coord(x, y, hi.z()));
-        }
-      }
-  }
-  std::sort(seeds.begin(), seeds.end());
-  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
-  if (seeds.empty())
+  openvdb::MaskTree activeSet = activeSetOfMask(inside);
+  if (activeSet.empty())
     throw std::invalid_argument("SparseField::fromMask: " + describeGrid(inside) +
                                 " is empty: there is no inside to build a surface around");
 
-  auto state = buildFromSeeds(inside.transform(), options, std::move(seeds),
-                              [&] { return MaskProbe{inside.getConstAccessor()}; });
+  auto state = buildFromActiveSet(inside.transform(), options, std::move(activeSet),
+                                  [&] { return MaskProbe{inside.getConstAccessor(), half}; });
   state->grid->setName(inside.getName());
   return SparseField(std::move(state));
 }
