@@ -21,7 +21,7 @@ using openvdb::Vec3d;
 /// How far the rays of a spherical map's tile of du columns and rows v0 to
 /// v1, out to `range`, reach beyond the box of their corners: the arcs
 /// between the corners bulge by at most range (1 - cos(the tile's diagonal angle)).
-double sphericalBulge(const RangeMap& m, int du, int v0, int v1, double range) {
+double sphericalBulge(const RangeMap& m, double du, double v0, double v1, double range) {
   const SphericalProjection& p = m.sphericalProjection();
   const double diagonal = std::hypot(du * p.azimuthStep, elevationOfRow(p, v1) - elevationOfRow(p, v0));
   return range * (1.0 - std::cos(diagonal)) + 1e-9 * range;
@@ -49,13 +49,27 @@ void forEachTileBoxOfRows(const RangeMap& m, double reach, int first, int last, 
       // A station's edges reach a little beyond their pixels' readings (RangeMap::edgeReadings).
       nearest -= static_cast<float>(m.edgeExtensionReach(nearest));
       farthest += static_cast<float>(m.edgeExtensionReach(farthest));
+      // A tile at a station's border also stands for the border beyond it,
+      // its cells' readings extrapolated there (RangeMap::borderReach).
+      const double border = m.borderReach();
+      const double bu0 = u0 == 0 ? -border : u0, bv0 = v0 == 0 ? -border : v0;
+      const double bu1 = u1 == m.width() - 1 ? u1 + border : u1, bv1 = v1 == m.height() - 1 ? v1 + border : v1;
+      if (border > 0.0 && (bu0 != u0 || bv0 != v0 || bu1 != u1 || bv1 != v1))
+        for (int v = v0; v < v1; ++v)
+          for (int u = u0; u < u1; ++u) {
+            float lo, hi;
+            if (!m.usableCellSpan(u, v, lo, hi)) continue;
+            nearest = std::min(nearest, lo);
+            farthest = std::max(farthest, hi);
+          }
       double front = nearest - reach;
       if (m.kind() == RangeMap::Kind::kPinhole) front = std::max(front, 1e-6 * farthest);
       if (m.kind() == RangeMap::Kind::kSpherical) front = std::max(front, 0.0);
       openvdb::BBoxd box;
       for (int c = 0; c < 8; ++c)
-        box.expand(m.pointAt(c & 1 ? u1 : u0, c & 2 ? v1 : v0, c & 4 ? farthest + reach : front));
-      if (m.kind() == RangeMap::Kind::kSpherical) box.expand(sphericalBulge(m, u1 - u0, v0, v1, farthest + reach));
+        box.expand(m.pointAt(c & 1 ? bu1 : bu0, c & 2 ? bv1 : bv0, c & 4 ? farthest + reach : front));
+      if (m.kind() == RangeMap::Kind::kSpherical)
+        box.expand(sphericalBulge(m, bu1 - bu0, bv0, bv1, farthest + reach));
       visit(box);
     }
 }
@@ -155,7 +169,9 @@ CubeFootprint sphericalFootprint(const RangeMap& m, const Vec3d& centre, double 
   const double column = m.project(centre).x();
   f.u0 = column - halfAzimuth;
   f.u1 = column + halfAzimuth;
-  const bool wrapsIntoTheMap = (f.u0 < 0.0 && f.u0 + m.azimuthPeriod() <= m.width() - 1) || f.u1 >= m.azimuthPeriod();
+  // Across the first column (its border included, at the turn's end): no bounded footprint.
+  const bool wrapsIntoTheMap = (f.u0 < 0.0 && f.u0 + m.azimuthPeriod() <= m.width() - 1 + m.borderReach()) ||
+                               f.u1 >= m.azimuthPeriod() - m.borderReach();
   f.inFront = wrapsIntoTheMap ? 4 : 8;
   const double r0 = rowOfElevation(p, elevation - angularRadius);
   const double r1 = rowOfElevation(p, elevation + angularRadius);

@@ -343,6 +343,24 @@ double RangeMap::edgeExtensionReach(double reading) const {
   return mKind == Kind::kSpherical ? kSteepestEdgeSlope * raySpacingAt(reading) : 0.0;
 }
 
+bool RangeMap::usableCellSpan(int i, int j, float& lo, float& hi) const {
+  if (!mUsableCell[index(i, j)]) return false;
+  const double border = borderReach();
+  // A bilinear reading is extreme at the corners of the stretch it covers.
+  const double u0 = i == 0 ? -border : 0.0, u1 = i + 2 == mWidth ? 1.0 + border : 1.0;
+  const double v0 = j == 0 ? -border : 0.0, v1 = j + 2 == mHeight ? 1.0 + border : 1.0;
+  const std::size_t at = index(i, j);
+  lo = std::numeric_limits<float>::max();
+  hi = -lo;
+  for (const double fu : {u0, u1})
+    for (const double fv : {v0, v1}) {
+      const auto r = static_cast<float>(bilinearReading(at, fu, fv));
+      lo = std::min(lo, r);
+      hi = std::max(hi, r);
+    }
+  return true;
+}
+
 bool RangeMap::edgeReadings(int i, int j, float& lo, float& hi) const {
   if (mKind != Kind::kSpherical || mUsableCell[index(i, j)]) return false;
   lo = std::numeric_limits<float>::max();
@@ -390,6 +408,8 @@ bool RangeMap::colourAt(const openvdb::Vec3d& p, openvdb::Vec3f& rgb) const {
   double r, ru, rv, fu, fv;
   int i, j;
   if (!interpolate(uv.x(), uv.y(), r, ru, rv, i, j, fu, fv)) return false;
+  fu = std::clamp(fu, 0.0, 1.0);  // beyond the border, the border's colours
+  fv = std::clamp(fv, 0.0, 1.0);
   const std::size_t at = index(i, j), below = at + static_cast<std::size_t>(mWidth);
   const double corner[4] = {(1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv};
   const std::size_t pixel[4] = {at, at + 1, below, below + 1};

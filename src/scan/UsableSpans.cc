@@ -49,10 +49,8 @@ void UsableSpans::findSpans(int b, int c) {
         if (mMap.edgeReadings(i, j, edge.lo, edge.hi)) spans[count++] = edge;
         continue;
       }
-      const float r[4] = {mMap.reading(i, j), mMap.reading(i + 1, j), mMap.reading(i, j + 1),
-                          mMap.reading(i + 1, j + 1)};
-      const float lo = std::min(std::min(r[0], r[1]), std::min(r[2], r[3]));
-      const float hi = std::max(std::max(r[0], r[1]), std::max(r[2], r[3]));
+      float lo, hi;
+      mMap.usableCellSpan(i, j, lo, hi);
       if (!inRun) spans[count++] = {lo, hi};
       spans[count - 1].lo = std::min(spans[count - 1].lo, lo);
       spans[count - 1].hi = std::max(spans[count - 1].hi, hi);
@@ -76,7 +74,8 @@ void UsableSpans::findSpans(int b, int c) {
 
 bool UsableSpans::meet(double u0, double v0, double u1, double v1, double lo, double hi) const {
   const int width = mMap.width(), height = mMap.height();
-  if (!(u1 >= 0.0) || !(v1 >= 0.0) || !(u0 < width - 1) || !(v0 < height - 1)) return false;
+  const double border = mMap.borderReach();
+  if (!(u1 >= -border) || !(v1 >= -border) || !(u0 < width - 1 + border) || !(v0 < height - 1 + border)) return false;
   const int b0 = clampedIndex(std::floor(u0), width - 2) / kBlock, b1 = clampedIndex(std::floor(u1), width - 2) / kBlock;
   const int c0 = clampedIndex(std::floor(v0), height - 2) / kBlock;
   const int c1 = clampedIndex(std::floor(v1), height - 2) / kBlock;

@@ -22,9 +22,10 @@ class UsableSpans {
 
   const RangeMap& map() const { return mMap; }
   /// Whether a reading interpolated in a usable cell whose corner pixel (its
-  /// first) lies in the window [u0, u1] x [v0, v1] (clamped to the map) may
-  /// lie between lo and hi. A reading interpolated in a cell lies between the
-  /// cell's four; one extended from a station's edge, within its
+  /// first) lies in the window [u0, u1] x [v0, v1] (clamped to the map; a
+  /// station's border cells also stand for the border beyond them) may lie
+  /// between lo and hi. A reading interpolated in a cell lies within its
+  /// usableCellSpan; one extended from a station's edge, within its
   /// edgeReadings.
   bool meet(double u0, double v0, double u1, double v1, double lo, double hi) const;
 

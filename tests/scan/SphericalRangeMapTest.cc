@@ -112,6 +112,30 @@ TEST(SphericalRangeMap, AStationsSurfacesReachHalfAPixelBeyondTheirLastRays) {
   EXPECT_FALSE(map.sample(onRay(80.0, 130.6, 4.0 / std::cos(20.0 * kDegree)), s));
 }
 
+TEST(SphericalRangeMap, AStationsSurfacesReachHalfAPixelBeyondItsBorder) {
+  // The wall x = 4 seen over the whole grid: its outermost rays stand for the
+  // half pixel beyond them too, where the wall's readings are extrapolated.
+  const RangeMap map = wall(Mat4d::identity());
+  const SphericalProjection grid = halfDegreeGrid();
+  const auto onWall = [&](double u, double v) {
+    const Vec3d d = sphericalDirection(grid, u, v);
+    return d * (4.0 / d.x());
+  };
+  EXPECT_EQ(map.borderReach(), 0.5);
+  for (const auto& [u, v] : {std::pair{-0.3, 70.0}, std::pair{kColumns - 0.7, 70.0}, std::pair{120.0, -0.45},
+                             std::pair{120.0, kRows - 0.6}, std::pair{-0.4, -0.4}}) {
+    RangeSample s;
+    ASSERT_TRUE(map.sample(onWall(u, v), s)) << u << ", " << v;
+    EXPECT_NEAR(s.D, 0.0, 2e-3) << u << ", " << v;  // the range extrapolated linearly, the wall 60 degrees off
+    EXPECT_GT(s.gradD.dot(Vec3d(1.0, 0.0, 0.0)) / s.gradD.length(), 0.999) << u << ", " << v;
+  }
+  // No farther.
+  for (const auto& [u, v] : {std::pair{-0.55, 70.0}, std::pair{120.0, kRows - 0.45}}) {
+    RangeSample s;
+    EXPECT_FALSE(map.sample(onWall(u, v), s)) << u << ", " << v;
+  }
+}
+
 TEST(SphericalRangeMap, AWallGradientIsThatOfItsDistance) {
   const Mat4d pose = scannerPose();
   const RangeMap map = wall(pose);

@@ -342,6 +342,14 @@ class RangeMap {
   /// How far an edge's extension may take a reading from the pixel's own
   /// (world units): 0 but for a station.
   double edgeExtensionReach(double reading) const;
+  /// How far beyond its outermost pixels' centres a map's surface extends, in
+  /// pixels: a station's by half a pixel (each pixel's ray stands for the
+  /// half pixel on either side of it, the outermost ones too), along the
+  /// slopes of the cells at its border; 0 for other maps.
+  double borderReach() const { return mKind == Kind::kSpherical ? kBorderReach : 0.0; }
+  /// The readings usable cell (i, j) interpolates, or extrapolates over the
+  /// border beside it (borderReach): false if the cell is not usable.
+  bool usableCellSpan(int i, int j, float& lo, float& hi) const;
   /// Pixel coordinates of a point in the map's frame (may lie outside the map).
   openvdb::math::Vec2d project(const openvdb::Vec3d& p) const;
 
@@ -472,6 +480,8 @@ class RangeMap {
   /// (extendEdge): two ray spacings of range a pixel (63 degrees of
   /// incidence), so that half a pixel moves a reading by at most one spacing.
   static constexpr double kSteepestEdgeSlope = 2.0;
+  /// A station's border: half a pixel (borderReach).
+  static constexpr double kBorderReach = 0.5;
   /// A station's surface reaches half a pixel beyond its last rays: in cell
   /// (i, j), which may not be interpolated (it straddles a depth step or a
   /// missing reading), the reading of the pixel nearest (i + fu, j + fv),
@@ -553,9 +563,13 @@ inline double RangeMap::bilinearReading(std::size_t at, double fu, double fv) co
 
 inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
                                   double& fv) const {
-  if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
-  i = static_cast<int>(u);
-  j = static_cast<int>(v);
+  const double border = borderReach();
+  // Columns count round the turn: the border before the first lies at the turn's end.
+  if (border > 0.0 && u >= mWidth - 1 + border) u -= mAzimuthPeriod;
+  if (!(u >= -border) || !(v >= -border) || !(u < mWidth - 1 + border) || !(v < mHeight - 1 + border)) return false;
+  // Beyond the border, the cell beside it, extrapolated (fu or fv outside [0, 1]).
+  i = std::clamp(static_cast<int>(std::floor(u)), 0, mWidth - 2);
+  j = std::clamp(static_cast<int>(std::floor(v)), 0, mHeight - 2);
   const std::size_t at = index(i, j);
   fu = u - i;
   fv = v - j;
