@@ -17,8 +17,8 @@ namespace {
 using openvdb::Coord;
 using openvdb::Vec3d;
 
-/// Per leaf of the band: the facing readings (Eq. 37) at each active voxel
-/// for the level set's outward normal there, as a leaf with the band leaf's
+/// Per leaf of the band: the facing readings (Eq. 37) at the surface point
+/// nearest each active voxel for the level set's outward normal there, as a leaf with the band leaf's
 /// active voxels, or none when no reading faces any of them (most of a
 /// scene's unseen faces, which space carving closed).
 template <typename Data>
@@ -38,7 +38,11 @@ struct FacingWeightOp {
       const Coord ijk = it.getCoord();
       Vec3d normal;
       if (!normals.at(phi, ijk, normal)) continue;
-      const auto value = static_cast<float>(data->facingTerms(levelSet->indexToWorld(ijk), normal).readings);
+      // At the surface point nearest the voxel, y = x - phi N: a voxel off a
+      // surface seen at a grazing angle lies outside the readings' windows
+      // along their rays, however well they saw the surface.
+      const Vec3d nearest = levelSet->indexToWorld(ijk) - normal * static_cast<double>(band.getValue(it.pos()));
+      const auto value = static_cast<float>(data->facingTerms(nearest, normal).readings);
       it.setValue(value);
       faced = faced || value > 0.0f;
     }

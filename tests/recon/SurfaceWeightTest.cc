@@ -117,6 +117,39 @@ TEST(SurfaceWeight, HoldsOnlyTheLeavesThatAReadingFaces) {
   EXPECT_NE(weight->tree().probeConstLeaf(top), nullptr);
 }
 
+TEST(SurfaceWeight, IsTheSurfacesWhereTheRaysGraze) {
+  // A floor seen at 83 degrees of incidence, its voxels a voxel and more
+  // from it along its normal, but many sigmas along the rays: each voxel is
+  // weighed at the surface point nearest it, which the readings saw.
+  const double voxel = 0.02, floorHeight = -0.5;
+  const SphericalProjection grid(-20.0 * M_PI / 180.0, 0.2 * M_PI / 180.0, -12.0 * M_PI / 180.0, 0.2 * M_PI / 180.0);
+  const int columns = 201, rows = 41;  // elevations -12 to -4 degrees: the floor 2.4 to 7.2 m away
+  std::vector<float> ranges;
+  for (int v = 0; v < rows; ++v)
+    for (int u = 0; u < columns; ++u) ranges.push_back(static_cast<float>(floorHeight / sphericalDirection(grid, u, v).z()));
+  const RangeMap floor = RangeMap::spherical(columns, rows, ranges, grid, openvdb::math::Mat4d::identity(), 0.002, "floor");
+  openvdb::FloatGrid::Ptr plane = openvdb::FloatGrid::create(static_cast<float>(3.0 * voxel));
+  plane->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+  plane->setGridClass(openvdb::GRID_LEVEL_SET);
+  for (int x = 150; x <= 250; ++x)
+    for (int y = -20; y <= 20; ++y)
+      for (int z = -28; z <= -22; ++z) {
+        const Vec3d p = plane->indexToWorld(openvdb::Coord(x, y, z));
+        plane->tree().setValueOn(openvdb::Coord(x, y, z), static_cast<float>(p.z() - floorHeight));
+      }
+  const auto weight = surfaceWeight(*plane, ForceField({floor}, forceOptions()));
+  const openvdb::FloatGrid::ConstAccessor w = weight->getConstAccessor();
+  std::size_t near = 0, observed = 0;
+  for (auto it = plane->cbeginValueOn(); it; ++it) {
+    const Vec3d p = plane->indexToWorld(it.getCoord());
+    if (std::fabs(*it) > 1.5 * voxel || p.x() < 4.0 || p.x() > 4.5 || std::fabs(p.y()) > 0.3) continue;  // 83 degrees
+    ++near;
+    observed += w.getValue(it.getCoord()) >= kObservedWeight;
+  }
+  ASSERT_GT(near, 100u);
+  EXPECT_EQ(observed, near);
+}
+
 TEST(SurfaceWeight, CountsOnlyReadingsThatFaceTheSurface) {
   // A shell thinner than the window: the readings of its outer side reach its
   // inner side, seen from behind, which therefore weighs nothing.
