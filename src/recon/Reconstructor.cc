@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -29,32 +30,61 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// The largest mean change, over the leaf nodes of `now` that `field` answers
-/// for (EvolvingField::owns) holding at least
-/// eight points of the active set (|psi| <= dx / 2) that the data support (at
-/// the first, at least one reading's window), of those points'
-/// values since `before` (world units). Surfaces no scan saw move under the
-/// prior alone toward a minimal surface, slowly and for long: they are not
-/// waited for.
+/// Whether a leaf node counts in the drift: at least eight points of the
+/// active set (|psi| <= dx / 2), the first of which the data support (at
+/// least one reading's window); `points` receives how many it holds.
 template <typename Field>
-double largestLocalDrift(const detail::EvolvingField& field, const openvdb::FloatGrid& before, const Field& data) {
+bool driftCounts(const openvdb::FloatTree::LeafNodeType& leaf, float half, const openvdb::FloatGrid& grid,
+                 const Field& data, int& points) {
+  points = 0;
+  openvdb::Coord first;
+  for (auto it = leaf.cbeginValueOn(); it; ++it) {
+    if (std::fabs(*it) > half) continue;
+    if (points == 0) first = it.getCoord();
+    ++points;
+  }
+  return points >= 8 && data.readings(grid.indexToWorld(first)) >= 1.0;
+}
+
+/// The leaf nodes of the field's grid that count in the drift
+/// (driftCounts) and that the field answers for (EvolvingField::owns),
+/// copied: what the drift is measured from. Surfaces no scan saw (most of a
+/// scene's closed level set) move under the prior alone toward a minimal
+/// surface, slowly and for long: they are not waited for, nor copied.
+template <typename Field>
+openvdb::FloatTree::Ptr driftSnapshot(const detail::EvolvingField& field, const Field& data) {
+  const openvdb::FloatGrid& now = field.grid();
+  const float half = static_cast<float>(0.5 * now.voxelSize()[0]);
+  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(now.tree());
+  std::vector<std::unique_ptr<openvdb::FloatTree::LeafNodeType>> copies(leaves.leafCount());
+  leaves.foreach([&](const openvdb::FloatTree::LeafNodeType& leaf, std::size_t i) {
+    int points = 0;
+    if (field.owns(leaf.origin()) && driftCounts(leaf, half, now, data, points))
+      copies[i] = std::make_unique<openvdb::FloatTree::LeafNodeType>(leaf);
+  });
+  auto snapshot = std::make_shared<openvdb::FloatTree>(now.background());
+  for (auto& copy : copies)
+    if (copy) snapshot->addLeaf(copy.release());
+  return snapshot;
+}
+
+/// The largest mean change, over the leaf nodes of the field's grid that
+/// count in the drift now and did in `before` (driftSnapshot), of their
+/// active set's values since `before` (world units).
+template <typename Field>
+double largestLocalDrift(const detail::EvolvingField& field, const openvdb::FloatTree& before, const Field& data) {
   const openvdb::FloatGrid& now = field.grid();
   const float half = static_cast<float>(0.5 * now.voxelSize()[0]);
   openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(now.tree());
   std::vector<double> drift(leaves.leafCount(), 0.0);
   leaves.foreach([&](const openvdb::FloatTree::LeafNodeType& leaf, std::size_t i) {
-    if (!field.owns(leaf.origin())) return;
-    openvdb::FloatGrid::ConstAccessor old = before.getConstAccessor();
-    double sum = 0.0;
+    const openvdb::FloatTree::LeafNodeType* old = before.probeConstLeaf(leaf.origin());
     int points = 0;
-    openvdb::Coord first;
-    for (auto it = leaf.cbeginValueOn(); it; ++it) {
-      if (std::fabs(*it) > half) continue;
-      if (points == 0) first = it.getCoord();
-      sum += *it - old.getValue(it.getCoord());
-      ++points;
-    }
-    if (points >= 8 && data.readings(now.indexToWorld(first)) >= 1.0) drift[i] = std::fabs(sum) / points;
+    if (!old || !driftCounts(leaf, half, now, data, points)) return;
+    double sum = 0.0;
+    for (auto it = leaf.cbeginValueOn(); it; ++it)
+      if (std::fabs(*it) <= half) sum += *it - old->getValue(it.pos());
+    drift[i] = std::fabs(sum) / points;
   });
   return drift.empty() ? 0.0 : *std::max_element(drift.begin(), drift.end());
 }
@@ -380,7 +410,7 @@ LevelReport Reconstructor::evolveLevel(detail::EvolvingField& field, const Field
   LevelReport done;
   double slowest = std::numeric_limits<double>::infinity();
   int lastProgress = 0, snapshotIteration = 0;
-  openvdb::FloatGrid::Ptr snapshot = field.grid().deepCopy();
+  openvdb::FloatTree::Ptr snapshot = driftSnapshot(field, data);
   for (int iteration = 1; iteration <= mOptions.maxIterations; ++iteration) {
     const StepResult step = field.step(speed);
     done.simulatedTime += step.dt;
@@ -409,8 +439,8 @@ LevelReport Reconstructor::evolveLevel(detail::EvolvingField& field, const Field
     if (iteration - snapshotIteration >= mOptions.patience) {
       state.drift = field.largest(largestLocalDrift(field, *snapshot, data)) / h /
                     static_cast<double>(iteration - snapshotIteration);
-      snapshot.reset();  // one copy of the grid at a time
-      snapshot = field.grid().deepCopy();
+      snapshot.reset();  // one copy at a time
+      snapshot = driftSnapshot(field, data);
       snapshotIteration = iteration;
       if (iteration - lastProgress >= mOptions.patience && state.drift < mOptions.drift) {
         done.settled = true;
