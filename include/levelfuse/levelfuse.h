@@ -85,6 +85,7 @@
 #include <levelfuse/scan/DataWindow.h>
 #include <levelfuse/scan/DepthRaster.h>
 #include <levelfuse/scan/ForceField.h>
+#include <levelfuse/scan/LaserSweep.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/PixelFlags.h>
 #include <levelfuse/scan/RangeMap.h>

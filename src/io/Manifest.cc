@@ -247,7 +247,7 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
     } else if (format == "points") {
       maps.push_back(loadPointsEntry(e, defaults));
     } else if (format == "kitti-bin") {
-      maps.push_back(loadKittiBinEntry(e, defaults));
+      for (RangeMap& m : loadKittiBinEntry(e, defaults)) maps.push_back(std::move(m));
     } else if (format == "orthographic-pfm") {
       const std::string file = e.path("file");
       DepthImage image = readDepthPfm(file, false);

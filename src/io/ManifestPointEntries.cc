@@ -2,7 +2,9 @@
 
 #include "ManifestPointEntries.h"
 
+#include <levelfuse/io/InputError.h>
 #include <levelfuse/io/PointScans.h>
+#include <levelfuse/scan/LaserSweep.h>
 
 #include <cmath>
 #include <filesystem>
@@ -131,7 +133,7 @@ RangeMap loadPointsEntry(const Entry& e, const ScanLoadOptions& defaults) {
   return rangeMapFromPointCloud(sensorPoints, sensorToWorld, steps, sigma, file, fileName(file), cloud.colours);
 }
 
-RangeMap loadKittiBinEntry(const Entry& e, const ScanLoadOptions& defaults) {
+std::vector<RangeMap> loadKittiBinEntry(const Entry& e, const ScanLoadOptions& defaults) {
   e.requireOnly({"format", "file", "pose", "pose_file", "poses", "calib", "frame", "azimuth_step", "elevation_step",
                  "row_elevations", "sigma", "misses_are_empty", "dropout_reach"});
   const std::string file = e.path("file");
@@ -139,7 +141,17 @@ RangeMap loadKittiBinEntry(const Entry& e, const ScanLoadOptions& defaults) {
   const std::optional<AngularSteps> steps = stepsOf(e);
   const double sigma = e.positive("sigma", defaults.pointSigma);
   const PointCloud cloud = readKittiBin(file);
-  return rangeMapFromPointCloud(cloud.points, velodyneToWorld, steps, sigma, file, fileName(file));
+  if (!steps)
+    if (const std::optional<LaserRows> lasers = lasersInFiringOrder(cloud.points)) {
+      try {
+        return sweepRangeMaps(cloud.points, *lasers, velodyneToWorld, sigma, fileName(file));
+      } catch (const std::invalid_argument& error) {
+        throw InputError(file, error.what());
+      }
+    }
+  std::vector<RangeMap> maps;
+  maps.push_back(rangeMapFromPointCloud(cloud.points, velodyneToWorld, steps, sigma, file, fileName(file)));
+  return maps;
 }
 
 }  // namespace levelfuse::io

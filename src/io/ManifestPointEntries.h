@@ -7,6 +7,8 @@
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/scan/RangeMap.h>
 
+#include <vector>
+
 namespace levelfuse::io {
 
 /// A `points` entry: an XYZ or PLY file with the sensor's "origin" or
@@ -18,8 +20,11 @@ RangeMap loadPointsEntry(const Entry& e, const ScanLoadOptions& defaults);
 
 /// A `kitti-bin` entry: a KITTI velodyne sweep with its velodyne-to-world
 /// "pose" (or "pose_file"), or with KITTI odometry's "poses" file, "calib"
-/// file and "frame" index, as one spherical range map (steps and sigma as
+/// file and "frame" index. Without angular steps, a sweep listed laser by
+/// laser in firing order, as KITTI's are, becomes a range map per block of
+/// lasers that share an apex (lasersInFiringOrder, sweepRangeMaps); with
+/// them, or in another order, one spherical range map (steps and sigma as
 /// for `points`).
-RangeMap loadKittiBinEntry(const Entry& e, const ScanLoadOptions& defaults);
+std::vector<RangeMap> loadKittiBinEntry(const Entry& e, const ScanLoadOptions& defaults);
 
 }  // namespace levelfuse::io

@@ -4,6 +4,7 @@
 
 #include <levelfuse/core/Median.h>
 
+#include "BinnedScan.h"
 #include "PointDirection.h"
 
 #include <algorithm>
@@ -21,6 +22,9 @@ using openvdb::Vec3d;
 using detail::azimuthOf;
 using detail::elevationOf;
 using detail::hasReturn;
+using detail::BinnedScan;
+using detail::centreReadingsOnPixels;
+using detail::closeTheTurn;
 
 /// A point's direction as the binning sees it.
 struct BinnedPoint {
@@ -92,65 +96,6 @@ std::vector<BinnedPoint> directionsOf(const std::vector<Vec3d>& points) {
     if (const std::optional<detail::PointDirection> d = detail::binnableDirection(points[i]))
       directions.push_back({d->azimuth, d->elevation, static_cast<float>(points[i].length()), i});
   return directions;
-}
-
-/// The grid and readings of the binned points (sphericalMapFromPoints).
-struct BinnedScan {
-  int width = 0, height = 0;
-  SphericalProjection grid;
-  std::vector<float> ranges;
-  std::vector<Rgb8> colours;  ///< of the nearest point of each pixel, if the points have colours
-  /// Where each pixel's point lies from the pixel's centre, in pixels (each
-  /// within half a pixel): its column and row offsets.
-  std::vector<float> columnOffsets, rowOffsets;
-  bool closedTurn = false;  ///< the last column repeats the first
-};
-
-/// The slope of the readings across a pixel from its two neighbours along
-/// one direction, each measured between the points' own places: the smaller
-/// of the two where they agree in sign, else 0 (minmod). A depth step on one
-/// side, or a thin structure between two, then bends no reading.
-double limitedSlope(double before, double after) {
-  if (before * after <= 0.0) return 0.0;
-  return std::fabs(before) < std::fabs(after) ? before : after;
-}
-
-/// Moves each reading from its point's direction to its pixel's centre along
-/// the surface the neighbouring readings show (their limited slopes): a
-/// point up to half a pixel off its pixel's centre would otherwise be read
-/// as lying on the centre's ray, displaced sideways by up to half the
-/// distance between rays, which on a surface seen at an angle is a
-/// displacement along its normal. A reading without a neighbour on either
-/// side of a direction is not moved along it. (The last column of a closed
-/// turn, a copy of the first, is filled after.)
-void centreReadingsOnPixels(BinnedScan& scan) {
-  const long width = scan.width, height = scan.height;
-  const long columns = scan.closedTurn ? width - 1 : width;  // distinct columns
-  const std::vector<float> ranges = scan.ranges;
-  const auto at = [&](long u, long v) {
-    return static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u);
-  };
-  const auto valid = [&](std::size_t i) { return ranges[i] == ranges[i]; };
-  // The reading's change per pixel from the point of pixel a to that of b,
-  // b one pixel after a along a direction whose offsets are `offsets`.
-  const auto slope = [&](std::size_t a, std::size_t b, const std::vector<float>& offsets) {
-    return (ranges[b] - ranges[a]) / (1.0 + offsets[b] - offsets[a]);
-  };
-  for (long v = 0; v < height; ++v)
-    for (long u = 0; u < columns; ++u) {
-      const std::size_t i = at(u, v);
-      if (!valid(i)) continue;
-      double centred = ranges[i];
-      const long left = u > 0 ? u - 1 : (scan.closedTurn ? columns - 1 : -1);
-      const long right = u + 1 < columns ? u + 1 : (scan.closedTurn ? 0 : -1);
-      if (left >= 0 && right >= 0 && valid(at(left, v)) && valid(at(right, v)))
-        centred -= scan.columnOffsets[i] * limitedSlope(slope(at(left, v), i, scan.columnOffsets),
-                                                        slope(i, at(right, v), scan.columnOffsets));
-      if (v > 0 && v + 1 < height && valid(at(u, v - 1)) && valid(at(u, v + 1)))
-        centred -= scan.rowOffsets[i] * limitedSlope(slope(at(u, v - 1), i, scan.rowOffsets),
-                                                     slope(i, at(u, v + 1), scan.rowOffsets));
-      scan.ranges[i] = static_cast<float>(centred);
-    }
 }
 
 BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>& colours, AngularSteps steps,
@@ -253,12 +198,7 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
     if (!colours.empty()) scan.colours[at] = colours[d.point];
   }
   centreReadingsOnPixels(scan);
-  if (turn.closed)  // the first column again after the last: no seam
-    for (long v = 0; v < height; ++v) {
-      const std::size_t row = static_cast<std::size_t>(v) * static_cast<std::size_t>(width);
-      scan.ranges[row + static_cast<std::size_t>(width - 1)] = scan.ranges[row];
-      if (!colours.empty()) scan.colours[row + static_cast<std::size_t>(width - 1)] = scan.colours[row];
-    }
+  closeTheTurn(scan);
   return scan;
 }
 
@@ -275,21 +215,15 @@ AngularSteps stepsOnRows(double azimuthStep, std::vector<double> rowElevations, 
 RangeMap sphericalMapFromPoints(const std::vector<Vec3d>& scannerPoints, const AngularSteps& steps,
                                 const openvdb::math::Mat4d& scannerToWorld, double sigma, std::string name,
                                 const std::vector<Rgb8>& colours) {
-  BinnedScan scan = binnedScan(scannerPoints, colours, steps, name);
-  RangeMap map = RangeMap::spherical(scan.width, scan.height, std::move(scan.ranges), scan.grid, scannerToWorld,
-                                     sigma, std::move(name));
-  map.setColours(std::move(scan.colours));
-  return map;
+  return detail::mapOfBinnedScan(binnedScan(scannerPoints, colours, steps, name), scannerToWorld, sigma,
+                                 std::move(name));
 }
 
 RangeMap sphericalMapFromPoints(const std::vector<Vec3d>& scannerPoints, const AngularSteps& steps,
                                 const openvdb::math::Mat4d& scannerToWorld, const DepthNoise& noise,
                                 std::string name, const std::vector<Rgb8>& colours) {
-  BinnedScan scan = binnedScan(scannerPoints, colours, steps, name);
-  RangeMap map = RangeMap::spherical(scan.width, scan.height, std::move(scan.ranges), scan.grid, scannerToWorld,
-                                     noise, std::move(name));
-  map.setColours(std::move(scan.colours));
-  return map;
+  return detail::mapOfBinnedScan(binnedScan(scannerPoints, colours, steps, name), scannerToWorld, noise,
+                                 std::move(name));
 }
 
 AngularSteps stepsOfGrid(const std::vector<Vec3d>& scannerPoints, int columns, int rows) {

@@ -6,8 +6,12 @@
 #include "BallScans.h"
 #include "CliSupport.h"
 #include "support/Files.h"
+#include "support/LaserSweeps.h"
 #include "support/PointFiles.h"
 #include "support/PtxFiles.h"
+
+#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/recon/DataFit.h>
 
 #include <gtest/gtest.h>
 
@@ -90,6 +94,48 @@ TEST_F(PointsCli, InfoGivesTheRowsOfUnevenLasers) {
   EXPECT_NE(text.output.find("spherical 91 x 8, "), std::string::npos) << text.output;
   EXPECT_NE(text.output.find(", steps 1 deg x 8 rows 0.5 to 1 deg apart"), std::string::npos)
       << text.output;
+}
+
+// A KITTI sweep listed laser by laser in firing order, two blocks of lasers
+// with their apexes 8 cm apart: a map per block, the returns kept, and the
+// street corner around the sensor reconstructed within a voxel of them,
+// where binning the same returns by their directions from the sensor's
+// origin (steps given) misplaces them by the apexes' parallax.
+TEST_F(PointsCli, AKittiSweepBecomesAMapPerBlockOfLasers) {
+  const std::vector<Vec3d> points = test::streetCornerSweep(test::streetSensor());
+  test::writeBytes(path("000000.bin"), test::kittiBinBytes(points));
+  const std::string identity = R"("pose": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1])";
+  test::writeText(path("sweep.json"),
+                  R"({"scans": [{"format": "kitti-bin", "file": "000000.bin", "sigma": 0.01, )" + identity + "}]}");
+  test::writeText(path("binned.json"), R"({"scans": [{"format": "kitti-bin", "file": "000000.bin", "sigma": 0.01, )"
+                                       R"("azimuth_step": 0.1857, "elevation_step": 0.5, )" + identity + "}]}");
+  const CliRun info = levelfuse("info --json " + path("sweep.json"));
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  const nlohmann::json scans = jsonOf(info)["scans"];
+  ASSERT_EQ(scans.size(), 2u);
+  EXPECT_EQ(scans[0]["name"], "000000.bin, lasers 9-16");
+  EXPECT_EQ(scans[1]["name"], "000000.bin, lasers 1-8");
+  std::size_t kept = 0;
+  for (const nlohmann::json& scan : scans) kept += scan["points"].get<std::size_t>();
+  EXPECT_GE(kept, static_cast<std::size_t>(0.995 * static_cast<double>(points.size())));
+  EXPECT_LE(kept, points.size() + 2 * 8);  // a closed turn repeats its first column
+
+  // The returns within 12 m of the sensor: the wall, the car and the road the lower lasers swept.
+  std::vector<Vec3d> near;
+  for (const Vec3d& p : points)
+    if (std::hypot(p.x(), p.y()) < 12.0) near.push_back(p);
+  const auto fitOf = [&](const std::string& manifest, const std::string& output) {
+    const CliRun run = levelfuse("reconstruct " + path(manifest) + " --voxel-size 0.05 -q -o " + path(output));
+    EXPECT_EQ(run.exitCode, 0) << run.output;
+    const auto surface = openvdb::GridBase::grid<openvdb::FloatGrid>(io::readVdb(path(output))->at(0));
+    return measureDataFit(*surface, near);
+  };
+  const DataFit lasers = fitOf("sweep.json", "lasers.vdb"), binned = fitOf("binned.json", "binned.vdb");
+  RecordProperty("within_voxel_lasers", std::to_string(lasers.withinVoxel));
+  RecordProperty("within_voxel_binned", std::to_string(binned.withinVoxel));
+  EXPECT_GE(lasers.withinVoxel, 0.95);
+  EXPECT_GE(lasers.withinVoxel, binned.withinVoxel + 0.1);
+  EXPECT_LE(lasers.p90, 0.5 * 0.05);
 }
 
 // Their steps estimated from the points, the maps are the scanners' grids.
