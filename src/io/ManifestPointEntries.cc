@@ -2,9 +2,7 @@
 
 #include "ManifestPointEntries.h"
 
-#include <levelfuse/io/InputError.h>
 #include <levelfuse/io/PointScans.h>
-#include <levelfuse/scan/LaserSweep.h>
 
 #include <cmath>
 #include <filesystem>
@@ -140,18 +138,7 @@ std::vector<RangeMap> loadKittiBinEntry(const Entry& e, const ScanLoadOptions& d
   const Mat4d velodyneToWorld = velodynePoseOf(e);
   const std::optional<AngularSteps> steps = stepsOf(e);
   const double sigma = e.positive("sigma", defaults.pointSigma);
-  const PointCloud cloud = readKittiBin(file);
-  if (!steps)
-    if (const std::optional<LaserRows> lasers = lasersInFiringOrder(cloud.points)) {
-      try {
-        return sweepRangeMaps(cloud.points, *lasers, velodyneToWorld, sigma, fileName(file));
-      } catch (const std::invalid_argument& error) {
-        throw InputError(file, error.what());
-      }
-    }
-  std::vector<RangeMap> maps;
-  maps.push_back(rangeMapFromPointCloud(cloud.points, velodyneToWorld, steps, sigma, file, fileName(file)));
-  return maps;
+  return rangeMapsOfSweep(readKittiBin(file).points, velodyneToWorld, steps, sigma, file, fileName(file));
 }
 
 }  // namespace levelfuse::io

@@ -2,6 +2,7 @@
 
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/PointScans.h>
+#include <levelfuse/scan/LaserSweep.h>
 
 #include "FileExtension.h"
 #include "StationGridChecks.h"
@@ -69,6 +70,22 @@ RangeMap rangeMapFromPointCloud(const std::vector<Vec3d>& sensorPoints, const op
   } catch (const std::invalid_argument& e) {  // no steps, or no map
     throw InputError(path, e.what());
   }
+}
+
+std::vector<RangeMap> rangeMapsOfSweep(const std::vector<Vec3d>& sensorPoints, const openvdb::math::Mat4d& sensorToWorld,
+                                       const std::optional<AngularSteps>& steps, double sigma, const std::string& path,
+                                       const std::string& name) {
+  if (!steps)
+    if (const std::optional<LaserRows> lasers = lasersInFiringOrder(sensorPoints)) {
+      try {
+        return sweepRangeMaps(sensorPoints, *lasers, sensorToWorld, sigma, name);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(path, e.what());
+      }
+    }
+  std::vector<RangeMap> maps;
+  maps.push_back(rangeMapFromPointCloud(sensorPoints, sensorToWorld, steps, sigma, path, name));
+  return maps;
 }
 
 }  // namespace levelfuse::io

@@ -51,6 +51,7 @@ TriangleMesh meshShown(const openvdb::FloatGrid& levelSet, const openvdb::FloatG
   TriangleMesh mesh = trimBy ? meshFromLevelSet(levelSet, adaptivity, *voxelsToMesh(*trimBy, kObservedWeight))
                              : meshFromLevelSet(levelSet, adaptivity);
   if (trimBy) mesh = trimMesh(mesh, *trimBy, kObservedWeight);
+  returnFreedMemory();  // the mesher's tables, built on the worker threads' heaps
   if (colour) paintMesh(mesh, *colour);
   return mesh;
 }

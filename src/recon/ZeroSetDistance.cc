@@ -7,6 +7,8 @@
 #include <levelfuse/geometry/NearestTriangle.h>
 #include <levelfuse/levelset/Mesh.h>
 
+#include <openvdb/tools/VolumeToSpheres.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -43,6 +45,21 @@ int reachOfTheWholeBand(const openvdb::FloatGrid& levelSet, const std::vector<op
   return static_cast<int>(std::min<openvdb::Int64>(reach, std::numeric_limits<int>::max() / 2));
 }
 
+/// The distances from the `open` points to the nearest vertex of the whole
+/// zero set's mesh (OpenVDB's ClosestSurfacePoint, which keeps its vertices
+/// alone: a voxel or so apart on the zero set, so that this far out the
+/// distance is at most a few hundredths of a voxel too long).
+void distancesToTheWholeZeroSet(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points,
+                                const std::vector<std::size_t>& open, std::vector<double>& distance) {
+  const auto surface = openvdb::tools::ClosestSurfacePoint<openvdb::FloatGrid>::create(levelSet);
+  if (!surface) return;
+  std::vector<openvdb::Vec3R> searched;
+  for (std::size_t i : open) searched.push_back(points[i]);
+  std::vector<float> found;
+  if (!surface->search(searched, found)) return;
+  for (std::size_t k = 0; k < open.size(); ++k) distance[open[k]] = found[k];
+}
+
 }  // namespace
 
 std::vector<double> distancesToZeroSet(const openvdb::FloatGrid& levelSet, const std::vector<openvdb::Vec3d>& points,
@@ -51,17 +68,23 @@ std::vector<double> distancesToZeroSet(const openvdb::FloatGrid& levelSet, const
   std::vector<double> distance(points.size(), std::numeric_limits<double>::infinity());
   std::vector<std::size_t> open(points.size());
   for (std::size_t i = 0; i < open.size(); ++i) open[i] = i;
+  const double bandVoxels = static_cast<double>(levelSet.activeVoxelCount());
   for (int reach = std::max(firstReach, 2); !open.empty(); reach *= 2) {
-    const bool whole = reach >= reachOfTheWholeBand(levelSet, points, open);
-    const TriangleMesh mesh = whole ? meshFromLevelSet(levelSet)
-                                    : meshFromLevelSet(levelSet, 0.0, cubesAround(levelSet, points, open, reach));
+    // Once the cubes would hold more voxels than the band, or hold all of
+    // it, the rest are measured against the whole zero set, once.
+    const double side = 2.0 * reach + 1.0;
+    if (static_cast<double>(open.size()) * side * side * side >= bandVoxels ||
+        reach >= reachOfTheWholeBand(levelSet, points, open)) {
+      distancesToTheWholeZeroSet(levelSet, points, open, distance);
+      break;
+    }
+    const TriangleMesh mesh = meshFromLevelSet(levelSet, 0.0, cubesAround(levelSet, points, open, reach));
     if (mesh.triangleCount() > 0) {
       const NearestTriangle nearest(mesh.xyz, mesh.triangles);
       parallelFor(open.size(), 256, [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k) distance[open[k]] = nearest.distance(points[open[k]]);
       });
     }
-    if (whole) break;
     // The zero set within a cube is all meshed but for cells that straddle
     // its faces: a surface point nearer than two voxels short of the reach
     // was found. The other points look again, twice as far.

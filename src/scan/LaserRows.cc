@@ -340,7 +340,7 @@ std::optional<LaserRows> lasersInFiringOrder(const std::vector<Vec3d>& points) {
 
   const double cut = firings.front().turned - 0.5 * typical;
   std::vector<int> laserOf = turnsFromTheCut(firings, cut);
-  const int lasers = laserOf.back() + 1;
+  const int lasers = *std::max_element(laserOf.begin(), laserOf.end()) + 1;  // a step back may end the order
   std::vector<std::optional<LaserCone>> cones = conesOf(firings, laserOf, lasers);
   splitTurnsWhereTheConesFit(firings, laserOf, cones);
   cones = conesOf(firings, laserOf, lasers);

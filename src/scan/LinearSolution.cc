@@ -1,5 +1,6 @@
 // levelfuse: the linear solution, the zero set of g (section 3), as a level set.
 
+#include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/levelset/Background.h>
 #include <levelfuse/levelset/SparseField.h>
@@ -386,15 +387,19 @@ SparseField linearSolutionField(AccumulatedField field, const RangeMapSequence& 
   if (field.g->tree().leafCount() == 0)
     throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
   // The grid is let go once the field has read it.
-  return SparseField::fromLevelSet(linearSolutionGrid(std::move(field), maps, margin, band, interrupter, nullptr),
-                                   engine);
+  SparseField linear =
+      SparseField::fromLevelSet(linearSolutionGrid(std::move(field), maps, margin, band, interrupter, nullptr), engine);
+  returnFreedMemory();  // the grid and the carving's leaves, built on the worker threads' heaps
+  return linear;
 }
 
 SlabField linearSolutionSlabField(AccumulatedField data, const RangeMapSequence& maps, double margin, LinearBand band,
                                   const SlabOfTheData& slab, const SlabBounds& own, const SparseFieldOptions& engine,
                                   const Interrupter& interrupter) {
-  return SlabField::fromLevelSet(linearSolutionGrid(std::move(data), maps, margin, band, interrupter, &slab), own,
-                                 engine);
+  SlabField linear =
+      SlabField::fromLevelSet(linearSolutionGrid(std::move(data), maps, margin, band, interrupter, &slab), own, engine);
+  returnFreedMemory();  // the grid and the carving's leaves, built on the worker threads' heaps
+  return linear;
 }
 
 SparseField linearSolutionField(AccumulatedField data, const std::vector<RangeMap>& maps, double margin,

@@ -1,5 +1,6 @@
 // levelfuse: the colour the scans saw on a surface.
 
+#include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/levelset/VoxelNormals.h>
@@ -179,6 +180,8 @@ openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const 
   auto colour = openvdb::Vec3fGrid::create(grey);
   colour->setTransform(levelSet.transform().copy());
   colour->setTree(meanColours(leaves, colouring, grey));
+  std::vector<std::unique_ptr<LeafColouring>>().swap(colouring);
+  returnFreedMemory();  // the sums, built on the worker threads' heaps
   colour->setName(kColourGridName);
   colour->setGridClass(openvdb::GRID_UNKNOWN);
   colour->insertMeta("levelfuse_surface", openvdb::StringMetadata(levelSet.getName()));

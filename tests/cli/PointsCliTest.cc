@@ -138,6 +138,35 @@ TEST_F(PointsCli, AKittiSweepBecomesAMapPerBlockOfLasers) {
   EXPECT_LE(lasers.p90, 0.5 * 0.05);
 }
 
+// Two sweeps of the street corner 2 m apart, posed by KITTI odometry's files:
+// fused, the returns of both lie within a voxel of the surface.
+TEST_F(PointsCli, KittiSweepsPosedByTheirOdometryFuse) {
+  const openvdb::math::Mat4d identity = openvdb::math::Mat4d::identity();
+  openvdb::math::Mat4d moved = identity;
+  moved.setTranslation(Vec3d(2.0, 0.0, 0.0));
+  test::writeText(path("calib.txt"), "Tr: " + test::kittiTransformText(identity) + "\n");
+  test::writeText(path("poses.txt"), test::kittiTransformText(identity) + "\n" + test::kittiTransformText(moved) + "\n");
+  std::vector<Vec3d> near;
+  for (int frame = 0; frame < 2; ++frame) {
+    const Vec3d at(2.0 * frame, 0.0, 0.0);
+    const std::vector<Vec3d> points = test::streetCornerSweep(test::streetSensor(), 7 + frame, at);
+    test::writeBytes(path(std::to_string(frame) + ".bin"), test::kittiBinBytes(points));
+    for (const Vec3d& p : points)
+      if (std::hypot(p.x(), p.y()) < 12.0) near.push_back(p + at);
+  }
+  test::writeText(path("sequence.json"), R"({"scans": [
+      {"format": "kitti-bin", "file": "0.bin", "poses": "poses.txt", "calib": "calib.txt", "frame": 0, "sigma": 0.01},
+      {"format": "kitti-bin", "file": "1.bin", "poses": "poses.txt", "calib": "calib.txt", "frame": 1, "sigma": 0.01}]})");
+  const CliRun run = levelfuse("reconstruct " + path("sequence.json") + " --voxel-size 0.05 --json -o " +
+                               path("sequence.vdb"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_EQ(jsonOf(run)["scans"].get<int>(), 4);  // two blocks of lasers a sweep
+  const auto surface = openvdb::GridBase::grid<openvdb::FloatGrid>(io::readVdb(path("sequence.vdb"))->at(0));
+  const DataFit fit = measureDataFit(*surface, near);
+  RecordProperty("within_voxel", std::to_string(fit.withinVoxel));
+  EXPECT_GE(fit.withinVoxel, 0.95);
+}
+
 // Their steps estimated from the points, the maps are the scanners' grids.
 TEST_F(PointsCli, ReconstructFindsTheBall) {
   const CliRun run = levelfuse("reconstruct " + ballManifest() + " --voxel-size 0.02 --sigma 0.005 --trim-unseen --mesh " +

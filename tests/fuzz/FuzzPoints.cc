@@ -1,7 +1,8 @@
 // Fuzzes the point-cloud readers: the input's first byte picks the reader,
-// the rest is the file: 'x' XYZ text, 'p' PLY, 'k' a KITTI velodyne sweep
-// (each read and binned into a spherical range map with the angular steps
-// estimated from its points: rangeMapFromPointCloud), 'c' a KITTI calib.txt,
+// the rest is the file: 'x' XYZ text, 'p' PLY (each read and binned into a
+// spherical range map with the angular steps estimated from its points:
+// rangeMapFromPointCloud), 'k' a KITTI velodyne sweep (read by its lasers if
+// they are listed in firing order, else binned: rangeMapsOfSweep), 'c' a KITTI calib.txt,
 // 'o' a KITTI poses file (its frame 1); any other byte picks one of them by
 // its value.
 
@@ -25,6 +26,11 @@ void binned(const std::string& path, const io::PointCloud& cloud) {
   io::rangeMapFromPointCloud(cloud.points, openvdb::math::Mat4d::identity(), std::nullopt, 0.01, path, "fuzz");
 }
 
+/// A KITTI sweep as the manifest reads it: by its lasers if it lists them in firing order.
+void swept(const std::string& path, const io::PointCloud& cloud) {
+  io::rangeMapsOfSweep(cloud.points, openvdb::math::Mat4d::identity(), std::nullopt, 0.01, path, "fuzz");
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -37,7 +43,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     switch (reader) {
       case 'x': binned(path, io::readXyzPoints(path)); break;
       case 'p': binned(path, io::readPlyPoints(path)); break;
-      case 'k': binned(path, io::readKittiBin(path)); break;
+      case 'k': swept(path, io::readKittiBin(path)); break;
       case 'c': io::readKittiVelodyneToCamera(path); break;
       default: io::readKittiCameraToWorld(path, 1); break;
     }

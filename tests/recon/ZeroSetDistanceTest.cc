@@ -24,14 +24,30 @@ openvdb::FloatGrid::Ptr unitSphere() {
 }
 
 TEST(ZeroSetDistance, FindsTheSurfaceNearOrFar) {
-  // From 4 voxels to 200 voxels away, inside and outside: the first cube, a
-  // doubled one, and the whole band.
+  // From 4 voxels to 200 voxels away, inside and outside, a point at a time:
+  // the first cube, a doubled one, and the whole zero set.
   const auto sphere = unitSphere();
-  for (const double offset : {0.08, -0.3, 0.5, -0.9, 1.5, 4.0}) {
-    const std::vector<Vec3d> points = test::pointsOnSphere(Vec3d(0.0), 1.0 + offset, 40, 3);
-    const std::vector<double> distance = detail::distancesToZeroSet(*sphere, points);
-    ASSERT_EQ(distance.size(), points.size());
-    for (double d : distance) EXPECT_NEAR(d, std::fabs(offset), 0.02 * kStep) << offset;
+  for (const double offset : {0.08, -0.3, 0.5, -0.9, 1.5, 4.0})
+    for (const Vec3d& p : test::pointsOnSphere(Vec3d(0.0), 1.0 + offset, 10, 3)) {
+      const std::vector<double> distance = detail::distancesToZeroSet(*sphere, {p});
+      ASSERT_EQ(distance.size(), 1u);
+      // Within the cubes (to 64 voxels), the mesh's triangles; beyond, its
+      // nearest vertex, found by ClosestSurfacePoint within a thousandth.
+      const double tolerance = std::fabs(offset) < 1.28 ? 0.02 * kStep : 1e-3 * std::fabs(offset);
+      EXPECT_NEAR(distance[0], std::fabs(offset), tolerance) << offset;
+    }
+}
+
+TEST(ZeroSetDistance, ManyPointsAreMeasuredToTheWholeZeroSetOnce) {
+  // More points than cubes the band could hold: the nearest vertex of the
+  // whole zero set's mesh, a voxel or so apart, so a little farther.
+  const auto sphere = unitSphere();
+  const std::vector<Vec3d> points = test::pointsOnSphere(Vec3d(0.0), 1.08, 400, 5);
+  const std::vector<double> distance = detail::distancesToZeroSet(*sphere, points);
+  ASSERT_EQ(distance.size(), points.size());
+  for (double d : distance) {
+    EXPECT_GE(d, 0.08 - 0.02 * kStep);
+    EXPECT_LE(d, 0.08 + 0.1 * kStep);
   }
 }
 

@@ -58,19 +58,19 @@ double streetCornerHit(const Vec3d& from, const Vec3d& d) {
   return nearest;
 }
 
-std::vector<Vec3d> streetCornerSweep(const SweepSensor& sensor, unsigned seed) {
+std::vector<Vec3d> streetCornerSweep(const SweepSensor& sensor, unsigned seed, const Vec3d& at) {
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> startOffset(-0.6, 1.2);  // in whole steps
   std::uniform_int_distribution<int> missing(0, 31);
   std::vector<Vec3d> points;
   for (const LaserCone& laser : sensor.lasers) {
-    const Vec3d apex(0.0, 0.0, laser.apexHeight);
+    const Vec3d apex = at + Vec3d(0.0, 0.0, laser.apexHeight);
     double azimuth = startOffset(random) * sensor.wholeStep;
     for (int firing = 0; azimuth < 2.0 * M_PI - 0.6 * sensor.wholeStep; ++firing) {
       const Vec3d d(std::cos(laser.elevation) * std::cos(azimuth), std::cos(laser.elevation) * std::sin(azimuth),
                     std::sin(laser.elevation));
       const double t = streetCornerHit(apex, d);
-      if (t > 0.0 && missing(random) != 0) points.push_back(apex + d * t);
+      if (t > 0.0 && missing(random) != 0) points.push_back(apex + d * t - at);
       azimuth += (firing % 7 == 6 ? 0.5 : 1.0) * sensor.wholeStep;
     }
   }

@@ -32,9 +32,11 @@ SweepSensor streetSensor();
 /// distance along the ray, or a negative number for none within 80 m.
 double streetCornerHit(const openvdb::Vec3d& from, const openvdb::Vec3d& d);
 
-/// The sweep's returns, in the sensor's frame, laser after laser from the
-/// cut at azimuth 0, each laser's first firing up to 0.6 of a step before
-/// the cut or 1.2 after it; one return in 32 (at random, seeded) is missing.
-std::vector<openvdb::Vec3d> streetCornerSweep(const SweepSensor& sensor, unsigned seed = 7);
+/// The sweep's returns of the sensor standing at `at` (its axes the
+/// scene's), in the sensor's frame, laser after laser from the cut at
+/// azimuth 0, each laser's first firing up to 0.6 of a step before the cut
+/// or 1.2 after it; one return in 32 (at random, seeded) is missing.
+std::vector<openvdb::Vec3d> streetCornerSweep(const SweepSensor& sensor, unsigned seed = 7,
+                                              const openvdb::Vec3d& at = openvdb::Vec3d(0.0));
 
 }  // namespace levelfuse::test

@@ -106,4 +106,16 @@ RangeMap rangeMapFromPointCloud(const std::vector<openvdb::Vec3d>& sensorPoints,
                                 double sigma, const std::string& path, const std::string& name,
                                 const std::vector<Rgb8>& colours = {});
 
+/// A spinning LiDAR's sweep (points in the sensor's frame, z up, in the order
+/// the file lists them) as range maps: without `steps`, a sweep listed laser
+/// by laser in firing order (KITTI's) as a map per block of lasers that
+/// share an apex (lasersInFiringOrder, sweepRangeMaps); with them, or in
+/// another order, one map binned by direction (rangeMapFromPointCloud).
+/// Throws InputError naming `path` as rangeMapFromPointCloud does, or if a
+/// block's lasers do not have distinct elevations.
+std::vector<RangeMap> rangeMapsOfSweep(const std::vector<openvdb::Vec3d>& sensorPoints,
+                                       const openvdb::math::Mat4d& sensorToWorld,
+                                       const std::optional<AngularSteps>& steps, double sigma, const std::string& path,
+                                       const std::string& name);
+
 }  // namespace levelfuse::io

@@ -189,7 +189,8 @@ struct ReconstructionResult {
   openvdb::FloatGrid::Ptr levelSet;
   /// The readings that face the level set on its narrow band
   /// (recon/SurfaceWeight.h): GRID_UNKNOWN, named "weight", the level set's
-  /// transform and active voxels; 0 where no scan observed the surface.
+  /// transform, its active voxels in the leaves some reading faces; 0 where
+  /// no scan observed the surface.
   openvdb::FloatGrid::Ptr weight;
   /// The colour the scans saw on the level set's narrow band
   /// (scan/SurfaceColour.h): a Vec3fGrid named "Cd"; null when no scan
