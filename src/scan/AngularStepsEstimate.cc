@@ -53,13 +53,6 @@ std::size_t countDirections(const std::vector<Vec3d>& points) {
       std::count_if(points.begin(), points.end(), [](const Vec3d& p) { return binnableDirection(p).has_value(); }));
 }
 
-/// The value below which a fraction `q` of the values lie.
-double quantile(std::vector<double> values, double q) {
-  const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), at, values.end());
-  return *at;
-}
-
 /// The typical step of gaps between neighbouring rays: the median of those
 /// within kStepWindow of their lower quartile (gaps over missing rays, two
 /// steps or more, and repeated angles left out); none without gaps.

@@ -155,7 +155,7 @@ double elevationFromApex(const std::vector<const Firing*>& firings, double apexH
 }
 
 /// The median turn between consecutive firings that went forward.
-double typicalStep(const std::vector<Firing>& firings) {
+double medianForwardStep(const std::vector<Firing>& firings) {
   std::vector<double> steps;
   for (std::size_t k = 1; k < firings.size(); ++k)
     if (firings[k].turned > firings[k - 1].turned) steps.push_back(firings[k].turned - firings[k - 1].turned);
@@ -313,9 +313,7 @@ bool conesFit(const std::vector<Firing>& firings, const std::vector<int>& laserO
   for (std::size_t k = 0; k < firings.size(); ++k)
     if (const auto& cone = cones[static_cast<std::size_t>(laserOf[k])])
       misfits.push_back(std::fabs(misfit(firings[k], *cone)));
-  std::nth_element(misfits.begin(), misfits.begin() + static_cast<std::ptrdiff_t>(0.9 * misfits.size()),
-                   misfits.end());
-  return misfits[static_cast<std::size_t>(0.9 * misfits.size())] <= kFitOfCones * spacing;
+  return quantile(std::move(misfits), 0.9) <= kFitOfCones * spacing;
 }
 
 /// True when the order turns one way: few steps back, and at least kFewestTurns turns.
@@ -335,7 +333,7 @@ std::optional<LaserRows> lasersInFiringOrder(const std::vector<Vec3d>& points) {
   const double spin = spinOf(points);
   const std::vector<Firing> firings = firingsOf(points, spin);
   if (!turnsOneWay(firings)) return std::nullopt;
-  const double typical = typicalStep(firings);
+  const double typical = medianForwardStep(firings);
   if (!(typical > 0.0)) return std::nullopt;
 
   const double cut = firings.front().turned - 0.5 * typical;

@@ -140,7 +140,8 @@ std::vector<Placed> placeFirings(const std::vector<Vec3d>& points, const LaserRo
   for (std::size_t i = 0; i < points.size(); ++i) {
     const int laser = rows.laserOfPoint[i];
     if (laser < 0) continue;
-    double turn = (std::atan2(points[i].y(), points[i].x()) - rows.cut) / rows.azimuthStep * std::fabs(rows.azimuthStep);
+    // The turn from the cut, as the sensor spins.
+    double turn = std::copysign(1.0, rows.azimuthStep) * (std::atan2(points[i].y(), points[i].x()) - rows.cut);
     turn -= kTurn * std::floor(turn / kTurn);
     const double position = turn / step - 0.5;  // column k's centre lies (k + 1/2) steps from the cut
     long column = std::lround(position);
@@ -162,7 +163,7 @@ detail::BinnedScan binnedBlock(const std::vector<Vec3d>& points, const LaserRows
   scan.width = static_cast<int>(turn.width);
   scan.height = static_cast<int>(block.lasers.size());
   scan.closedTurn = turn.closed;
-  const double sign = rows.azimuthStep < 0.0 ? -1.0 : 1.0;
+  const double sign = std::copysign(1.0, rows.azimuthStep);
   scan.grid.azimuthStep = sign * turn.step;
   scan.grid.azimuthStart = rows.cut + sign * (static_cast<double>(turn.first) + 0.5) * turn.step;
   scan.grid.rowElevations = rowElevations;

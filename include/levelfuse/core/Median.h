@@ -1,4 +1,4 @@
-// levelfuse: the median of a set of numbers.
+// levelfuse: the median and quantiles of a set of numbers.
 #pragma once
 
 #include <algorithm>
@@ -12,6 +12,15 @@ inline double median(std::vector<double> values) {
   const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
   std::nth_element(values.begin(), middle, values.end());
   return *middle;
+}
+
+/// The value below which a fraction `q` (in [0, 1]) of `values` lie: the
+/// element at q (n - 1) of them sorted, rounded down; 0 for none.
+inline double quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+  std::nth_element(values.begin(), at, values.end());
+  return *at;
 }
 
 }  // namespace levelfuse
