@@ -34,13 +34,6 @@ void resetPeakResident() {
   if (clearRefs) clearRefs << "5";
 }
 
-double processCpuSeconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
-  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
-}
-
 std::size_t iterationsFor(int radius) {
   if (radius <= 25) return 40;
   if (radius <= 50) return 30;

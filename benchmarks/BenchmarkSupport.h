@@ -3,6 +3,7 @@
 
 #include "peers/PeerMesh.h"
 
+#include <levelfuse/core/PhaseClock.h>
 #include <levelfuse/levelset/Mesh.h>
 
 #include <openvdb/openvdb.h>
@@ -33,9 +34,9 @@ double peakResidentMegabytes();
 /// (another system), one benchmark per process reports its own peak.
 void resetPeakResident();
 
-/// CPU time the process has used so far, all its threads, user and system, in
-/// seconds: what a run costs when the machine is shared and its real time is not its own.
-double processCpuSeconds();
+/// CPU time the process has used so far (levelfuse::processCpuSeconds): what a
+/// run costs when the machine is shared and its real time is not its own.
+using levelfuse::processCpuSeconds;
 
 /// Iterations timed per repetition for a sphere of radius R: enough to measure,
 /// few enough that the sphere changes little.

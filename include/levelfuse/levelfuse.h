@@ -18,6 +18,7 @@
 #include <levelfuse/core/MadeAhead.h>
 #include <levelfuse/core/Median.h>
 #include <levelfuse/core/Parallel.h>
+#include <levelfuse/core/PhaseClock.h>
 
 #include <levelfuse/geometry/NearestTriangle.h>
 #include <levelfuse/geometry/Shapes.h>

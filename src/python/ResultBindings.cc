@@ -56,6 +56,15 @@ py::dict summaryOf(const Outcome& o) {
   s["narrow_band_voxels"] = o.result.levelSet->activeVoxelCount();
   s["peak_engine_bytes"] = o.result.peakEngineBytes;
   s["seconds"] = o.seconds;
+  py::list phases;  // the reconstruction's own phases
+  for (const PhaseTime& p : o.result.phases) {
+    py::dict phase;
+    phase["name"] = p.name;
+    phase["seconds"] = p.seconds;
+    phase["cpu_seconds"] = p.cpuSeconds;
+    phases.append(phase);
+  }
+  s["phases"] = phases;
   if (o.fit) {
     py::dict f;
     f["points"] = o.fit->readings;

@@ -468,15 +468,18 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   // 1. The initial model: the linear solution on the coarsest grid, from the
   //    fusion's coarsest grid when the evolution takes the data term from
   //    grids: the scans are integrated into every grid at once, for both.
+  PhaseClock clock;
   std::unique_ptr<Fusion> fused;
   const Fusion* fusion = mFusion;
   if (!fusion && mOptions.dataTerm == DataTermSource::kGrids) {
+    clock.enter("integrating");
     fused = fuseScans(state, report, interrupter, team);
     fusion = fused.get();
   }
   if (fusion && fusion->forATeam() && !(team && team->size() > 1))
     throw std::invalid_argument("reconstruction: the fusion holds one slab of the data or defers a grid "
                                 "(Fusion::restrictToSlab, deferLevel): run it with the team that shares the data");
+  clock.enter("linear solution");
   state.stage = ReconstructionProgress::Stage::kInitialModel;
   state.scan = 0;
   state.scans = mSummary.scans();
@@ -501,15 +504,18 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   // 2-3. Each grid evolved, then refined for the next.
   int iterations = 0;
   for (int level = 0; level < *mOptions.levels; ++level) {
-    result.levels.push_back(reconstructLevel(level, field, fusion, state, report, interrupter, result));
+    result.levels.push_back(reconstructLevel(level, field, fusion, state, report, interrupter, result, clock));
     iterations += result.levels.back().iterations;
     result.peakEngineBytes = std::max(result.peakEngineBytes, result.levels.back().engineBytes);
   }
   if (result.levelSet) {
     describeRun(*result.levelSet, iterations);
+    clock.enter("colour");
     result.colour = surfaceColour(*result.levelSet, interrupter);
     if (mOptions.keepPieces) field.keepOwnPiece(result.levelSet, result.weight, result.colour);
   }
+  clock.stop();
+  result.phases = clock.phases();
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   state.stage = ReconstructionProgress::Stage::kDone;
   report();
@@ -535,7 +541,7 @@ std::unique_ptr<Fusion> Reconstructor::fuseScans(ReconstructionProgress& state, 
 LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& field, const Fusion* fusion,
                                             ReconstructionProgress& state,
                                             const std::function<void()>& report, const Interrupter& interrupter,
-                                            ReconstructionResult& result) const {
+                                            ReconstructionResult& result, PhaseClock& clock) const {
   const auto levelStart = Clock::now();
   const double h = voxelSize(level);
   state.level = level;
@@ -544,6 +550,7 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
   state.drift = 0.0;
   if (level > 0) {
     // 3. Resample to half the voxel size.
+    clock.enter("resampling");
     state.stage = ReconstructionProgress::Stage::kResampling;
     report();
     field.refine(mOptions.engine);
@@ -552,9 +559,11 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
   // On the finest grid, the surface's weight is taken while its data term is at hand.
   const bool finestGrid = level + 1 == *mOptions.levels;
   const auto evolveAndWeigh = [&](const auto& data) {
+    clock.enter("evolution");
     state.stage = ReconstructionProgress::Stage::kEvolving;
     const LevelReport evolved = evolveLevel(field, data, h, state, report);
     if (finestGrid) {
+      clock.enter("surface weight");
       // Pieces stay their slab's level set, ghosts and all, until the colour is made (run).
       detail::EvolvingField::Surface surface = field.release(
           mOptions.name,
@@ -567,6 +576,7 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
   };
   LevelReport done;
   if (fusion && fusion->deferred(level)) {
+    clock.enter("integrating");
     const std::unique_ptr<DataTermGrids> slabData = dataTermOfSlab(level, field, *fusion, state, report, interrupter);
     done = evolveAndWeigh(*slabData);
     done.slabDataTermBytes = slabData->memoryBytes();

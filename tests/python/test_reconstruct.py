@@ -37,6 +37,14 @@ def test_the_summary_says_what_the_converters_json_says(cli, torus_scans, tmp_pa
     for key in ("points", "mean", "median", "p90", "within_voxel"):
         assert summary["fit"][key] == pytest.approx(cli_summary["fit"][key], rel=1e-12), key
     assert summary["method"] == "evolution" and summary["scene"] is False
+    # Where the time went: the reconstruction's phases, in the converter's among its own.
+    reconstruction = [p["name"] for p in summary["phases"]]
+    assert reconstruction[:2] == ["linear solution", "evolution"] and "surface weight" in reconstruction
+    phases = [p["name"] for p in cli_summary["phases"]]
+    assert phases[0] == "loading" and phases[-1] == "writing"
+    assert [name for name in phases if name in reconstruction] == reconstruction
+    assert all(p["seconds"] >= 0 and p["cpu_seconds"] >= 0 for p in cli_summary["phases"])
+    assert sum(p["seconds"] for p in cli_summary["phases"]) <= cli_summary["seconds"] + 0.01
 
 
 def test_range_maps_from_numpy_reconstruct_a_sphere():

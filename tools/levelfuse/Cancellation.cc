@@ -9,6 +9,7 @@ namespace levelfuse::cli {
 namespace {
 std::atomic<bool> gCancelled{false};
 const char* gPhase = "starting";
+PhaseClock gClock;
 extern "C" void onSignal(int) { gCancelled.store(true); }
 }  // namespace
 
@@ -30,10 +31,17 @@ void checkCancellation() {
 void enterPhase(const char* phase) {
   checkCancellation();
   gPhase = phase;
+  gClock.enter(phase);
   const char* signalAt = std::getenv("LEVELFUSE_TEST_SIGNAL_AT");
   if (signalAt && std::strcmp(signalAt, phase) == 0) std::raise(SIGINT);
 }
 
 std::string currentPhase() { return gPhase; }
+
+std::vector<PhaseTime> phaseTimes() {
+  PhaseClock soFar = gClock;
+  soFar.stop();
+  return soFar.phases();
+}
 
 }  // namespace levelfuse::cli

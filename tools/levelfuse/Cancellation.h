@@ -2,8 +2,10 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/PhaseClock.h>
 
 #include <string>
+#include <vector>
 
 namespace levelfuse::cli {
 
@@ -27,5 +29,7 @@ void checkCancellation();
 void enterPhase(const char* phase);
 /// The phase entered last ("starting" before any).
 std::string currentPhase();
+/// The time each phase entered so far took, the current one's up to now.
+std::vector<PhaseTime> phaseTimes();
 
 }  // namespace levelfuse::cli

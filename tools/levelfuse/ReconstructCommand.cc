@@ -381,6 +381,26 @@ std::uint64_t dataTermBytesOf(const ScansReconstruction& made, const Reconstruct
   return made.fusion->dataTermBytes() + slabGrid;
 }
 
+/// The run's phases as the command entered them, the reconstruction's own in
+/// place of the one that ran it ("evolving").
+std::vector<PhaseTime> runPhases(const ReconstructionResult& result) {
+  std::vector<PhaseTime> phases;
+  for (const PhaseTime& phase : phaseTimes()) {
+    if (phase.name == "evolving" && !result.phases.empty())
+      phases.insert(phases.end(), result.phases.begin(), result.phases.end());
+    else
+      phases.push_back(phase);
+  }
+  return phases;
+}
+
+nlohmann::json phasesJson(const ReconstructionResult& result) {
+  nlohmann::json phases = nlohmann::json::array();
+  for (const PhaseTime& p : runPhases(result))
+    phases.push_back({{"name", p.name}, {"seconds", p.seconds}, {"cpu_seconds", p.cpuSeconds}});
+  return phases;
+}
+
 /// JSON of the fit to the points, null if it was not measured.
 nlohmann::json fitJson(const std::optional<DataFit>& fit) {
   if (!fit) return nullptr;
@@ -419,6 +439,8 @@ void printJson(const Summary& r) {
                    {"peak_memory_bytes", peakResidentBytes()},
                    {"fit", fitJson(r.measures.fit)},
                    {"seconds", r.seconds},
+                   {"cpu_seconds", processCpuSeconds()},
+                   {"phases", phasesJson(r.result)},
                    {"outputs", {{"vdb", r.pieces.empty() ? nlohmann::json(s.output) : nlohmann::json(r.pieces)},
                                 {"mesh", s.mesh},
                                 {"preview", s.preview}}},
@@ -458,6 +480,19 @@ void printFit(const Measures& m) {
             << ": mean " << length(fit.mean) << ", median " << length(fit.median) << ", 90% " << length(fit.p90)
             << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, " << fixed(100.0 * fit.beyondBand, 3)
             << "% beyond the band\n";
+}
+
+/// The summary's line of the time taken: in all, of CPU, and per phase (those
+/// of at least a hundredth of a second).
+void printTimes(const Summary& r) {
+  std::cout << "  " << duration(r.seconds) << " (CPU " << duration(processCpuSeconds()) << ")";
+  const char* separator = ": ";
+  for (const PhaseTime& phase : runPhases(r.result)) {
+    if (phase.seconds < 0.005) continue;
+    std::cout << separator << phase.name << " " << duration(phase.seconds);
+    separator = ", ";
+  }
+  std::cout << "\n";
 }
 
 /// The summary's lines of the files written.
@@ -516,7 +551,7 @@ void printText(const Summary& r) {
     std::cout << "  error against the true " << r.inputs.truth->name() << (r.trimmed ? " where seen" : "")
               << ": rms " << length(m.truthRms) << " ("
               << fixed(m.truthRms / *o.voxelSize, 3) << " voxel)\n";
-  std::cout << "  " << fixed(r.seconds, 3) << " s\n";
+  printTimes(r);
   printWritten(r);
 }
 
@@ -604,6 +639,7 @@ int runReconstruct(ReconstructSettings s) {
   if (!shown.trim) result.weight.reset();
   // The fit is measured for the summary alone: with --quiet nobody reads it.
   const bool summaryShown = s.json || !s.quiet;
+  if (summaryShown) enterPhase("measuring");
   const Measures measures = summaryShown ? measure(made, result, shown, inputs) : countsOf(made);
   const std::size_t triangles = writeShownOutputs(outputs, inputs, result, shown, s);
   const Summary summary{s,         reconstructor,  result, inputs, measures, shown.trim,

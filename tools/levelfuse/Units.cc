@@ -1,9 +1,10 @@
-// levelfuse CLI: lengths, areas and volumes as a person reads them.
+// levelfuse CLI: lengths, areas, volumes and durations as a person reads them.
 
 #include "Units.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstddef>
 #include <sstream>
 
@@ -67,6 +68,12 @@ std::string area(double squareMetres) {
 std::string volume(double cubicMetres) {
   static const Unit units[] = {{"m", 1.0, 1.0}, {"cm", 1e-2, 1e-6}, {"mm", 1e-3, 0.0}};
   return withUnit(cubicMetres, 3, 3, units, "³");
+}
+
+std::string duration(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, seconds < 10.0 ? "%.2f s" : "%.1f s", seconds);
+  return text;
 }
 
 }  // namespace levelfuse::cli

@@ -1,4 +1,4 @@
-// levelfuse CLI: lengths, areas and volumes as a person reads them.
+// levelfuse CLI: lengths, areas, volumes and durations as a person reads them.
 //
 // The readers give world coordinates in metres (Stanford scans, depth frames,
 // TUM sequences), so the text summaries print a length with the unit its size
@@ -18,5 +18,7 @@ std::string length(double metres);
 std::string area(double squareMetres);
 /// A volume in cubic metres, to three significant digits, in mm³, cm³ or m³.
 std::string volume(double cubicMetres);
+/// A duration in seconds, to a hundredth below 10 s and a tenth above: "0.62 s", "12.4 s".
+std::string duration(double seconds);
 
 }  // namespace levelfuse::cli

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/PhaseClock.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/recon/FusionSettings.h>
 #include <levelfuse/scan/AccumulationCost.h>
@@ -198,6 +199,10 @@ struct ReconstructionResult {
   openvdb::Vec3fGrid::Ptr colour;
   std::vector<LevelReport> levels;
   double seconds = 0.0;
+  /// Where the time went: "integrating" (when run() fuses the scans itself),
+  /// "linear solution" (space carving and the initial model, Eq. 17),
+  /// "evolution", "resampling", "surface weight", "colour".
+  std::vector<PhaseTime> phases;
   std::size_t peakEngineBytes = 0;  ///< the largest sparse field along the way
 };
 
@@ -326,7 +331,7 @@ class Reconstructor {
   /// integrated within this process's slab, dataTermOfSlab), else the maps'.
   LevelReport reconstructLevel(int level, detail::EvolvingField& field, const Fusion* fusion,
                                ReconstructionProgress& state, const std::function<void()>& report,
-                               const Interrupter& interrupter, ReconstructionResult& result) const;
+                               const Interrupter& interrupter, ReconstructionResult& result, PhaseClock& clock) const;
   /// The data term of the fusion's deferred grid `level` (Fusion::deferLevel)
   /// within this process's slab of `field` and the data it reads beyond
   /// (dataSlabOf), once its memory is found to fit (InsufficientMemory if not).
