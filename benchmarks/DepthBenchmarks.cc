@@ -13,6 +13,14 @@
 //                                            sdf_trunc 4 voxels, depth_trunc 4 m, no
 //                                            colour, integrate + extract_triangle_mesh
 //
+//   BM_FuseOneFrame/<voxel mm>               live fusion: Fusion::integrate of one frame
+//                                            (decoded beforehand) into a fusion of one
+//                                            grid, over the sequence's first 100 frames;
+//                                            counters ms_per_frame_median, _p90, _max
+//   BM_AnswerAfterFrames/<voxel mm>/<frames> the answer a scanning app shows while frames
+//                                            keep coming: Fusion::linearSolution after
+//                                            the first <frames> frames
+//
 // Counters: seconds (the timed loop, as the real time), cpu_seconds (the CPU
 // time of all the process's threads in it: a measure that holds on a shared
 // machine, where the real time is not the run's own), peak_rss_mb (the
@@ -31,18 +39,20 @@
 // same ruler measures how well the surface fits frames it was built from, and
 // its counters are named seen_* instead of heldout_*.
 //
-// Open3D runs its loops with OpenMP: on a shared machine set
-// OMP_WAIT_POLICY=passive (tools/quickstart.sh does), or its spinning threads
-// make it many times slower than it is. levelfuse runs on 2 TBB threads.
+// Open3D runs its loops with OpenMP in the environment it is given, as its
+// users run it; levelfuse runs on 2 TBB threads. The whole-process comparison
+// with Open3D's Python API is benchmarks/depth_video_processes.py.
 //
 // Run with --benchmark_format=json; skipped with a message without the data.
 
 #include "BenchmarkSupport.h"
+#include "DepthSequence.h"
 
 #include <levelfuse/core/FreedMemory.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/HeldOutFrames.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/ScansReconstruction.h>
@@ -73,19 +83,6 @@ constexpr std::size_t kSequenceFrames = 500;
 constexpr int kHeldOutEvery = 10, kHeldOutOffset = 5;  ///< positions 5, 15, ..., 495
 constexpr int kHeldOutPixelStride = 2;
 
-/// The sequence's frames, sorted: their paths without ".depth.png".
-std::vector<std::string> frameStems() {
-  std::vector<std::string> stems;
-  const std::string suffix = ".depth.png";
-  for (const fs::directory_entry& entry : fs::directory_iterator(kSequence)) {
-    const std::string path = entry.path().string();
-    if (path.size() > suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0)
-      stems.push_back(path.substr(0, path.size() - suffix.size()));
-  }
-  std::sort(stems.begin(), stems.end());
-  return stems;
-}
-
 /// Every `stride`-th frame from the first, as loadScans' frame stride takes them.
 int strideFor(int frames) { return static_cast<int>(kSequenceFrames) / frames; }
 
@@ -97,7 +94,7 @@ bool seesHeldOutFrames(int frames) {
 }
 
 bool sequencePresent(benchmark::State& state) {
-  if (fs::exists(kSequence) && frameStems().size() == kSequenceFrames) return true;
+  if (fs::exists(kSequence) && frameStems(kSequence).size() == kSequenceFrames) return true;
   state.SkipWithError("../shared/data/7scenes-seq (500 depth frames) is absent");
   return false;
 }
@@ -125,17 +122,6 @@ TriangleMesh fuseDepthFrames(int frameStride, double voxel, bool linearOnly) {
   return meshFromLevelSet(*surface);
 }
 
-/// The held-out frames as levelfuse reads them.
-std::vector<RangeMap> heldOutFrames() {
-  const std::vector<std::string> stems = frameStems();
-  const PinholeProjection intrinsics = io::readIntrinsics(kSequence + "/camera-intrinsics.txt");
-  std::vector<RangeMap> frames;
-  for (const std::size_t i : splitFrames(stems.size(), kHeldOutEvery, kHeldOutOffset).heldOut)
-    frames.push_back(io::depthFrame(io::readDepthPng(stems[i] + ".depth.png"), intrinsics,
-                                    io::readPose(stems[i] + ".pose.txt"), io::DepthNoise(), stems[i]));
-  return frames;
-}
-
 /// Time, memory and accuracy of the mesh `make()` returns.
 template <typename Make>
 void measure(benchmark::State& state, int frames, const Make& make) {
@@ -152,7 +138,8 @@ void measure(benchmark::State& state, int frames, const Make& make) {
   state.counters["triangles"] = static_cast<double>(mesh.triangleCount());
   HeldOutOptions options;
   options.stride = kHeldOutPixelStride;
-  const HeldOutAccuracy accuracy = measureHeldOutFrames(mesh, heldOutFrames(), options);
+  const HeldOutAccuracy accuracy =
+      measureHeldOutFrames(mesh, heldOutFrames(kSequence, kHeldOutEvery, kHeldOutOffset), options);
   const std::string prefix = seesHeldOutFrames(frames) ? "seen_" : "heldout_";
   state.counters[prefix + "points"] = static_cast<double>(accuracy.distances.readings);
   state.counters[prefix + "mean_mm"] = 1000.0 * accuracy.distances.mean;
@@ -172,7 +159,7 @@ void levelfuseDepth(benchmark::State& state, int voxelMillimetres, int frames, b
 /// Open3D from frames on disk to a mesh: the poses and intrinsics read with
 /// levelfuse's readers (plain text), the PNGs with Open3D's.
 TriangleMesh open3dDepthFrames(int frameStride, double voxel) {
-  const std::vector<std::string> stems = frameStems();
+  const std::vector<std::string> stems = frameStems(kSequence);
   std::vector<peers::DepthFrameFile> files;
   for (std::size_t i = 0; i < stems.size(); i += static_cast<std::size_t>(frameStride)) {
     peers::DepthFrameFile file;
@@ -199,7 +186,70 @@ void open3dDepth(benchmark::State& state, int voxelMillimetres, int frames) {
 }
 #endif
 
+/// The sequence's first `count` frames, decoded as the Python module's users hold them.
+std::vector<RangeMap> firstFrames(std::size_t count) {
+  const std::vector<std::string> stems = frameStems(kSequence);
+  const PinholeProjection intrinsics = io::readIntrinsics(kSequence + "/camera-intrinsics.txt");
+  std::vector<RangeMap> frames;
+  for (std::size_t i = 0; i < count && i < stems.size(); ++i)
+    frames.push_back(io::depthFrame(io::readDepthPng(stems[i] + ".depth.png"), intrinsics,
+                                    io::readPose(stems[i] + ".pose.txt"), io::DepthNoise(), stems[i]));
+  return frames;
+}
+
+/// A fusion as the Python module makes one by default (epsilon one voxel).
+FusionSettings liveSettings(int voxelMillimetres) {
+  FusionSettings settings;
+  settings.voxelSize = 0.001 * voxelMillimetres;
+  settings.epsilon = settings.voxelSize;
+  return settings;
+}
+
+/// Fusion::integrate of each of the first 100 frames, one at a time, timed each.
+void fuseOneFrame(benchmark::State& state, int voxelMillimetres) {
+  if (!sequencePresent(state)) return;
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(kDefaultThreads));
+  const std::vector<RangeMap> frames = firstFrames(100);
+  std::vector<double> milliseconds;
+  for (auto _ : state) {
+    Fusion fusion(liveSettings(voxelMillimetres));
+    for (const RangeMap& frame : frames) {
+      const auto start = std::chrono::steady_clock::now();
+      fusion.integrate(frame);
+      milliseconds.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+  }
+  std::sort(milliseconds.begin(), milliseconds.end());
+  {
+    Fusion fusion(liveSettings(voxelMillimetres));
+    for (const RangeMap& frame : frames) fusion.integrate(frame);
+    state.counters["evaluations_per_frame"] = static_cast<double>(fusion.dataTerm(0).evaluations()) / frames.size();
+    std::size_t valid = 0;
+    for (const RangeMap& frame : frames) valid += frame.validCount();
+    state.counters["readings_per_frame"] = static_cast<double>(valid) / frames.size();
+  }
+  state.counters["frames"] = static_cast<double>(milliseconds.size());
+  state.counters["ms_per_frame_median"] = milliseconds[milliseconds.size() / 2];
+  state.counters["ms_per_frame_p90"] = milliseconds[milliseconds.size() * 9 / 10];
+  state.counters["ms_per_frame_max"] = milliseconds.back();
+}
+
+/// Fusion::linearSolution after the first `count` frames: what an app shows as the room grows.
+void answerAfterFrames(benchmark::State& state, int voxelMillimetres, int count) {
+  if (!sequencePresent(state)) return;
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(kDefaultThreads));
+  Fusion fusion(liveSettings(voxelMillimetres));
+  for (const RangeMap& frame : firstFrames(static_cast<std::size_t>(count))) fusion.integrate(frame);
+  openvdb::FloatGrid::Ptr surface;
+  for (auto _ : state) surface = fusion.linearSolution();
+  state.counters["active_voxels"] = static_cast<double>(surface->activeVoxelCount());
+}
+
 void registerAll() {
+  benchmark::RegisterBenchmark("BM_FuseOneFrame/10", fuseOneFrame, 10)->Iterations(1)->UseRealTime()->Unit(
+      benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("BM_AnswerAfterFrames/10/100", answerAfterFrames, 10, 100)
+      ->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
   for (const int millimetres : {10, 5})
     for (const int frames : {50, 500}) {
       const std::string suffix = "/" + std::to_string(millimetres) + "/" + std::to_string(frames);

@@ -25,7 +25,7 @@ packages=(cmake g++ ninja-build ccache pkg-config
           libcli11-dev nlohmann-json3-dev libpng-dev libpugixml-dev libopenexr-dev
           pybind11-dev python3-dev python3-numpy python3-openvdb libboost-python-dev)
 [ "$mode" != demo ] && packages+=(libgtest-dev libbenchmark-dev python3-pytest libopenmpi-dev openmpi-bin)
-[ "$mode" = bench ] && packages+=(libinsighttoolkit5-dev libopen3d-dev)
+[ "$mode" = bench ] && packages+=(libinsighttoolkit5-dev libopen3d-dev python3-open3d time)
 
 "$root/tools/install-packages.sh" "${packages[@]}"
 
@@ -77,7 +77,8 @@ case "$mode" in
     (cd "$build" && ctest --output-on-failure -j "$jobs" "${skip[@]}")
     ;;
   bench)
-    cmake --build "$build" -j "$jobs" --target levelset_benchmarks scan_benchmarks recon_benchmarks depth_benchmarks scene_benchmarks python_benchmarks mpi_benchmarks
+    cmake --build "$build" -j "$jobs" --target levelset_benchmarks scan_benchmarks recon_benchmarks depth_benchmarks \
+      scene_benchmarks station_benchmarks python_benchmarks mpi_benchmarks heldout_ruler levelfuse_cli
     echo "== running the benchmarks (this takes a while)"
     ITK_GLOBAL_DEFAULT_THREADER=Platform "$build/benchmarks/levelset_benchmarks" \
       --benchmark_format=json --benchmark_out="$root/out/levelset_benchmarks.json" --benchmark_out_format=json
@@ -89,14 +90,19 @@ case "$mode" in
           --benchmark_out="$root/out/mpi_benchmarks-${name//\//_}-np$ranks.json" --benchmark_out_format=json
       done
     done
-    # One process per benchmark, so that each reports its own peak memory.
-    # Open3D's OpenMP threads wait passively: spinning on a shared machine makes its many small
-    # parallel loops 15x slower (docs/BENCHMARKS.md, depth video).
-    for program in scan_benchmarks recon_benchmarks depth_benchmarks scene_benchmarks python_benchmarks; do
+    # One process per benchmark, so that each reports its own peak memory. Every peer runs
+    # in the environment it is given, as its users run it: nothing is set for or against it.
+    for program in scan_benchmarks recon_benchmarks depth_benchmarks scene_benchmarks station_benchmarks \
+                   python_benchmarks; do
       for name in $("$build/benchmarks/$program" --benchmark_list_tests); do
-        OMP_WAIT_POLICY=passive "$build/benchmarks/$program" --benchmark_filter="^$name\$" --benchmark_format=json \
+        "$build/benchmarks/$program" --benchmark_filter="^$name\$" --benchmark_format=json \
           --benchmark_out="$root/out/$program-${name//\//_}.json" --benchmark_out_format=json
       done
     done
+    # Depth video as whole processes: the converter against Open3D's Python API, in turn.
+    if [ -d "$root/../shared/data/7scenes-seq" ]; then
+      /usr/bin/python3 "$root/benchmarks/depth_video_processes.py" --build "$build" --out "$root/out/depth-video" \
+        --json "$root/out/depth_video_processes.json" | tee "$root/out/depth_video_processes.md"
+    fi
     ;;
 esac
