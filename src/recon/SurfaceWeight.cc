@@ -3,6 +3,7 @@
 #include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/levelset/VoxelNormals.h>
 #include <levelfuse/recon/SurfaceWeight.h>
+#include <levelfuse/scan/DataTermGrids.h>
 
 #include <openvdb/tree/LeafManager.h>
 
@@ -32,6 +33,7 @@ struct FacingWeightOp {
   void operator()(const openvdb::FloatTree::LeafNodeType& band, std::size_t n) const {
     if (interrupt->stop()) return;
     openvdb::FloatGrid::ConstAccessor phi = levelSet->getConstAccessor();
+    auto&& terms = samplerOf(*data);  // one leaf's voxels, one task
     auto leaf = std::make_unique<openvdb::FloatTree::LeafNodeType>(band, 0.0f, openvdb::TopologyCopy());
     bool faced = false;
     for (auto it = leaf->beginValueOn(); it; ++it) {
@@ -42,7 +44,7 @@ struct FacingWeightOp {
       // surface seen at a grazing angle lies outside the readings' windows
       // along their rays, however well they saw the surface.
       const Vec3d nearest = levelSet->indexToWorld(ijk) - normal * static_cast<double>(band.getValue(it.pos()));
-      const auto value = static_cast<float>(data->facingTerms(nearest, normal).readings);
+      const auto value = static_cast<float>(terms.facingTerms(nearest, normal).readings);
       it.setValue(value);
       faced = faced || value > 0.0f;
     }

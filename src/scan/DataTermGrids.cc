@@ -245,25 +245,6 @@ struct Corners {
   Vec3d offset[8];  ///< x - p_k, world
 };
 
-/// One bin's sums of weights and of windows over the leaves around x,
-/// interpolated like its other terms: their ratio is the weight R_b of one
-/// reading near x, and a weight W_b there holds N_b = W_b / R_b readings.
-class LeafReadingSums {
- public:
-  LeafReadingSums(const openvdb::FloatGrid& leafWeight, const openvdb::FloatGrid& leafWindows)
-      : mWeight(leafWeight.tree()), mWindows(leafWindows.tree()) {}
-  /// Adds the leaf holding voxel `ijk` with trilinear weight t.
-  void add(const Coord& ijk, double t) {
-    mWeightSum += t * mWeight.getValue(leafBlock(ijk));
-    mWindowSum += t * mWindows.getValue(leafBlock(ijk));
-  }
-  double readingsIn(double weight) const { return mWeightSum > 0.0 ? weight * mWindowSum / mWeightSum : 0.0; }
-
- private:
-  openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> mWeight, mWindows;
-  double mWeightSum = 0.0, mWindowSum = 0.0;
-};
-
 Corners cornersAround(const Vec3d& x, double h) {
   Corners c;
   const detail::TrilinearCorners around = detail::trilinearCorners(x / h);
@@ -277,25 +258,69 @@ Corners cornersAround(const Vec3d& x, double h) {
 
 }  // namespace
 
-DataTerms DataTermGrids::facingTerms(const Vec3d& x, const Vec3d& normal) const {
-  const Corners c = cornersAround(x, mVoxelSize);
-  openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> maskAccess(mBinMask->tree());
-  std::int32_t masks[8], any = 0;
-  for (int k = 0; k < 8; ++k) any |= masks[k] = maskAccess.getValue(c.ijk[k]);
+DataTermGrids::Sampler DataTermGrids::sampler() const { return Sampler(*this); }
+
+DataTermGrids::Sampler::Sampler(const DataTermGrids& grids) : mGrids(&grids), mMask(grids.mBinMask->tree()) {}
+
+DataTermGrids::Sampler::BinAccess::BinAccess(const Bin& bin)
+    : g(bin.g->tree()),
+      weight(bin.weight->tree()),
+      gradient(bin.gradient->tree()),
+      sight(bin.sight->tree()),
+      leafWeight(bin.leafWeight->tree()),
+      leafWindows(bin.leafWindows->tree()) {}
+
+DataTermGrids::Sampler::BinAccess& DataTermGrids::Sampler::bin(int b) {
+  std::optional<BinAccess>& access = mBins[static_cast<std::size_t>(b)];
+  if (!access) access.emplace(mGrids->mBins[static_cast<std::size_t>(b)]);
+  return *access;
+}
+
+std::int32_t DataTermGrids::Sampler::binsAt(const Coord (&ijk)[8], std::int32_t (&masks)[8]) {
+  std::int32_t any = 0;
+  for (int k = 0; k < 8; ++k) any |= masks[k] = mMask.getValue(ijk[k]);
+  return any;
+}
+
+namespace {
+
+/// One bin's sums of weights and of windows over the leaves around x,
+/// interpolated like its other terms: their ratio is the weight R_b of one
+/// reading near x, and a weight W_b there holds N_b = W_b / R_b readings.
+template <typename Accessor>
+class LeafReadingSums {
+ public:
+  LeafReadingSums(const Accessor& weight, const Accessor& windows) : mWeight(weight), mWindows(windows) {}
+  /// Adds the leaf holding voxel `ijk` with trilinear weight t.
+  void add(const Coord& ijk, double t) {
+    mWeightSum += t * mWeight.getValue(leafBlock(ijk));
+    mWindowSum += t * mWindows.getValue(leafBlock(ijk));
+  }
+  double readingsIn(double weight) const { return mWeightSum > 0.0 ? weight * mWindowSum / mWeightSum : 0.0; }
+
+ private:
+  const Accessor& mWeight;
+  const Accessor& mWindows;
+  double mWeightSum = 0.0, mWindowSum = 0.0;
+};
+
+}  // namespace
+
+DataTerms DataTermGrids::Sampler::facingTerms(const Vec3d& x, const Vec3d& normal) {
+  const Corners c = cornersAround(x, mGrids->mVoxelSize);
+  std::int32_t masks[8];
   DataTerms sum;
-  for (int b = 0; any != 0; ++b, any >>= 1) {
+  for (std::int32_t b = 0, any = binsAt(c.ijk, masks); any != 0; ++b, any >>= 1) {
     if (!(any & 1)) continue;
-    const Bin& bin = mBins[static_cast<std::size_t>(b)];
-    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> g(bin.g->tree()), w(bin.weight->tree());
-    openvdb::tree::ValueAccessor<const openvdb::Vec3fTree, false> grad(bin.gradient->tree()), sight(bin.sight->tree());
-    LeafReadingSums leafSums(*bin.leafWeight, *bin.leafWindows);
+    BinAccess& bin = this->bin(b);
+    LeafReadingSums leafSums(bin.leafWeight, bin.leafWindows);
     double G = 0.0, W = 0.0;
     Vec3d S(0.0);
     for (int k = 0; k < 8; ++k) {
       if (!(masks[k] & (1 << b)) || c.t[k] == 0.0) continue;
-      G += c.t[k] * (g.getValue(c.ijk[k]) + Vec3d(grad.getValue(c.ijk[k])).dot(c.offset[k]));  // carried to x
-      W += c.t[k] * w.getValue(c.ijk[k]);
-      S += c.t[k] * Vec3d(sight.getValue(leafBlock(c.ijk[k])));
+      G += c.t[k] * (bin.g.getValue(c.ijk[k]) + Vec3d(bin.gradient.getValue(c.ijk[k])).dot(c.offset[k]));  // carried to x
+      W += c.t[k] * bin.weight.getValue(c.ijk[k]);
+      S += c.t[k] * Vec3d(bin.sight.getValue(leafBlock(c.ijk[k])));
       leafSums.add(c.ijk[k], c.t[k]);
     }
     if (!(S.dot(normal) < 0.0)) continue;  // Eq. 37, per bin
@@ -303,6 +328,33 @@ DataTerms DataTermGrids::facingTerms(const Vec3d& x, const Vec3d& normal) const 
   }
   return sum;
 }
+
+DataTerms DataTermGrids::Sampler::allTerms(const Vec3d& x) {
+  const Corners c = cornersAround(x, mGrids->mVoxelSize);
+  // Only the bins with a term at one of the corners: another bin's weight is 0 at all eight.
+  std::int32_t masks[8];
+  DataTerms sum;
+  for (std::int32_t b = 0, any = binsAt(c.ijk, masks); any != 0; ++b, any >>= 1) {
+    if (!(any & 1)) continue;
+    BinAccess& bin = this->bin(b);
+    LeafReadingSums leafSums(bin.leafWeight, bin.leafWindows);
+    double W = 0.0;
+    for (int k = 0; k < 8; ++k) {
+      W += c.t[k] * bin.weight.getValue(c.ijk[k]);
+      leafSums.add(c.ijk[k], c.t[k]);
+    }
+    sum += DataTerms{0.0, W, leafSums.readingsIn(W)};
+  }
+  return sum;
+}
+
+DataTerms DataTermGrids::facingTerms(const Vec3d& x, const Vec3d& normal) const {
+  return sampler().facingTerms(x, normal);
+}
+
+double DataTermGrids::weight(const Vec3d& x) const { return sampler().weight(x); }
+
+double DataTermGrids::readings(const Vec3d& x) const { return sampler().readings(x); }
 
 namespace {
 
@@ -344,27 +396,6 @@ bool DataTermGrids::mayHaveTermsIn(const openvdb::BBoxd& world) const {
   const Coord lo = Coord::floor(world.min() / mVoxelSize).offsetBy(-1);
   const Coord hi = Coord::floor(world.max() / mVoxelSize).offsetBy(2);
   return anyActiveIn(mBinMask->tree(), openvdb::CoordBBox(lo, hi));
-}
-
-double DataTermGrids::weight(const Vec3d& x) const { return allTerms(x).weight; }
-
-double DataTermGrids::readings(const Vec3d& x) const { return allTerms(x).readings; }
-
-DataTerms DataTermGrids::allTerms(const Vec3d& x) const {
-  const Corners c = cornersAround(x, mVoxelSize);
-  DataTerms sum;
-  for (const Bin& bin : mBins) {
-    if (bin.weight->tree().leafCount() == 0) continue;
-    openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> w(bin.weight->tree());
-    LeafReadingSums leafSums(*bin.leafWeight, *bin.leafWindows);
-    double W = 0.0;
-    for (int k = 0; k < 8; ++k) {
-      W += c.t[k] * w.getValue(c.ijk[k]);
-      leafSums.add(c.ijk[k], c.t[k]);
-    }
-    sum += DataTerms{0.0, W, leafSums.readingsIn(W)};
-  }
-  return sum;
 }
 
 namespace {

@@ -28,6 +28,7 @@ StepResult DenseField::step(const Speed& speed, double maxDt) {
 
   // Rates at every voxel, from the same stencils and speed as the sparse field.
   forEachSlab([&](int x) {
+    const auto& local = localSpeed(speed);  // one slab's points, one task
     Stencil s;
     s.h = h;
     float maxRate = 0.0f;
@@ -41,7 +42,7 @@ StepResult DenseField::step(const Speed& speed, double maxDt) {
                                  std::clamp(ijk.z() + d[2], lo.z(), hi.z()));
           s.u[p] = mValues[index(n)];
         }
-        float rate = speed(ActivePoint{s, ijk, *mTransform});
+        float rate = local(ActivePoint{s, ijk, *mTransform});
         if (!std::isfinite(rate)) rate = 0.0f;
         mRates[index(ijk)] = rate;
         maxRate = std::max(maxRate, std::fabs(rate));

@@ -40,6 +40,7 @@ double computeRates(SparseFieldState& state, const Speed& speed) {
       return;
     }
     const ValueNeighbourhood neighbourhood(table, record);
+    const auto& local = localSpeed(speed);  // one leaf's points, one task
     Stencil stencil;
     stencil.h = h;
     float maxRate = 0.0f;
@@ -47,7 +48,7 @@ double computeRates(SparseFieldState& state, const Speed& speed) {
     forEachOn(record.layer[0], [&](unsigned offset) {
       neighbourhood.gather(offset, stencil);
       const openvdb::Coord ijk = record.origin + FloatLeaf::offsetToLocalCoord(offset);
-      float rate = speed(ActivePoint{stencil, ijk, transform});
+      float rate = local(ActivePoint{stencil, ijk, transform});
       if (!std::isfinite(rate)) rate = 0.0f;  // a speed undefined here does not move the point
       rates[slot++] = rate;
       maxRate = std::max(maxRate, std::fabs(rate));

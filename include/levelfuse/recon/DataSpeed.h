@@ -45,9 +45,25 @@ struct DataForce {
   double limit = std::numeric_limits<double>::infinity();
 
   double operator()(const openvdb::Vec3d& x, const openvdb::Vec3d& n) const {
-    const DataTerms t = field->facingTerms(x, n);  // Eq. 37
+    return forceOf(field->facingTerms(x, n), limit);  // Eq. 37
+  }
+  /// F from the facing terms at x, clamped to [-limit, limit].
+  static double forceOf(const DataTerms& t, double limit) {
     if (!(t.weight > 0.0)) return 0.0;
     return std::clamp(t.g / t.weight * std::min(1.0, t.readings), -limit, limit);
+  }
+  /// The force for one task (localSpeed): the same, through the field's own
+  /// sampler where it has one (DataTermGrids::Sampler).
+  template <typename F = Field, typename = std::enable_if_t<detail::HasSampler<F>::value>>
+  auto local() const {
+    struct Sampled {
+      double limit;
+      mutable decltype(std::declval<const F&>().sampler()) sampler;
+      double operator()(const openvdb::Vec3d& x, const openvdb::Vec3d& n) const {
+        return forceOf(sampler.facingTerms(x, n), limit);  // Eq. 37
+      }
+    };
+    return Sampled{limit, field->sampler()};
   }
   /// At most 1 per unit time: F is at most a weighted mean of distances along
   /// lines of sight, which change by at most the distance the surface moves.

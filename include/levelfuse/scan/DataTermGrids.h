@@ -45,7 +45,11 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
+#include <optional>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace levelfuse {
@@ -95,6 +99,12 @@ class DataTermGrids {
   /// unless begin < end.
   void restrictToSlab(openvdb::Int32 begin, openvdb::Int32 end);
 
+  /// The queries below as one task asks them, point after point of a leaf
+  /// node: the same answers, bit for bit, through tree accessors of its own
+  /// that keep the nodes the points share.
+  class Sampler;
+  Sampler sampler() const;
+
   /// g~(x), its weight and its readings for a surface through x with outward normal N (Eq. 37).
   DataTerms facingTerms(const openvdb::Vec3d& x, const openvdb::Vec3d& normal) const;
   /// The total weight sum_j c_j w_j gamma_j at x, all directions (interpolated).
@@ -126,8 +136,6 @@ class DataTermGrids {
     /// Per leaf node (voxel size 8 h): sum c w gamma and sum w, whose ratio is R_b.
     openvdb::FloatGrid::Ptr leafWeight, leafWindows;
   };
-  /// Weight and readings at x over all bins (g is left 0).
-  DataTerms allTerms(const openvdb::Vec3d& x) const;
   /// Adds the terms of `map` at the leaf nodes [leaves, leaves + count), in
   /// their order (`spans`: the map's usable readings).
   void integrateLeaves(const RangeMap& map, const detail::UsableSpans& spans, const openvdb::Coord* leaves,
@@ -144,5 +152,50 @@ class DataTermGrids {
   std::size_t mMapCount = 0;
   std::size_t mEvaluations = 0;
 };
+
+class DataTermGrids::Sampler {
+ public:
+  explicit Sampler(const DataTermGrids& grids);
+  DataTerms facingTerms(const openvdb::Vec3d& x, const openvdb::Vec3d& normal);
+  double weight(const openvdb::Vec3d& x) { return allTerms(x).weight; }
+  double readings(const openvdb::Vec3d& x) { return allTerms(x).readings; }
+
+ private:
+  template <typename TreeT>
+  using Accessor = openvdb::tree::ValueAccessor<const TreeT, false>;
+  /// The accessors of one bin's grids.
+  struct BinAccess {
+    explicit BinAccess(const Bin& bin);
+    Accessor<openvdb::FloatTree> g, weight;
+    Accessor<openvdb::Vec3fTree> gradient, sight;
+    Accessor<openvdb::FloatTree> leafWeight, leafWindows;
+  };
+  /// Bin b's accessors, made the first time the bin is asked.
+  BinAccess& bin(int b);
+  /// The bins with a term at one of the voxels `ijk` (bit b: bin b), and each voxel's bins.
+  std::int32_t binsAt(const openvdb::Coord (&ijk)[8], std::int32_t (&masks)[8]);
+  /// Weight and readings at x over all bins (g is left 0).
+  DataTerms allTerms(const openvdb::Vec3d& x);
+
+  const DataTermGrids* mGrids;
+  Accessor<openvdb::Int32Tree> mMask;
+  std::array<std::optional<BinAccess>, kSightBins> mBins;
+};
+
+namespace detail {
+template <typename T, typename = void>
+struct HasSampler : std::false_type {};
+template <typename T>
+struct HasSampler<T, std::void_t<decltype(std::declval<const T&>().sampler())>> : std::true_type {};
+}  // namespace detail
+
+/// A data term's queries (facingTerms, weight, readings) for one task, point
+/// after point of a leaf node: the term's own sampler() where it has one
+/// (DataTermGrids::Sampler), the term itself otherwise (ForceField).
+template <typename Field>
+decltype(auto) samplerOf(const Field& field) {
+  if constexpr (detail::HasSampler<Field>::value) return field.sampler();
+  else return field;  // a reference: no copy
+}
 
 }  // namespace levelfuse
