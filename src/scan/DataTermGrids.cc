@@ -304,14 +304,20 @@ class LeafReadingSums {
   double mWeightSum = 0.0, mWindowSum = 0.0;
 };
 
+/// Calls visit(b) for each bin b whose bit is set in `bins`, in bin order.
+template <typename Visit>
+void forEachBinIn(std::int32_t bins, const Visit& visit) {
+  for (int b = 0; bins != 0; ++b, bins >>= 1)
+    if (bins & 1) visit(b);
+}
+
 }  // namespace
 
 DataTerms DataTermGrids::Sampler::facingTerms(const Vec3d& x, const Vec3d& normal) {
   const Corners c = cornersAround(x, mGrids->mVoxelSize);
   std::int32_t masks[8];
   DataTerms sum;
-  for (std::int32_t b = 0, any = binsAt(c.ijk, masks); any != 0; ++b, any >>= 1) {
-    if (!(any & 1)) continue;
+  forEachBinIn(binsAt(c.ijk, masks), [&](int b) {
     BinAccess& bin = this->bin(b);
     LeafReadingSums leafSums(bin.leafWeight, bin.leafWindows);
     double G = 0.0, W = 0.0;
@@ -323,9 +329,8 @@ DataTerms DataTermGrids::Sampler::facingTerms(const Vec3d& x, const Vec3d& norma
       S += c.t[k] * Vec3d(bin.sight.getValue(leafBlock(c.ijk[k])));
       leafSums.add(c.ijk[k], c.t[k]);
     }
-    if (!(S.dot(normal) < 0.0)) continue;  // Eq. 37, per bin
-    sum += DataTerms{G, W, leafSums.readingsIn(W)};
-  }
+    if (S.dot(normal) < 0.0) sum += DataTerms{G, W, leafSums.readingsIn(W)};  // Eq. 37, per bin
+  });
   return sum;
 }
 
@@ -334,8 +339,7 @@ DataTerms DataTermGrids::Sampler::allTerms(const Vec3d& x) {
   // Only the bins with a term at one of the corners: another bin's weight is 0 at all eight.
   std::int32_t masks[8];
   DataTerms sum;
-  for (std::int32_t b = 0, any = binsAt(c.ijk, masks); any != 0; ++b, any >>= 1) {
-    if (!(any & 1)) continue;
+  forEachBinIn(binsAt(c.ijk, masks), [&](int b) {
     BinAccess& bin = this->bin(b);
     LeafReadingSums leafSums(bin.leafWeight, bin.leafWindows);
     double W = 0.0;
@@ -344,7 +348,7 @@ DataTerms DataTermGrids::Sampler::allTerms(const Vec3d& x) {
       leafSums.add(c.ijk[k], c.t[k]);
     }
     sum += DataTerms{0.0, W, leafSums.readingsIn(W)};
-  }
+  });
   return sum;
 }
 
