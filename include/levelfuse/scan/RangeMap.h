@@ -472,6 +472,11 @@ class RangeMap {
   double columnTerm(double u) const;
   double rowTerm(double v) const;
   openvdb::Vec3d planarPoint(double column, double row, double reading) const;
+  /// Whether a camera's point of depth z at pixel (u, v) lies farther than
+  /// `reach` in depth from every reading of the block of pixels its cell lies
+  /// in: a test cheaper than the interpolation that finds the same (false
+  /// where it cannot tell: the cell ends its block, or lies outside the map).
+  bool outsideBlockWindow(double u, double v, double z, double reach) const;
   /// Shared by sample() and sampleLocal(): the bilinear reading at pixel (u, v)
   /// and its derivatives; false without one.
   bool interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
@@ -585,6 +590,17 @@ inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, dou
   return true;
 }
 
+inline bool RangeMap::outsideBlockWindow(double u, double v, double z, double reach) const {
+  if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
+  const int i = static_cast<int>(u), j = static_cast<int>(v);
+  if (i % kBlock == kBlock - 1 || j % kBlock == kBlock - 1) return false;  // the cell reaches the next block
+  const std::size_t b = static_cast<std::size_t>(j / kBlock) * static_cast<std::size_t>(mBlocksX) +
+                        static_cast<std::size_t>(i / kBlock);
+  // Wider than the exact test's slack by far more than the rounding of an interpolation.
+  const double slack = reach * (1.0 + 1e-6) + 1e-6;
+  return z < mBlockMin[b] - slack || z > mBlockMax[b] + slack;
+}
+
 inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSample& out) const {
   double u, v;
   if (mKind == Kind::kOrthographic) {
@@ -599,6 +615,7 @@ inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSa
     if (!(p.z() > 0.0)) return false;
     u = mPinhole.fx * p.x() / p.z() + mPinhole.cx;
     v = mPinhole.fy * p.y() / p.z() + mPinhole.cy;
+    if (outsideBlockWindow(u, v, p.z(), reach)) return false;
   } else {
     if (!(p.x() * p.x() + p.y() * p.y() > 0.0)) return false;  // on the scanner's axis: no azimuth
     const openvdb::math::Vec2d uv = project(p);
