@@ -276,10 +276,13 @@ DataTermGrids::Sampler::BinAccess& DataTermGrids::Sampler::bin(int b) {
   return *access;
 }
 
-std::int32_t DataTermGrids::Sampler::binsAt(const Coord (&ijk)[8], std::int32_t (&masks)[8]) {
-  std::int32_t any = 0;
-  for (int k = 0; k < 8; ++k) any |= masks[k] = mMask.getValue(ijk[k]);
-  return any;
+template <typename Visit>
+void DataTermGrids::Sampler::forEachBinAround(const Vec3d& x, const Visit& visit) {
+  const Corners c = cornersAround(x, mGrids->mVoxelSize);
+  std::int32_t masks[8], bins = 0;
+  for (int k = 0; k < 8; ++k) bins |= masks[k] = mMask.getValue(c.ijk[k]);
+  for (int b = 0; bins != 0; ++b, bins >>= 1)
+    if (bins & 1) visit(bin(b), b, c, masks);
 }
 
 namespace {
@@ -304,21 +307,11 @@ class LeafReadingSums {
   double mWeightSum = 0.0, mWindowSum = 0.0;
 };
 
-/// Calls visit(b) for each bin b whose bit is set in `bins`, in bin order.
-template <typename Visit>
-void forEachBinIn(std::int32_t bins, const Visit& visit) {
-  for (int b = 0; bins != 0; ++b, bins >>= 1)
-    if (bins & 1) visit(b);
-}
-
 }  // namespace
 
 DataTerms DataTermGrids::Sampler::facingTerms(const Vec3d& x, const Vec3d& normal) {
-  const Corners c = cornersAround(x, mGrids->mVoxelSize);
-  std::int32_t masks[8];
   DataTerms sum;
-  forEachBinIn(binsAt(c.ijk, masks), [&](int b) {
-    BinAccess& bin = this->bin(b);
+  forEachBinAround(x, [&](BinAccess& bin, int b, const Corners& c, const std::int32_t(&masks)[8]) {
     LeafReadingSums leafSums(bin.leafWeight, bin.leafWindows);
     double G = 0.0, W = 0.0;
     Vec3d S(0.0);
@@ -335,12 +328,8 @@ DataTerms DataTermGrids::Sampler::facingTerms(const Vec3d& x, const Vec3d& norma
 }
 
 DataTerms DataTermGrids::Sampler::allTerms(const Vec3d& x) {
-  const Corners c = cornersAround(x, mGrids->mVoxelSize);
-  // Only the bins with a term at one of the corners: another bin's weight is 0 at all eight.
-  std::int32_t masks[8];
   DataTerms sum;
-  forEachBinIn(binsAt(c.ijk, masks), [&](int b) {
-    BinAccess& bin = this->bin(b);
+  forEachBinAround(x, [&](BinAccess& bin, int, const Corners& c, const std::int32_t(&)[8]) {
     LeafReadingSums leafSums(bin.leafWeight, bin.leafWindows);
     double W = 0.0;
     for (int k = 0; k < 8; ++k) {

@@ -172,8 +172,12 @@ class DataTermGrids::Sampler {
   };
   /// Bin b's accessors, made the first time the bin is asked.
   BinAccess& bin(int b);
-  /// The bins with a term at one of the voxels `ijk` (bit b: bin b), and each voxel's bins.
-  std::int32_t binsAt(const openvdb::Coord (&ijk)[8], std::int32_t (&masks)[8]);
+  /// Calls visit(bin, b, corners, masks) for each bin b with a term at one of
+  /// the eight voxels around x (`corners`, with their trilinear weights; each
+  /// voxel's bins in `masks`, bit b: bin b), in bin order: another bin's terms
+  /// are 0 at all eight.
+  template <typename Visit>
+  void forEachBinAround(const openvdb::Vec3d& x, const Visit& visit);
   /// Weight and readings at x over all bins (g is left 0).
   DataTerms allTerms(const openvdb::Vec3d& x);
 
