@@ -4,6 +4,8 @@
 
 #include <pybind11/stl.h>
 
+#include <csignal>
+#include <cstdlib>
 #include <cstring>
 
 namespace levelfuse::python {
@@ -36,10 +38,19 @@ Cancellation::Cancellation() {
   // Only the outermost scope on the main thread takes SIGINT over.
   if (gScopes.fetch_add(1) != 0 || !onMainThread()) return;
   gSignalled.store(false);
+  // Test hook: Ctrl-C just before the work takes SIGINT over (tests/python).
+  if (std::getenv("LEVELFUSE_TEST_SIGNAL_BEFORE_WORK")) std::raise(SIGINT);
   struct sigaction action {};
   action.sa_handler = onInterrupt;
   sigemptyset(&action.sa_mask);
   mInstalled = sigaction(SIGINT, &action, &mPrevious) == 0;
+  // A Ctrl-C that came before the handler above, while Python held it, waits
+  // for Python's next bytecode, after the work: it is raised now, before the work.
+  if (PyErr_CheckSignals() != 0) {
+    if (mInstalled) sigaction(SIGINT, &mPrevious, nullptr);
+    gScopes.fetch_sub(1);
+    throw py::error_already_set();
+  }
 }
 
 Cancellation::~Cancellation() {

@@ -6,6 +6,7 @@
 
 #include <sys/wait.h>
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -46,6 +47,10 @@ inline nlohmann::json jsonOf(const CliRun& run) {
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
+    // The converter keeps a signal it was started with ignored; the tests that
+    // interrupt it need the default actions, however the test runner was started.
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
     mDir = fs::temp_directory_path() / uniqueDirectoryName();
     fs::remove_all(mDir);
     fs::create_directories(mDir);

@@ -1,6 +1,7 @@
 // levelfuse synth, reconstruct, info and mesh, run as a user runs them.
 
 #include "CliSupport.h"
+#include "SignalledRun.h"
 #include "support/TestSupport.h"
 
 #include <levelfuse/io/Ply.h>
@@ -19,12 +20,7 @@
 #include <utility>
 #include <vector>
 
-#include <fcntl.h>
-#include <spawn.h>
 #include <sys/wait.h>
-#include <unistd.h>
-
-extern char** environ;
 
 namespace levelfuse {
 namespace {
@@ -226,18 +222,11 @@ bool catchesSigint(pid_t pid) {
 TEST_F(ReconstructCli, InterruptedRunWritesNothing) {
   const std::string scans = sphereScans("--noise 0.05");
   const std::string log = path("log.txt");
-  std::vector<std::string> args{LEVELFUSE_CLI, "reconstruct", "--max-iterations", "100000", "--tolerance", "1e-12",
-                                "--voxel-size", "0.01", scans, "-o", path("out.vdb")};
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t files;
-  posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, argv[0], &files, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&files);
+  ChildRun run({"reconstruct", "--max-iterations", "100000", "--tolerance", "1e-12", "--voxel-size", "0.01", scans,
+                "-o", path("out.vdb")},
+               log);
+  ASSERT_TRUE(run.started());
+  const pid_t pid = run.pid();
 
   // SIGINT once the run listens for it (however slowly it starts, under a sanitizer say), and a
   // moment later, while the level set evolves: the run stops between iterations.
@@ -246,10 +235,9 @@ TEST_F(ReconstructCli, InterruptedRunWritesNothing) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   ASSERT_TRUE(catchesSigint(pid)) << "levelfuse never installed its SIGINT handler";
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  ASSERT_EQ(kill(pid, SIGINT), 0);
-  int status = 0;
-  ASSERT_EQ(waitpid(pid, &status, 0), pid);
-  const std::string output = fileBytes(log);
+  ASSERT_TRUE(run.send(SIGINT));
+  const int status = run.wait();
+  const std::string output = run.output();
   ASSERT_TRUE(WIFEXITED(status)) << output;
   EXPECT_EQ(WEXITSTATUS(status), 130) << output;
   EXPECT_NE(output.find("interrupted while evolving; nothing written"), std::string::npos) << output;

@@ -3,6 +3,7 @@
 // cancellation in every phase, numeric options checked at parse time.
 
 #include "CliSupport.h"
+#include "SignalledRun.h"
 #include "support/SmallDisk.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +11,8 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <fstream>
 #include <iterator>
 #include <utility>
@@ -75,6 +78,61 @@ TEST_F(ReliabilityCli, SigintInEveryPhaseExits130AndWritesNothing) {
     EXPECT_FALSE(fs::exists(path("more/scans.json"))) << phase;
     EXPECT_FALSE(fs::exists(path("more/scan0.pfm"))) << phase;
   }
+}
+
+/// A command sent `signal` `delay` after it started: it ends by the signal (sent before its
+/// handler was installed) or says it was interrupted and exits 130, and `output` is not written.
+void expectStoppedBy(int signal, std::chrono::milliseconds delay, const std::vector<std::string>& command,
+                     const std::string& output, const std::string& log) {
+  const std::string what = command.front() + " sent signal " + std::to_string(signal) + " after " +
+                           std::to_string(delay.count()) + " ms";
+  ChildRun run(command, log);
+  ASSERT_TRUE(run.started()) << what;
+  std::this_thread::sleep_for(delay);
+  ASSERT_TRUE(run.send(signal)) << what << ": it had ended already: make its work longer\n" << run.output();
+  const int status = run.wait();
+  if (WIFSIGNALED(status)) {
+    EXPECT_EQ(WTERMSIG(status), signal) << what;
+  } else {
+    EXPECT_EQ(WEXITSTATUS(status), 130) << what << "\n" << run.output();
+    EXPECT_NE(run.output().find("levelfuse " + command.front() + ": interrupted while "), std::string::npos)
+        << what << "\n" << run.output();
+  }
+  EXPECT_FALSE(fs::exists(output)) << what;
+}
+
+TEST_F(ReliabilityCli, ASignalAtAnyMomentStopsEveryCommandAndWritesNothing) {
+  ASSERT_EQ(levelfuse("synth --shape sphere --resolution 200 -o " + path("scans")).exitCode, 0);
+  const std::string input = path("scans/scans.json");
+  ASSERT_EQ(levelfuse("reconstruct --linear -q " + input + " --voxel-size 0.01 -o " + path("in.vdb")).exitCode, 0);
+  const std::string log = path("log.txt");
+  const std::vector<std::pair<std::vector<std::string>, std::string>> commands{
+      {{"reconstruct", input, "--voxel-size", "0.01", "-o", path("o.vdb")}, path("o.vdb")},
+      {{"synth", "--shape", "torus", "--resolution", "400", "-o", path("more")}, path("more/scans.json")},
+      {{"info", input, path("in.vdb"), "--json"}, ""},
+      {{"mesh", path("in.vdb"), "-o", path("m.ply")}, path("m.ply")},
+      {{"evolve", "--shape", "dumbbell", "--resolution", "100", "-o", path("e.vdb")}, path("e.vdb")}};
+  for (const auto& [command, output] : commands) {
+    for (const int ms : {0, 10, 50}) expectStoppedBy(SIGINT, std::chrono::milliseconds(ms), command, output, log);
+    expectStoppedBy(SIGTERM, std::chrono::milliseconds(10), command, output, log);
+  }
+}
+
+TEST_F(ReliabilityCli, ASignalIgnoredFromTheStartStaysIgnored) {
+  // As a non-interactive shell starts `levelfuse ... &`: Ctrl-C at the terminal is not for it,
+  // neither while it starts nor later.
+  ASSERT_EQ(levelfuse("synth --shape sphere --resolution 40 -o " + path("scans")).exitCode, 0);
+  ChildRun run({"reconstruct", "--linear", path("scans/scans.json"), "-o", path("o.vdb")}, path("log.txt"),
+               ChildRun::Signals::kIgnored);
+  ASSERT_TRUE(run.started());
+  std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  run.send(SIGINT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  run.send(SIGINT);
+  const int status = run.wait();
+  ASSERT_TRUE(WIFEXITED(status)) << run.output();
+  EXPECT_EQ(WEXITSTATUS(status), 0) << run.output();
+  EXPECT_TRUE(fs::exists(path("o.vdb")));
 }
 
 TEST_F(ReliabilityCli, AnOutputThatIsAnInputIsRefusedBeforeAnyWork) {

@@ -13,9 +13,25 @@ PhaseClock gClock;
 extern "C" void onSignal(int) { gCancelled.store(true); }
 }  // namespace
 
+namespace {
+/// Makes `signal` a cancellation request, unless the process began with it
+/// ignored: a command that a non-interactive shell runs in the background
+/// starts with SIGINT ignored, and keeps ignoring it from its first moment to
+/// its last, as POSIX shells intend (no handler could catch what arrives
+/// before it is installed, so honouring the later ones would be a lottery).
+void takeOver(int signal) {
+  struct sigaction current {};
+  if (sigaction(signal, nullptr, &current) != 0 || current.sa_handler == SIG_IGN) return;
+  struct sigaction action {};
+  action.sa_handler = onSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(signal, &action, nullptr);
+}
+}  // namespace
+
 void installCancellationHandlers() {
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  takeOver(SIGINT);
+  takeOver(SIGTERM);
 }
 
 bool cancellationRequested() { return gCancelled.load(); }

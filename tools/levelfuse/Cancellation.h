@@ -9,7 +9,10 @@
 
 namespace levelfuse::cli {
 
-/// Installs handlers that turn SIGINT/SIGTERM into a cancellation request.
+/// Installs handlers that turn SIGINT/SIGTERM into a cancellation request:
+/// first thing in main, so that a request before the work starts is kept
+/// (before it, the signal's default action ends the process). A signal the
+/// process began with ignored stays ignored.
 void installCancellationHandlers();
 /// True once SIGINT or SIGTERM arrived; long loops check it and stop cleanly.
 bool cancellationRequested();
@@ -19,7 +22,8 @@ Interrupter cancellationInterrupter();
 void checkCancellation();
 
 /// Marks the start of a phase of a command ("loading", "solving" (the linear
-/// solution), "evolving", "measuring", "meshing", "scanning", "writing"): throws
+/// solution), "evolving", "measuring", "meshing", "scanning", "reading",
+/// "writing"): throws
 /// Interrupted if a cancellation is pending, then makes `phase` the current one.
 ///
 /// Test hook: if the environment variable LEVELFUSE_TEST_SIGNAL_AT names this

@@ -1,5 +1,6 @@
 // levelfuse info: what is in a .vdb file or a set of scans.
 
+#include "Cancellation.h"
 #include "Commands.h"
 #include "Support.h"
 #include "Units.h"
@@ -175,6 +176,7 @@ void print(const nlohmann::json& j) {
 int runInfo(const InfoSettings& s) {
   nlohmann::json all = nlohmann::json::array();
   for (const std::string& path : s.paths) {
+    enterPhase("reading");
     const bool vdb = std::filesystem::path(path).extension() == ".vdb";
     all.push_back(vdb ? describeVdb(path) : describeScans(path, s));
     if (!s.json) print(all.back());

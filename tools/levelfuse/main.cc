@@ -97,7 +97,6 @@ int runCommand(int argc, char** argv) {
   }
 
   openvdb::initialize();
-  installCancellationHandlers();
   for (const Command& command : commands) {
     if (!command.app->parsed()) continue;
     const std::string name = "levelfuse " + command.app->get_name();
@@ -106,6 +105,7 @@ int runCommand(int argc, char** argv) {
     // commands run on the first rank alone.
     if (command.app->get_name() != "reconstruct" && !leadsTheJob()) return kExitSuccess;
     try {
+      checkCancellation();
       return command.run();
     } catch (const levelfuse::Interrupted&) {
       std::cerr << name + ": interrupted while " + currentPhase() + jobPlace() + "; nothing written\n";
@@ -125,6 +125,7 @@ int runCommand(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  levelfuse::cli::installCancellationHandlers();
   std::set_terminate(onTerminate);
   levelfuse::cli::joinJobIfLaunched(argc, argv);
   const int exitCode = runCommand(argc, argv);
