@@ -4,13 +4,14 @@
 //
 // A source that makes a grid emits the grid's and its tree's tables of virtual
 // functions, and with them every virtual member (their I/O, copies, printing
-// and statistics), compiled at -O3 whether it calls them or not: a test that
-// writes eight types of grid took 112 s to compile, most of it there
-// (docs/BUILD.md). libopenvdb holds those tables for the standard trees, so it
-// has every virtual member they name. Only virtual members are declared: of
-// the others libopenvdb exports only those it happens to use. Every levelfuse
-// target includes this header first: through its precompiled header or by
-// -include (cmake/LevelfuseCompilerSettings.cmake). Not a public header.
+// and statistics), compiled at -O3 whether it calls them or not: most of the
+// compile time of a source that writes several types of grid (docs/BUILD.md,
+// "Where the time went"). libopenvdb holds those tables for the standard
+// trees, so it has every virtual member they name. Only virtual members are
+// declared: of the others libopenvdb exports only those it happens to use.
+// Every levelfuse target includes this header first: through its precompiled
+// header or by -include (cmake/LevelfuseCompilerSettings.cmake). Not a public
+// header.
 #pragma once
 
 #include <openvdb/openvdb.h>

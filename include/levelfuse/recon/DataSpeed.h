@@ -90,10 +90,10 @@ struct DataForce {
 /// Half a voxel: a step moves no value by more than
 /// SparseFieldOptions::maxStepChange (0.45 voxel), so the time step is 0.45
 /// voxel over the largest rate, and on depth frames a few points whose readings
-/// lie voxels away held it at 0.1 to 0.2: every other point relaxed its distance
-/// by 10 to 20% a step. Clamped to half a voxel, the step comes close to the
-/// stiffness limit (0.5; 0.4 measured), every point relaxes by almost half, and
-/// the far points still move their 0.45 voxel a step.
+/// lie voxels away would hold it at 0.1 to 0.2: every other point would relax
+/// its distance by 10 to 20% a step. Clamped to half a voxel, the step comes
+/// close to the stiffness limit (0.5; 0.4 measured), every point relaxes by
+/// almost half, and the far points still move their 0.45 voxel a step.
 ///
 /// Not below epsilon: readings scatter about their surface by about epsilon, and
 /// a clamp below it cuts the force of ordinary readings, not of a few far ones,

@@ -148,8 +148,8 @@ inline constexpr double kSmallestVoxelSize = 1.5e-5;
 /// Memory a reconstruction needs at its peak per voxel of the finest grid's
 /// active set (|psi| <= dx / 2): the sparse field and its layers (about 110
 /// bytes), the data term accumulated around the readings, the level set it is
-/// refined from and the snapshot that measures drift. Measured on the bunny
-/// from 0.5 mm to 0.0625 mm voxels (docs/BENCHMARKS.md): 416 to 500 bytes.
+/// refined from and the snapshot that measures drift: what the bunny needed
+/// across voxel sizes (docs/RELIABILITY.md, "Memory guards").
 inline constexpr double kPeakBytesPerActiveVoxel = 450.0;
 /// The same for one process of a team of n that shares the evolution
 /// (Reconstructor::run with a SlabTeam): its slab of every grid, a share of
@@ -157,10 +157,8 @@ inline constexpr double kPeakBytesPerActiveVoxel = 450.0;
 /// leaf nodes (kSlabShareMargin), and at the first process, once its slab
 /// has gone, the whole output (kOutputBytesPerActiveVoxel): the level set,
 /// half-width 3, and beside it its weight grid or what the converter measures
-/// and meshes it with, each of the surface's size (239 MB for the level set of
-/// the bunny at 0.125 mm; rank 0 of the converter with a mesh peaked at 1.03
-/// GiB, 298 bytes a voxel of the 3.69 million this estimate foresaw,
-/// docs/BENCHMARKS.md).
+/// and meshes it with, each of the surface's size: what the converter's first
+/// process needed with a mesh (docs/RELIABILITY.md, "Memory guards").
 inline constexpr double kSlabShareMargin = 1.15;
 inline constexpr double kOutputBytesPerActiveVoxel = 300.0;
 

@@ -183,7 +183,8 @@ class RangeMap {
   /// Standard deviations that follow the readings' depth (world units, the
   /// depth along the optical axis), replacing the map's sigma and any
   /// per-pixel ones: what setSigmas would hold, computed where it is needed
-  /// instead of held per pixel (a depth frame's memory falls by 44%).
+  /// instead of held per pixel, where they would weigh as much as the readings
+  /// (docs/BENCHMARKS.md, "Depth video").
   void setDepthNoise(const DepthNoise& noise);
   /// The noise that the sigmas follow (setDepthNoise), or none.
   const DepthNoise* depthNoise() const { return mHasDepthNoise ? &mDepthNoise : nullptr; }
