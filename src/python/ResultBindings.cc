@@ -73,6 +73,18 @@ py::dict fitOf(const Outcome& o) {
   return f;
 }
 
+/// The sparse-field engine's settings the run used, named as the keywords that set them.
+py::dict engineSettingsOf(const Outcome& o) {
+  const SparseFieldOptions& e = o.options.engine;
+  py::dict d;
+  d["layers"] = e.layers;
+  d["max_step_change"] = e.maxStepChange;
+  d["curvature_step_limit"] = e.curvatureStepLimit;
+  d["stiffness_step_limit"] = e.stiffnessStepLimit;
+  d["grain_size"] = e.grainSize;
+  return d;
+}
+
 py::dict summaryOf(const Outcome& o) {
   py::dict s;
   s["inputs"] = o.inputs;
@@ -85,6 +97,7 @@ py::dict summaryOf(const Outcome& o) {
   s["levels"] = *o.options.levels;
   s["beta"] = *o.options.beta;
   s["epsilon"] = *o.options.epsilon;
+  s["engine"] = engineSettingsOf(o);
   s["grids"] = gridReportsOf(o);
   s["narrow_band_voxels"] = o.result.levelSet->activeVoxelCount();
   s["peak_engine_bytes"] = o.result.peakEngineBytes;
