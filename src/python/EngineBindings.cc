@@ -141,105 +141,129 @@ SparseFieldOptions engineOptions(int layers, double maxStepChange, std::size_t g
   return o;
 }
 
+SparseField fieldOfLevelSet(const py::handle& levelSet, int layers, double maxStepChange, std::size_t grainSize) {
+  const openvdb::FloatGrid::Ptr grid = gridFrom(levelSet, "level_set");
+  py::gil_scoped_release released;
+  return SparseField::fromLevelSet(*grid, engineOptions(layers, maxStepChange, grainSize));
+}
+
+SparseField fieldOfMask(const py::handle& mask, double voxelSize, const py::handle& origin, int layers,
+                        double maxStepChange, std::size_t grainSize) {
+  const py::array a = requireArray(mask, "mask", 3);
+  if (!holds<bool>(a)) throw wrongDtype("mask", a, "bool");
+  numberFrom(py::float_(voxelSize), "voxel_size", true);
+  const openvdb::Vec3d o = origin.is_none() ? openvdb::Vec3d(0.0) : vec3From(origin, "origin");
+  auto inside = openvdb::MaskGrid::create();
+  openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(voxelSize);
+  transform->postTranslate(o);
+  inside->setTransform(transform);
+  const bool* v = static_cast<const bool*>(a.data());
+  const py::ssize_t nj = a.shape(1), nk = a.shape(2);
+  py::gil_scoped_release released;
+  openvdb::MaskGrid::Accessor acc = inside->getAccessor();
+  for (py::ssize_t i = 0; i < a.shape(0); ++i)
+    for (py::ssize_t j = 0; j < nj; ++j)
+      for (py::ssize_t k = 0; k < nk; ++k)
+        if (v[(i * nj + j) * nk + k])
+          acc.setValueOn(openvdb::Coord(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k)));
+  return SparseField::fromMask(*inside, engineOptions(layers, maxStepChange, grainSize));
+}
+
+py::dict stepOf(SparseField& f, const py::object& force, double beta, double maxDt) {
+  return stepReport(stepOnce(f, force, beta, maxDt));
+}
+
+/// Steps until `duration` has passed (or Ctrl-C); the number of steps.
+std::size_t advanceBy(SparseField& f, double duration, const py::object& force, double beta) {
+  if (!(duration >= 0.0) || !std::isfinite(duration)) throw py::value_error("duration must be a finite time, 0 or more");
+  Cancellation cancellation;
+  std::size_t steps = 0;
+  for (double t = 0.0; t < duration; ++steps) {
+    const StepResult r = stepOnce(f, force, beta, duration - t);
+    if (r.dt <= 0.0) break;
+    t += r.dt;
+    if (cancellation.stopped()) break;
+  }
+  cancellation.raiseIfSignalled();
+  return steps;
+}
+
+py::tuple activePointArrays(const SparseField& f) {
+  ActivePoints points;
+  {
+    py::gil_scoped_release released;
+    points = activePointsOf(f);
+  }
+  py::array_t<std::int32_t> ijk({static_cast<py::ssize_t>(points.ijk.size()), py::ssize_t{3}});
+  std::int32_t* c = ijk.mutable_data();
+  for (const openvdb::Coord& p : points.ijk)
+    for (int a = 0; a < 3; ++a) *c++ = p[a];
+  return py::make_tuple(ijk, numpyPoints(points.position), numpyPoints(points.normal));
+}
+
+py::object levelSetForPython(const SparseField& f, double halfWidth, const std::string& name) {
+  openvdb::FloatGrid::Ptr grid;
+  {
+    py::gil_scoped_release released;
+    grid = f.toLevelSet(halfWidth, name);
+  }
+  return gridForPython(grid);
+}
+
+py::dict statsOf(const SparseField& f) {
+  const SparseFieldStats s = f.stats();
+  py::dict d;
+  d["active_set_voxels"] = s.activeSetVoxels;
+  d["band_voxels"] = s.bandVoxels;
+  d["leaf_nodes"] = s.leafNodes;
+  d["memory_bytes"] = s.memoryBytes;
+  return d;
+}
+
+/// SparseField's constructors: from a level set and from a mask.
+void defineSparseFieldConstructors(py::class_<SparseField>& field) {
+  field
+      .def(py::init(&fieldOfLevelSet), py::arg("level_set"), py::kw_only(), py::arg("layers") = 2,
+           py::arg("max_step_change") = 0.45, py::arg("grain_size") = 4,
+           "From a level set: a levelfuse.Grid or a pyopenvdb.FloatGrid.")
+      .def_static("from_mask", &fieldOfMask, py::arg("mask"), py::kw_only(), py::arg("voxel_size") = 1.0,
+                  py::arg("origin") = py::none(), py::arg("layers") = 2, py::arg("max_step_change") = 0.45,
+                  py::arg("grain_size") = 4,
+                  "From a boolean occupancy array (True inside), element [i, j, k] the voxel at index (i, j, k), "
+                  "world position origin + voxel_size * (i, j, k): the surface runs halfway between inside and "
+                  "outside.");
+}
+
+/// SparseField's motion: step and advance.
+void defineSparseFieldMotion(py::class_<SparseField>& field) {
+  field
+      .def("step", &stepOf, py::kw_only(), py::arg("force") = py::none(), py::arg("beta") = 0.0,
+           py::arg("max_dt") = std::numeric_limits<double>::infinity(),
+           "One time step (at most max_dt) under force (None, an outward speed, or force(x, n) -> speeds) and the "
+           "prior of weight beta (world units squared per unit time). Returns what the step did.")
+      .def("advance", &advanceBy, py::arg("duration"), py::kw_only(), py::arg("force") = py::none(),
+           py::arg("beta") = 0.0,
+           "Steps until `duration` has passed; returns the number of steps. Ctrl-C stops between steps "
+           "(KeyboardInterrupt).");
+}
+
 }  // namespace
 
 void bindEngine(py::module_& m) {
-  py::class_<SparseField>(m, "SparseField", R"doc(The sparse-field level-set engine (section 5 of the paper): an
+  py::class_<SparseField> field(m, "SparseField", R"doc(The sparse-field level-set engine (section 5 of the paper): an
 OpenVDB level set with its active set and layers, moved step by step. Built-in speeds: the surface-area prior
 (mean-curvature flow, weight beta) and a constant outward speed; or a force computed in Python, called once
 per step with every active point's subcell position x^ (N, 3) and outward normal (N, 3), returning (N,)
-outward speeds.)doc")
-      .def(py::init([](const py::handle& levelSet, int layers, double maxStepChange, std::size_t grainSize) {
-             const openvdb::FloatGrid::Ptr grid = gridFrom(levelSet, "level_set");
-             py::gil_scoped_release released;
-             return SparseField::fromLevelSet(*grid, engineOptions(layers, maxStepChange, grainSize));
-           }),
-           py::arg("level_set"), py::kw_only(), py::arg("layers") = 2, py::arg("max_step_change") = 0.45,
-           py::arg("grain_size") = 4, "From a level set: a levelfuse.Grid or a pyopenvdb.FloatGrid.")
-      .def_static(
-          "from_mask",
-          [](const py::handle& mask, double voxelSize, const py::handle& origin, int layers, double maxStepChange,
-             std::size_t grainSize) {
-            const py::array a = requireArray(mask, "mask", 3);
-            if (!holds<bool>(a)) throw wrongDtype("mask", a, "bool");
-            numberFrom(py::float_(voxelSize), "voxel_size", true);
-            const openvdb::Vec3d o = origin.is_none() ? openvdb::Vec3d(0.0) : vec3From(origin, "origin");
-            auto inside = openvdb::MaskGrid::create();
-            openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(voxelSize);
-            transform->postTranslate(o);
-            inside->setTransform(transform);
-            const bool* v = static_cast<const bool*>(a.data());
-            const py::ssize_t nj = a.shape(1), nk = a.shape(2);
-            py::gil_scoped_release released;
-            openvdb::MaskGrid::Accessor acc = inside->getAccessor();
-            for (py::ssize_t i = 0; i < a.shape(0); ++i)
-              for (py::ssize_t j = 0; j < nj; ++j)
-                for (py::ssize_t k = 0; k < nk; ++k)
-                  if (v[(i * nj + j) * nk + k])
-                    acc.setValueOn(openvdb::Coord(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k)));
-            return SparseField::fromMask(*inside, engineOptions(layers, maxStepChange, grainSize));
-          },
-          py::arg("mask"), py::kw_only(), py::arg("voxel_size") = 1.0, py::arg("origin") = py::none(),
-          py::arg("layers") = 2, py::arg("max_step_change") = 0.45, py::arg("grain_size") = 4,
-          "From a boolean occupancy array (True inside), element [i, j, k] the voxel at index (i, j, k), world "
-          "position origin + voxel_size * (i, j, k): the surface runs halfway between inside and outside.")
-      .def(
-          "step",
-          [](SparseField& f, const py::object& force, double beta, double maxDt) {
-            return stepReport(stepOnce(f, force, beta, maxDt));
-          },
-          py::kw_only(), py::arg("force") = py::none(), py::arg("beta") = 0.0,
-          py::arg("max_dt") = std::numeric_limits<double>::infinity(),
-          "One time step (at most max_dt) under force (None, an outward speed, or force(x, n) -> speeds) and the "
-          "prior of weight beta (world units squared per unit time). Returns what the step did.")
-      .def(
-          "advance",
-          [](SparseField& f, double duration, const py::object& force, double beta) {
-            if (!(duration >= 0.0) || !std::isfinite(duration))
-              throw py::value_error("duration must be a finite time, 0 or more");
-            Cancellation cancellation;
-            std::size_t steps = 0;
-            for (double t = 0.0; t < duration; ++steps) {
-              const StepResult r = stepOnce(f, force, beta, duration - t);
-              if (r.dt <= 0.0) break;
-              t += r.dt;
-              if (cancellation.stopped()) break;
-            }
-            cancellation.raiseIfSignalled();
-            return steps;
-          },
-          py::arg("duration"), py::kw_only(), py::arg("force") = py::none(), py::arg("beta") = 0.0,
-          "Steps until `duration` has passed; returns the number of steps. Ctrl-C stops between steps "
-          "(KeyboardInterrupt).")
-      .def(
-          "active_points",
-          [](const SparseField& f) {
-            ActivePoints points;
-            {
-              py::gil_scoped_release released;
-              points = activePointsOf(f);
-            }
-            py::array_t<std::int32_t> ijk({static_cast<py::ssize_t>(points.ijk.size()), py::ssize_t{3}});
-            std::int32_t* c = ijk.mutable_data();
-            for (const openvdb::Coord& p : points.ijk)
-              for (int a = 0; a < 3; ++a) *c++ = p[a];
-            return py::make_tuple(ijk, numpyPoints(points.position), numpyPoints(points.normal));
-          },
-          "(coords, x, normals): the active set's index coordinates (N, 3) int32, subcell positions x^ (N, 3) and "
-          "outward normals (N, 3), as a force sees them.")
-      .def(
-          "level_set",
-          [](const SparseField& f, double halfWidth, const std::string& name) {
-            openvdb::FloatGrid::Ptr grid;
-            {
-              py::gil_scoped_release released;
-              grid = f.toLevelSet(halfWidth, name);
-            }
-            return gridForPython(grid);
-          },
-          py::kw_only(), py::arg("half_width") = 3.0, py::arg("name") = "surface",
-          "A standard OpenVDB level set of the surface (a pyopenvdb.FloatGrid where installed, else a "
-          "levelfuse.Grid).")
+outward speeds.)doc");
+  defineSparseFieldConstructors(field);
+  defineSparseFieldMotion(field);
+  field
+      .def("active_points", &activePointArrays,
+           "(coords, x, normals): the active set's index coordinates (N, 3) int32, subcell positions x^ (N, 3) and "
+           "outward normals (N, 3), as a force sees them.")
+      .def("level_set", &levelSetForPython, py::kw_only(), py::arg("half_width") = 3.0, py::arg("name") = "surface",
+           "A standard OpenVDB level set of the surface (a pyopenvdb.FloatGrid where installed, else a "
+           "levelfuse.Grid).")
       .def(
           "grid", [](const SparseField& f, double halfWidth, const std::string& name) { return f.toLevelSet(halfWidth, name); },
           py::kw_only(), py::arg("half_width") = 3.0, py::arg("name") = "surface",
@@ -248,15 +272,7 @@ outward speeds.)doc")
            py::arg("i"), py::arg("j"), py::arg("k"), "0 for the active set, +-n for layer n, +-(layers+1) beyond.")
       .def_property_readonly("voxel_size", &SparseField::voxelSize)
       .def_property_readonly("layers", &SparseField::layers)
-      .def_property_readonly("stats", [](const SparseField& f) {
-        const SparseFieldStats s = f.stats();
-        py::dict d;
-        d["active_set_voxels"] = s.activeSetVoxels;
-        d["band_voxels"] = s.bandVoxels;
-        d["leaf_nodes"] = s.leafNodes;
-        d["memory_bytes"] = s.memoryBytes;
-        return d;
-      });
+      .def_property_readonly("stats", &statsOf);
 }
 
 }  // namespace python

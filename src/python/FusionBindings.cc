@@ -60,6 +60,20 @@ py::object reconstructFusion(const PyFusion& f, bool linear, const py::object& p
   return resultOf(std::move(outcome));
 }
 
+void integrateDepthFrame(PyFusion& f, const py::handle& depth, const py::handle& K, const py::handle& pose,
+                         double depthScale, const py::handle& sigma, const py::handle& maxDepth,
+                         const std::string& name) {
+  f.integrate(depthFrameFrom(depth, K, pose, depthScale, sigma, maxDepth, name));
+}
+
+py::object reconstructFused(const PyFusion& f, const py::object& progress, py::kwargs kw) {
+  return reconstructFusion(f, false, progress, py::dict(kw));
+}
+
+py::object linearSolutionFused(const PyFusion& f, const py::object& progress, py::kwargs kw) {
+  return reconstructFusion(f, true, progress, py::dict(kw));
+}
+
 }  // namespace
 
 void bindFusion(py::module_& m) {
@@ -77,31 +91,16 @@ reconstruct() and linear_solution() may be asked for at any time, as often as wa
       .def(
           "integrate", [](PyFusion& f, const RangeMap& map) { f.integrate(map); }, py::arg("map"),
           "Adds a levelfuse.RangeMap's data term.")
-      .def(
-          "integrate",
-          [](PyFusion& f, const py::handle& depth, const py::handle& K, const py::handle& pose, double depthScale,
-             const py::handle& sigma, const py::handle& maxDepth, const std::string& name) {
-            f.integrate(depthFrameFrom(depth, K, pose, depthScale, sigma, maxDepth, name));
-          },
-          py::arg("depth"), py::arg("K"), py::arg("pose"), py::kw_only(), py::arg("depth_scale") = 0.001,
-          py::arg("sigma") = py::none(), py::arg("max_depth") = py::none(), py::arg("name") = "",
-          "Adds a depth frame (as levelfuse.RangeMap.pinhole takes it): depth (H, W) float32 metres or uint16, K "
-          "3x3, pose 4x4 camera-to-world.")
-      .def(
-          "reconstruct",
-          [](const PyFusion& f, const py::object& progress, py::kwargs kw) {
-            return reconstructFusion(f, false, progress, py::dict(kw));
-          },
-          py::kw_only(), py::arg("progress") = py::none(),
-          "The MAP reconstruction from the maps so far (the keywords of levelfuse.reconstruct; voxel_size, "
-          "levels, window and epsilon are the fusion's).")
-      .def(
-          "linear_solution",
-          [](const PyFusion& f, const py::object& progress, py::kwargs kw) {
-            return reconstructFusion(f, true, progress, py::dict(kw));
-          },
-          py::kw_only(), py::arg("progress") = py::none(),
-          "The linear solution on the finest grid from the maps so far: VRIP-style fusion, no evolution.")
+      .def("integrate", &integrateDepthFrame, py::arg("depth"), py::arg("K"), py::arg("pose"), py::kw_only(),
+           py::arg("depth_scale") = 0.001, py::arg("sigma") = py::none(), py::arg("max_depth") = py::none(),
+           py::arg("name") = "",
+           "Adds a depth frame (as levelfuse.RangeMap.pinhole takes it): depth (H, W) float32 metres or uint16, K "
+           "3x3, pose 4x4 camera-to-world.")
+      .def("reconstruct", &reconstructFused, py::kw_only(), py::arg("progress") = py::none(),
+           "The MAP reconstruction from the maps so far (the keywords of levelfuse.reconstruct; voxel_size, "
+           "levels, window and epsilon are the fusion's).")
+      .def("linear_solution", &linearSolutionFused, py::kw_only(), py::arg("progress") = py::none(),
+           "The linear solution on the finest grid from the maps so far: VRIP-style fusion, no evolution.")
       .def_property_readonly("scan_count", [](const PyFusion& f) { return f.fusion->scanCount(); })
       .def_property_readonly("voxel_size", [](const PyFusion& f) { return f.fusion->settings().voxelSize; })
       .def_property_readonly("levels", [](const PyFusion& f) { return f.fusion->levels(); })

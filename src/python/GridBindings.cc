@@ -99,7 +99,25 @@ py::bytes vdbBytes(const openvdb::GridCPtrVec& grids) {
   return py::bytes(bytes);
 }
 
-void bindGrids(py::module_& m) {
+namespace {
+
+py::array_t<double> indexToWorld(const FloatGrid& g, const py::handle& coords) {
+  std::vector<openvdb::Vec3d> xs = pointsFrom(coords, "coords");
+  for (openvdb::Vec3d& x : xs) x = g.indexToWorld(x);
+  return numpyPoints(xs);
+}
+
+void writeGrid(FloatGrid::Ptr g, const std::string& path) {
+  py::gil_scoped_release released;
+  io::writeVdb(path, {g});
+}
+
+std::string gridRepr(const FloatGrid& g) {
+  return "<levelfuse.Grid '" + g.getName() + "': " + FloatGrid::gridClassToString(g.getGridClass()) + ", " +
+         std::to_string(g.activeVoxelCount()) + " active voxels of " + std::to_string(g.voxelSize()[0]) + ">";
+}
+
+void bindGrid(py::module_& m) {
   py::class_<FloatGrid, FloatGrid::Ptr>(m, "Grid",
                                         "An OpenVDB float grid: a level set (negative inside, world units) or a "
                                         "weight grid. to_pyopenvdb() shares it with pyopenvdb without a copy.")
@@ -114,60 +132,54 @@ void bindGrids(py::module_& m) {
       .def("active_voxels", &activeVoxels,
            "(coords, values): the active voxels' index coordinates, (N, 3) int32, and values, (N,) float32; "
            "world position = coords * voxel_size (index_to_world for the grid's full transform).")
-      .def(
-          "index_to_world",
-          [](const FloatGrid& g, const py::handle& coords) {
-            std::vector<openvdb::Vec3d> xs = pointsFrom(coords, "coords");
-            for (openvdb::Vec3d& x : xs) x = g.indexToWorld(x);
-            return numpyPoints(xs);
-          },
-          py::arg("coords"), "World positions, (N, 3) float64, of index coordinates (N, 3).")
+      .def("index_to_world", &indexToWorld, py::arg("coords"),
+           "World positions, (N, 3) float64, of index coordinates (N, 3).")
       .def("sample", &sampleAt, py::arg("points"),
            "Trilinear samples, (N,) float32, of the grid at world points (N, 3).")
       .def(
           "vdb_bytes", [](FloatGrid::Ptr g) { return vdbBytes({g}); },
           "The grid as the bytes of a .vdb file (the same grids give the same bytes).")
-      .def(
-          "write", [](FloatGrid::Ptr g, const std::string& path) {
-            py::gil_scoped_release released;
-            io::writeVdb(path, {g});
-          },
-          py::arg("path"), "Writes the grid to a .vdb file, atomically.")
+      .def("write", &writeGrid, py::arg("path"), "Writes the grid to a .vdb file, atomically.")
       .def("to_pyopenvdb", &toPyOpenVdb, "The grid as a pyopenvdb.FloatGrid sharing it (no copy).")
       .def_static(
           "from_pyopenvdb", [](const py::handle& g) { return gridFrom(g, "grid"); }, py::arg("grid"),
           "A pyopenvdb.FloatGrid as a levelfuse.Grid sharing it (no copy).")
-      .def("__repr__", [](const FloatGrid& g) {
-        return "<levelfuse.Grid '" + g.getName() + "': " + FloatGrid::gridClassToString(g.getGridClass()) + ", " +
-               std::to_string(g.activeVoxelCount()) + " active voxels of " + std::to_string(g.voxelSize()[0]) +
-               ">";
-      });
+      .def("__repr__", &gridRepr);
+}
 
-  m.def(
-      "read_vdb",
-      [](const std::string& path) {
-        openvdb::GridPtrVecPtr grids;
-        {
-          py::gil_scoped_release released;
-          grids = io::readVdb(path);
-        }
-        py::list out;
-        for (const openvdb::GridBase::Ptr& g : *grids)
-          if (FloatGrid::Ptr f = openvdb::gridPtrCast<FloatGrid>(g)) out.append(py::cast(f));
-        return out;
-      },
-      py::arg("path"), "The float grids of a .vdb file, as levelfuse.Grid; InputError names a bad file.");
-  m.def(
-      "write_vdb",
-      [](const std::string& path, const py::iterable& grids) {
-        openvdb::GridCPtrVec all;
-        for (const py::handle g : grids) all.push_back(gridFrom(g, "grids"));
-        py::gil_scoped_release released;
-        io::writeVdb(path, all);
-      },
-      py::arg("path"), py::arg("grids"),
-      "Writes levelfuse.Grid or pyopenvdb.FloatGrid grids to a .vdb file, atomically, with the bytes levelfuse "
-      "writes (the same grids give the same bytes).");
+py::list readVdbGrids(const std::string& path) {
+  openvdb::GridPtrVecPtr grids;
+  {
+    py::gil_scoped_release released;
+    grids = io::readVdb(path);
+  }
+  py::list out;
+  for (const openvdb::GridBase::Ptr& g : *grids)
+    if (FloatGrid::Ptr f = openvdb::gridPtrCast<FloatGrid>(g)) out.append(py::cast(f));
+  return out;
+}
+
+void writeVdbGrids(const std::string& path, const py::iterable& grids) {
+  openvdb::GridCPtrVec all;
+  for (const py::handle g : grids) all.push_back(gridFrom(g, "grids"));
+  py::gil_scoped_release released;
+  io::writeVdb(path, all);
+}
+
+/// read_vdb and write_vdb.
+void bindVdbFiles(py::module_& m) {
+  m.def("read_vdb", &readVdbGrids, py::arg("path"),
+        "The float grids of a .vdb file, as levelfuse.Grid; InputError names a bad file.");
+  m.def("write_vdb", &writeVdbGrids, py::arg("path"), py::arg("grids"),
+        "Writes levelfuse.Grid or pyopenvdb.FloatGrid grids to a .vdb file, atomically, with the bytes levelfuse "
+        "writes (the same grids give the same bytes).");
+}
+
+}  // namespace
+
+void bindGrids(py::module_& m) {
+  bindGrid(m);
+  bindVdbFiles(m);
 }
 
 }  // namespace levelfuse::python

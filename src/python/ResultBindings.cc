@@ -26,7 +26,8 @@ struct Result {
   py::dict summary;
 };
 
-py::dict summaryOf(const Outcome& o) {
+/// What each grid of the evolution did.
+py::list gridReportsOf(const Outcome& o) {
   py::list grids;
   for (const LevelReport& l : o.result.levels) {
     py::dict g;
@@ -41,6 +42,50 @@ py::dict summaryOf(const Outcome& o) {
     g["engine_bytes"] = l.engineBytes;
     grids.append(g);
   }
+  return grids;
+}
+
+/// The reconstruction's own phases.
+py::list phasesOf(const Outcome& o) {
+  py::list phases;
+  for (const PhaseTime& p : o.result.phases) {
+    py::dict phase;
+    phase["name"] = p.name;
+    phase["seconds"] = p.seconds;
+    phase["cpu_seconds"] = p.cpuSeconds;
+    phases.append(phase);
+  }
+  return phases;
+}
+
+/// The fit to the scans, as measured.
+py::dict fitOf(const Outcome& o) {
+  py::dict f;
+  f["points"] = o.fit->readings;
+  f["stride"] = o.fitStride;
+  f["mean"] = o.fit->mean;
+  f["rms"] = o.fit->rms;
+  f["median"] = o.fit->median;
+  f["p90"] = o.fit->p90;
+  f["p99"] = o.fit->p99;
+  f["within_voxel"] = o.fit->withinVoxel;
+  f["beyond_band"] = o.fit->beyondBand;
+  return f;
+}
+
+/// The sparse-field engine's settings the run used, named as the keywords that set them.
+py::dict engineSettingsOf(const Outcome& o) {
+  const SparseFieldOptions& e = o.options.engine;
+  py::dict d;
+  d["layers"] = e.layers;
+  d["max_step_change"] = e.maxStepChange;
+  d["curvature_step_limit"] = e.curvatureStepLimit;
+  d["stiffness_step_limit"] = e.stiffnessStepLimit;
+  d["grain_size"] = e.grainSize;
+  return d;
+}
+
+py::dict summaryOf(const Outcome& o) {
   py::dict s;
   s["inputs"] = o.inputs;
   s["scans"] = o.scans;
@@ -52,32 +97,13 @@ py::dict summaryOf(const Outcome& o) {
   s["levels"] = *o.options.levels;
   s["beta"] = *o.options.beta;
   s["epsilon"] = *o.options.epsilon;
-  s["grids"] = grids;
+  s["engine"] = engineSettingsOf(o);
+  s["grids"] = gridReportsOf(o);
   s["narrow_band_voxels"] = o.result.levelSet->activeVoxelCount();
   s["peak_engine_bytes"] = o.result.peakEngineBytes;
   s["seconds"] = o.seconds;
-  py::list phases;  // the reconstruction's own phases
-  for (const PhaseTime& p : o.result.phases) {
-    py::dict phase;
-    phase["name"] = p.name;
-    phase["seconds"] = p.seconds;
-    phase["cpu_seconds"] = p.cpuSeconds;
-    phases.append(phase);
-  }
-  s["phases"] = phases;
-  if (o.fit) {
-    py::dict f;
-    f["points"] = o.fit->readings;
-    f["stride"] = o.fitStride;
-    f["mean"] = o.fit->mean;
-    f["rms"] = o.fit->rms;
-    f["median"] = o.fit->median;
-    f["p90"] = o.fit->p90;
-    f["p99"] = o.fit->p99;
-    f["within_voxel"] = o.fit->withinVoxel;
-    f["beyond_band"] = o.fit->beyondBand;
-    s["fit"] = f;
-  }
+  s["phases"] = phasesOf(o);
+  if (o.fit) s["fit"] = fitOf(o);
   return s;
 }
 
@@ -143,15 +169,18 @@ io::PreviewOptions previewOptionsOf(const Result& r, int width, const std::optio
   return options;
 }
 
-}  // namespace
-
-py::object resultOf(Outcome outcome) {
-  Result r{std::move(outcome), {}};
-  r.summary = summaryOf(r.outcome);
-  return py::cast(std::move(r));
+void writeMeshFile(const Mesh& held, const std::string& path) {
+  io::requireMeshFileName(path);
+  py::gil_scoped_release released;
+  io::writeMesh(path, held.mesh);
 }
 
-void bindResult(py::module_& m) {
+std::string meshRepr(const Mesh& held) {
+  return "<levelfuse.Mesh: " + std::to_string(held.mesh.vertexCount()) + " vertices, " +
+         std::to_string(held.mesh.triangleCount()) + " triangles>";
+}
+
+void bindMesh(py::module_& m) {
   py::class_<Mesh>(m, "Mesh", "A triangle mesh in world units, counter-clockwise seen from outside.")
       .def_property_readonly("vertices", &verticesOf, "(N, 3) float32, a view of the mesh's vertices.")
       .def_property_readonly("triangles", &trianglesOf, "(M, 3) uint32 vertex indices, a view.")
@@ -159,22 +188,53 @@ void bindResult(py::module_& m) {
                              "(N, 3) uint8 red, green, blue per vertex, a view; None if the scans had no colour.")
       .def_property_readonly("area", [](const Mesh& held) { return held.mesh.area(); })
       .def_property_readonly("volume", [](const Mesh& held) { return held.mesh.volume(); })
-      .def(
-          "write",
-          [](const Mesh& held, const std::string& path) {
-            io::requireMeshFileName(path);
-            py::gil_scoped_release released;
-            io::writeMesh(path, held.mesh);
-          },
-          py::arg("path"), "Writes the mesh as .ply (binary) or .obj, atomically.")
-      .def("__repr__", [](const Mesh& held) {
-        return "<levelfuse.Mesh: " + std::to_string(held.mesh.vertexCount()) + " vertices, " +
-               std::to_string(held.mesh.triangleCount()) + " triangles>";
-      });
+      .def("write", &writeMeshFile, py::arg("path"), "Writes the mesh as .ply (binary) or .obj, atomically.")
+      .def("__repr__", &meshRepr);
+}
 
-  py::class_<Result>(m, "Result",
-                     "A reconstruction: the level set (negative inside, world units), its weight grid (the "
-                     "readings that face the surface; 0 where no scan saw it) and the summary.")
+Mesh resultMesh(const Result& r, double adaptivity, std::optional<bool> trim) { return meshOf(r, adaptivity, trim); }
+
+void writeResultVdb(const Result& r, const std::string& path) {
+  py::gil_scoped_release released;
+  io::writeVdb(path, gridsOf(r));
+}
+
+void writeResultMesh(const Result& r, const std::string& path, double adaptivity, std::optional<bool> trim) {
+  io::requireMeshFileName(path);
+  const Mesh mesh = meshOf(r, adaptivity, trim);
+  py::gil_scoped_release released;
+  io::writeMesh(path, mesh.mesh);
+}
+
+py::array_t<std::uint8_t> previewOf(const Result& r, int width, std::optional<int> height, const py::handle& view,
+                                    const py::handle& up, std::optional<bool> trim) {
+  const io::PreviewOptions options = previewOptionsOf(r, width, height, view, up, trim);
+  io::PreviewImage image;
+  {
+    py::gil_scoped_release released;
+    image = io::renderPreview(*r.outcome.result.levelSet, options);
+  }
+  py::array_t<std::uint8_t> out(
+      {static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width), py::ssize_t{3}});
+  std::copy(image.rgb.begin(), image.rgb.end(), out.mutable_data());
+  return out;
+}
+
+void writeResultPreview(const Result& r, const std::string& path, int width, std::optional<int> height,
+                        const py::handle& view, const py::handle& up, std::optional<bool> trim) {
+  const io::PreviewOptions options = previewOptionsOf(r, width, height, view, up, trim);
+  py::gil_scoped_release released;
+  io::writePreviewPng(*r.outcome.result.levelSet, path, options);
+}
+
+std::string resultRepr(const Result& r) {
+  return "<levelfuse.Result: " + std::string(r.outcome.linear ? "linear solution" : "MAP evolution") + ", " +
+         std::to_string(r.outcome.result.levelSet->activeVoxelCount()) + " narrow-band voxels>";
+}
+
+/// Result's grids: the level set, its weight and colour, as pyopenvdb's and as levelfuse.Grid.
+void defineResultGrids(py::class_<Result>& result) {
+  result
       .def_property_readonly(
           "level_set", [](const Result& r) { return gridForPython(r.outcome.result.levelSet); },
           "The level set: a pyopenvdb.FloatGrid sharing it where pyopenvdb is installed, else a levelfuse.Grid.")
@@ -189,72 +249,55 @@ void bindResult(py::module_& m) {
           "grid", [](const Result& r) { return r.outcome.result.levelSet; }, "The level set as a levelfuse.Grid.")
       .def_property_readonly(
           "weight_grid", [](const Result& r) { return r.outcome.result.weight; },
-          "The weight grid as a levelfuse.Grid.")
-      .def_readonly("summary", &Result::summary,
-                    "The run: scans, settings, per-grid reports, time, and the fit to the scans (metres or the "
-                    "scans' units).")
+          "The weight grid as a levelfuse.Grid.");
+}
+
+/// Result's outputs: its mesh, .vdb file and bytes, and its picture.
+void defineResultOutputs(py::class_<Result>& result) {
+  result
+      .def("mesh", &resultMesh, py::kw_only(), py::arg("adaptivity") = 0.0, py::arg("trim_unseen") = py::none(),
+           "The zero set as a levelfuse.Mesh. adaptivity in [0, 1]; trim_unseen leaves out what no scan "
+           "observed (default: for scenes, i.e. depth frames).")
+      .def("write_vdb", &writeResultVdb, py::arg("path"),
+           "Writes the level set, its weight grid and its colour (if the scans had colour) to a .vdb file, as the "
+           "converter's -o does.")
       .def(
-          "mesh", [](const Result& r, double adaptivity, std::optional<bool> trim) { return meshOf(r, adaptivity, trim); },
-          py::kw_only(), py::arg("adaptivity") = 0.0, py::arg("trim_unseen") = py::none(),
-          "The zero set as a levelfuse.Mesh. adaptivity in [0, 1]; trim_unseen leaves out what no scan "
-          "observed (default: for scenes, i.e. depth frames).")
-      .def(
-          "write_vdb",
-          [](const Result& r, const std::string& path) {
-            py::gil_scoped_release released;
-            io::writeVdb(path, gridsOf(r));
-          },
-          py::arg("path"),
-          "Writes the level set, its weight grid and its colour (if the scans had colour) to a .vdb file, as the "
-          "converter's -o does.")
-      .def(
-          "vdb_bytes",
-          [](const Result& r) { return vdbBytes(gridsOf(r)); },
-          "The bytes write_vdb writes.")
-      .def(
-          "write_mesh",
-          [](const Result& r, const std::string& path, double adaptivity, std::optional<bool> trim) {
-            io::requireMeshFileName(path);
-            const Mesh mesh = meshOf(r, adaptivity, trim);
-            py::gil_scoped_release released;
-            io::writeMesh(path, mesh.mesh);
-          },
-          py::arg("path"), py::kw_only(), py::arg("adaptivity") = 0.0, py::arg("trim_unseen") = py::none(),
-          "Writes the mesh (.ply or .obj), as the converter's --mesh does.")
-      .def(
-          "preview",
-          [](const Result& r, int width, std::optional<int> height, const py::handle& view, const py::handle& up,
-             std::optional<bool> trim) {
-            const io::PreviewOptions options = previewOptionsOf(r, width, height, view, up, trim);
-            io::PreviewImage image;
-            {
-              py::gil_scoped_release released;
-              image = io::renderPreview(*r.outcome.result.levelSet, options);
-            }
-            py::array_t<std::uint8_t> out(
-                {static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width), py::ssize_t{3}});
-            std::copy(image.rgb.begin(), image.rgb.end(), out.mutable_data());
-            return out;
-          },
-          py::kw_only(), py::arg("width") = 800, py::arg("height") = py::none(), py::arg("view") = py::none(),
-          py::arg("up") = py::none(), py::arg("trim_unseen") = py::none(),
-          "A shaded picture, (H, W, 3) uint8: objects seen from `view` (a direction toward the camera), scenes "
-          "from their first frame's camera.")
-      .def(
-          "write_preview",
-          [](const Result& r, const std::string& path, int width, std::optional<int> height, const py::handle& view,
-             const py::handle& up, std::optional<bool> trim) {
-            const io::PreviewOptions options = previewOptionsOf(r, width, height, view, up, trim);
-            py::gil_scoped_release released;
-            io::writePreviewPng(*r.outcome.result.levelSet, path, options);
-          },
-          py::arg("path"), py::kw_only(), py::arg("width") = 800, py::arg("height") = py::none(),
-          py::arg("view") = py::none(), py::arg("up") = py::none(), py::arg("trim_unseen") = py::none(),
-          "Writes the picture of preview() as a PNG, as the converter's --preview does.")
-      .def("__repr__", [](const Result& r) {
-        return "<levelfuse.Result: " + std::string(r.outcome.linear ? "linear solution" : "MAP evolution") + ", " +
-               std::to_string(r.outcome.result.levelSet->activeVoxelCount()) + " narrow-band voxels>";
-      });
+          "vdb_bytes", [](const Result& r) { return vdbBytes(gridsOf(r)); }, "The bytes write_vdb writes.")
+      .def("write_mesh", &writeResultMesh, py::arg("path"), py::kw_only(), py::arg("adaptivity") = 0.0,
+           py::arg("trim_unseen") = py::none(), "Writes the mesh (.ply or .obj), as the converter's --mesh does.")
+      .def("preview", &previewOf, py::kw_only(), py::arg("width") = 800, py::arg("height") = py::none(),
+           py::arg("view") = py::none(), py::arg("up") = py::none(), py::arg("trim_unseen") = py::none(),
+           "A shaded picture, (H, W, 3) uint8: objects seen from `view` (a direction toward the camera), scenes "
+           "from their first frame's camera.")
+      .def("write_preview", &writeResultPreview, py::arg("path"), py::kw_only(), py::arg("width") = 800,
+           py::arg("height") = py::none(), py::arg("view") = py::none(), py::arg("up") = py::none(),
+           py::arg("trim_unseen") = py::none(),
+           "Writes the picture of preview() as a PNG, as the converter's --preview does.");
+}
+
+void bindResultClass(py::module_& m) {
+  py::class_<Result> result(m, "Result",
+                            "A reconstruction: the level set (negative inside, world units), its weight grid (the "
+                            "readings that face the surface; 0 where no scan saw it) and the summary.");
+  defineResultGrids(result);
+  result.def_readonly("summary", &Result::summary,
+                      "The run: scans, settings, per-grid reports, time, and the fit to the scans (metres or the "
+                      "scans' units).");
+  defineResultOutputs(result);
+  result.def("__repr__", &resultRepr);
+}
+
+}  // namespace
+
+py::object resultOf(Outcome outcome) {
+  Result r{std::move(outcome), {}};
+  r.summary = summaryOf(r.outcome);
+  return py::cast(std::move(r));
+}
+
+void bindResult(py::module_& m) {
+  bindMesh(m);
+  bindResultClass(m);
 }
 
 }  // namespace levelfuse::python

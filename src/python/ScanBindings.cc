@@ -152,11 +152,52 @@ RangeMap depthFrameFrom(const py::handle& depth, const py::handle& intrinsics, c
   return io::depthFrame(std::move(image), k, cameraToWorld, noise, name);
 }
 
-void bindScans(py::module_& m) {
-  py::class_<RangeMap>(m, "RangeMap",
-                       "A range map: a depth camera's frame (pinhole), a terrestrial laser scanner's or a "
-                       "LiDAR's scan (spherical) or a scan of parallel rays (orthographic), registered in the "
-                       "world by its pose.")
+namespace {
+
+RangeMap orthographicMapFrom(const py::handle& readings, double pixelSize, const py::handle& pose, double sigma,
+                             const py::handle& origin, const std::string& name) {
+  const py::array r = requireArray(readings, "readings", 2);
+  if (!holds<float>(r)) throw wrongDtype("readings", r, "float32 (world units)");
+  const float* d = static_cast<const float*>(r.data());
+  std::vector<float> values(d, d + r.size());
+  const openvdb::math::Mat4d mapToWorld = rigidMotionFrom(pose, "pose");
+  const openvdb::Vec3d o = origin.is_none() ? openvdb::Vec3d(0.0) : vec3From(origin, "origin");
+  const OrthographicProjection p{numberFrom(py::float_(pixelSize), "pixel_size", true), {o.x(), o.y()}};
+  numberFrom(py::float_(sigma), "sigma", true);
+  py::gil_scoped_release released;
+  return RangeMap::orthographic(static_cast<int>(r.shape(1)), static_cast<int>(r.shape(0)), std::move(values), p,
+                                mapToWorld, sigma, name);
+}
+
+/// A spherical map's row elevations in degrees where its rows are spaced unevenly.
+std::vector<double> rowElevationsInDegrees(const RangeMap& r) {
+  std::vector<double> degrees;
+  if (r.kind() == RangeMap::Kind::kSpherical)
+    for (const double elevation : r.sphericalProjection().rowElevations) degrees.push_back(elevation / kRadians);
+  return degrees;
+}
+
+py::tuple scannerPositionOf(const RangeMap& r) {
+  const openvdb::Vec3d p = r.scannerPosition();
+  return py::make_tuple(p.x(), p.y(), p.z());
+}
+
+py::array_t<float> readingsOf(const RangeMap& r) {
+  py::array_t<float> out({static_cast<py::ssize_t>(r.height()), static_cast<py::ssize_t>(r.width())});
+  auto o = out.mutable_unchecked<2>();
+  for (int v = 0; v < r.height(); ++v)
+    for (int u = 0; u < r.width(); ++u) o(v, u) = r.reading(u, v);
+  return out;
+}
+
+std::string rangeMapRepr(const RangeMap& r) {
+  return "<levelfuse.RangeMap '" + r.name() + "': " + projectionName(r.kind()) + ", " + std::to_string(r.width()) +
+         " x " + std::to_string(r.height()) + ", " + std::to_string(r.validCount()) + " readings>";
+}
+
+/// RangeMap's static constructors: pinhole, orthographic, spherical and from_points.
+void defineRangeMapConstructors(py::class_<RangeMap>& rangeMap) {
+  rangeMap
       .def_static("pinhole", &depthFrameFrom, py::arg("depth"), py::arg("K"), py::arg("pose"),
                   py::arg("depth_scale") = 0.001, py::arg("sigma") = py::none(), py::arg("max_depth") = py::none(),
                   py::arg("name") = "",
@@ -165,27 +206,11 @@ void bindScans(py::module_& m) {
                   "(fx, fy, cx, cy). pose: 4x4 camera-to-world, column vectors (x right, y down, z forward; "
                   "Open3D's extrinsic is its inverse). sigma: None for the depth camera's noise model "
                   "max(1 mm, 1.5 mm z^2), a number for one sigma, or (minimum, per_square_metre).")
-      .def_static(
-          "orthographic",
-          [](const py::handle& readings, double pixelSize, const py::handle& pose, double sigma,
-             const py::handle& origin, const std::string& name) {
-            const py::array r = requireArray(readings, "readings", 2);
-            if (!holds<float>(r)) throw wrongDtype("readings", r, "float32 (world units)");
-            const float* d = static_cast<const float*>(r.data());
-            std::vector<float> values(d, d + r.size());
-            const openvdb::math::Mat4d mapToWorld = rigidMotionFrom(pose, "pose");
-            const openvdb::Vec3d o = origin.is_none() ? openvdb::Vec3d(0.0) : vec3From(origin, "origin");
-            const OrthographicProjection p{numberFrom(py::float_(pixelSize), "pixel_size", true), {o.x(), o.y()}};
-            numberFrom(py::float_(sigma), "sigma", true);
-            py::gil_scoped_release released;
-            return RangeMap::orthographic(static_cast<int>(r.shape(1)), static_cast<int>(r.shape(0)),
-                                          std::move(values), p, mapToWorld, sigma, name);
-          },
-          py::arg("readings"), py::arg("pixel_size"), py::arg("pose"), py::arg("sigma"),
-          py::arg("origin") = py::none(), py::arg("name") = "",
-          "A scan of parallel rays along +z of its frame: readings (H, W) float32, world units along the rays "
-          "(NaN: no reading); pixel_size between rays; pose 4x4 map-to-world (column vectors); origin (x, y, "
-          "unused z) of pixel (0, 0) in the map's frame.")
+      .def_static("orthographic", &orthographicMapFrom, py::arg("readings"), py::arg("pixel_size"), py::arg("pose"),
+                  py::arg("sigma"), py::arg("origin") = py::none(), py::arg("name") = "",
+                  "A scan of parallel rays along +z of its frame: readings (H, W) float32, world units along the "
+                  "rays (NaN: no reading); pixel_size between rays; pose 4x4 map-to-world (column vectors); origin "
+                  "(x, y, unused z) of pixel (0, 0) in the map's frame.")
       .def_static("spherical", &sphericalMapFrom, py::arg("ranges"), py::arg("azimuth"), py::arg("elevation"),
                   py::arg("pose"), py::arg("sigma"), py::arg("sigma_per_metre") = 0.0, py::arg("name") = "",
                   "A scan on a spherical scanner's grid: ranges (H, W) float32, distances from the scanner in world "
@@ -202,16 +227,18 @@ void bindScans(py::module_& m) {
                   "pixel that several points fall in keeps the nearest. elevation_step may instead hold the "
                   "elevations of the scanner's lasers (degrees, increasing): each point goes to the row nearest "
                   "its elevation. pose, sigma, sigma_per_metre: as for "
-                  "spherical().")
-      .def_property_readonly("kind", [](const RangeMap& r) { return projectionName(r.kind()); })
+                  "spherical().");
+}
+
+void bindRangeMap(py::module_& m) {
+  py::class_<RangeMap> rangeMap(m, "RangeMap",
+                                "A range map: a depth camera's frame (pinhole), a terrestrial laser scanner's or a "
+                                "LiDAR's scan (spherical) or a scan of parallel rays (orthographic), registered in "
+                                "the world by its pose.");
+  defineRangeMapConstructors(rangeMap);
+  rangeMap.def_property_readonly("kind", [](const RangeMap& r) { return projectionName(r.kind()); })
       .def_property_readonly(
-          "row_elevations",
-          [](const RangeMap& r) {
-            std::vector<double> degrees;
-            if (r.kind() == RangeMap::Kind::kSpherical)
-              for (const double elevation : r.sphericalProjection().rowElevations) degrees.push_back(elevation / kRadians);
-            return degrees;
-          },
+          "row_elevations", &rowElevationsInDegrees,
           "A spherical map's row elevations (degrees) where its rows are spaced unevenly; empty otherwise.")
       .def_property_readonly("width", &RangeMap::width)
       .def_property_readonly("height", &RangeMap::height)
@@ -221,60 +248,53 @@ void bindScans(py::module_& m) {
       .def_property_readonly("memory_bytes", &RangeMap::memoryBytes)
       .def_property_readonly("pose", [](const RangeMap& r) { return columnVectorMatrix(r.mapToWorld()); },
                              "4x4 map-to-world (camera-to-world), column vectors.")
-      .def_property_readonly("scanner_position", [](const RangeMap& r) {
-        const openvdb::Vec3d p = r.scannerPosition();
-        return py::make_tuple(p.x(), p.y(), p.z());
-      })
-      .def(
-          "readings",
-          [](const RangeMap& r) {
-            py::array_t<float> out({static_cast<py::ssize_t>(r.height()), static_cast<py::ssize_t>(r.width())});
-            auto o = out.mutable_unchecked<2>();
-            for (int v = 0; v < r.height(); ++v)
-              for (int u = 0; u < r.width(); ++u) o(v, u) = r.reading(u, v);
-            return out;
-          },
-          "The readings, (H, W) float32 (NaN: none): depths along the optical axis or along parallel rays, "
-          "ranges from a spherical scanner.")
-      .def("__repr__", [](const RangeMap& r) {
-        return "<levelfuse.RangeMap '" + r.name() + "': " + projectionName(r.kind()) + ", " + std::to_string(r.width()) +
-               " x " + std::to_string(r.height()) + ", " + std::to_string(r.validCount()) + " readings>";
-      });
+      .def_property_readonly("scanner_position", &scannerPositionOf)
+      .def("readings", &readingsOf,
+           "The readings, (H, W) float32 (NaN: none): depths along the optical axis or along parallel rays, "
+           "ranges from a spherical scanner.")
+      .def("__repr__", &rangeMapRepr);
+}
 
-  m.def(
-      "load_scans",
-      [](const std::string& path, const py::object& progress, py::kwargs kw) {
-        py::dict kwargs(kw);
-        io::ScanLoadOptions load = takeLoadOptions(kwargs);
-        refuseUnknownKeywords(kwargs, "load_scans");
-        Cancellation cancellation;
-        ProgressRelay relay(progress, cancellation);
-        load.interrupter = cancellation.interrupter();
-        load.progress = [&](std::size_t read, std::size_t total) { relay.count("loading", read, total); };
-        return runReleased(cancellation, &relay, [&] { return io::loadScans(path, load); });
-      },
-      py::arg("path"), py::kw_only(), py::arg("progress") = py::none(),
-      "The scans at path, as the converter reads them: a Stanford .conf, a PTX or E57 file of terrestrial laser scans, a "
-      "JSON manifest (which may also list XYZ and PLY point clouds and KITTI velodyne sweeps with their sensors' "
-      "poses), or a folder of depth frames (7-Scenes or TUM RGB-D layout). Keywords, as the converter's "
-      "options: depth_scale (metres per unit of 16-bit depth; 0: the layout's), sigma (the readings' noise, world "
-      "units; default: estimated, the depth camera's model, or 2 mm for PTX and E57 scans and point clouds), toward_scanner (Stanford scans' direction to the scanner), max_depth (metres), "
-      "frame_stride (every n-th frame), pose_time_tolerance (TUM; seconds). progress(dict) is called as scans "
-      "are read.");
+std::vector<RangeMap> loadScansFor(const std::string& path, const py::object& progress, py::kwargs kw) {
+  py::dict kwargs(kw);
+  io::ScanLoadOptions load = takeLoadOptions(kwargs);
+  refuseUnknownKeywords(kwargs, "load_scans");
+  Cancellation cancellation;
+  ProgressRelay relay(progress, cancellation);
+  load.interrupter = cancellation.interrupter();
+  load.progress = [&](std::size_t read, std::size_t total) { relay.count("loading", read, total); };
+  return runReleased(cancellation, &relay, [&] { return io::loadScans(path, load); });
+}
 
-  m.def(
-      "read_depth_png",
-      [](const std::string& path) {
-        io::DepthSamples image;
-        {
-          py::gil_scoped_release released;
-          image = io::readDepthPngSamples(path);
-        }
-        py::array_t<std::uint16_t> out({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width)});
-        std::copy(image.samples.begin(), image.samples.end(), out.mutable_data());
-        return out;
-      },
-      py::arg("path"), "A 16-bit depth PNG's samples, (H, W) uint16, unscaled.");
+py::array_t<std::uint16_t> readDepthPng(const std::string& path) {
+  io::DepthSamples image;
+  {
+    py::gil_scoped_release released;
+    image = io::readDepthPngSamples(path);
+  }
+  py::array_t<std::uint16_t> out({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width)});
+  std::copy(image.samples.begin(), image.samples.end(), out.mutable_data());
+  return out;
+}
+
+/// load_scans and read_depth_png.
+void bindScanReaders(py::module_& m) {
+  m.def("load_scans", &loadScansFor, py::arg("path"), py::kw_only(), py::arg("progress") = py::none(),
+        "The scans at path, as the converter reads them: a Stanford .conf, a PTX or E57 file of terrestrial laser "
+        "scans, a JSON manifest (which may also list XYZ and PLY point clouds and KITTI velodyne sweeps with their "
+        "sensors' poses), or a folder of depth frames (7-Scenes or TUM RGB-D layout). Keywords, as the converter's "
+        "options: depth_scale (metres per unit of 16-bit depth; 0: the layout's), sigma (the readings' noise, world "
+        "units; default: estimated, the depth camera's model, or 2 mm for PTX and E57 scans and point clouds), "
+        "toward_scanner (Stanford scans' direction to the scanner), max_depth (metres), frame_stride (every n-th "
+        "frame), pose_time_tolerance (TUM; seconds). progress(dict) is called as scans are read.");
+  m.def("read_depth_png", &readDepthPng, py::arg("path"), "A 16-bit depth PNG's samples, (H, W) uint16, unscaled.");
+}
+
+}  // namespace
+
+void bindScans(py::module_& m) {
+  bindRangeMap(m);
+  bindScanReaders(m);
 }
 
 }  // namespace levelfuse::python

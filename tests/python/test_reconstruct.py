@@ -1,5 +1,6 @@
 # levelfuse.reconstruct: the converter's reconstruction from Python.
 import json
+import re
 import time
 
 import numpy as np
@@ -61,22 +62,196 @@ def test_range_maps_from_numpy_reconstruct_a_sphere():
     assert result.grid.metadata["levelfuse_inputs"] == "6 range maps from Python"
 
 
-def test_every_option_is_a_keyword():
+# Each keyword of levelfuse.reconstruct, set away from its default, and what it must change: the
+# sphere is reconstructed with `settings`, then again with the keyword set to `value` as well, and
+# `effect(before, after)` asserts what the keyword does to the result. A keyword the module dropped
+# would leave the two runs alike, and its case would fail.
+NEVER_STOPPING = dict(tolerance=1e-9, drift=1e-12)  # runs every iteration it may
+SIX_ITERATIONS = dict(NEVER_STOPPING, min_iterations=6, max_iterations=6)
+
+
+def grid_reports(result, key):
+    return [g[key] for g in result.summary["grids"]]
+
+
+def level_set_differs(before, after):
+    b, a = before.grid.active_voxels(), after.grid.active_voxels()
+    return not (np.array_equal(b[0], a[0]) and np.array_equal(b[1], a[1]))
+
+
+def voxel_size_effect(before, after):
+    assert after.summary["voxel_size"] == 0.125 and after.grid.voxel_size == pytest.approx(0.125)
+    assert grid_reports(after, "voxel_size") == [0.125] and grid_reports(before, "voxel_size") == [0.1]
+
+
+def levels_effect(before, after):
+    assert after.summary["levels"] == 2 and before.summary["levels"] == 1
+    assert grid_reports(after, "voxel_size") == [0.2, 0.1]
+
+
+def beta_effect(before, after):
+    # The surface-area prior pulls a sphere in by about 2 beta / R voxels: 0.8 voxel of 10.
+    assert after.summary["beta"] == 4.0 and before.summary["beta"] == 0.5
+    assert after.mesh().volume < 0.9 * before.mesh().volume
+
+
+def epsilon_effect(before, after):
+    assert after.summary["epsilon"] == 0.2 and after.grid.metadata["levelfuse_epsilon"] == 0.2
+    assert level_set_differs(before, after)
+
+
+def window_effect(before, after):
+    assert before.grid.metadata["levelfuse_window"] == "gaussian"
+    assert after.grid.metadata["levelfuse_window"] == "binary"
+    assert level_set_differs(before, after)
+
+
+def data_term_from_grids(before, after):
+    # Six maps sample the data term map by map unless it is asked from grids.
+    assert before.grid.metadata["levelfuse_data_term"] == "maps"
+    assert after.grid.metadata["levelfuse_data_term"] == "grids"
+    assert level_set_differs(before, after)
+
+
+def data_term_per_map(before, after):
+    # Thirty-six maps (more than 32) sample it from grids unless it is asked map by map.
+    assert before.grid.metadata["levelfuse_data_term"] == "grids"
+    assert after.grid.metadata["levelfuse_data_term"] == "maps"
+
+
+def tolerance_effect(before, after):
+    assert grid_reports(before, "converged") == [True] and grid_reports(before, "iterations") == [4]
+    assert grid_reports(after, "converged") == [False] and grid_reports(after, "iterations") == [30]
+
+
+def patience_effect(before, after):
+    # Settling is judged every `patience` iterations, once the speed has not fallen for as many.
+    assert grid_reports(before, "settled") == [True] and grid_reports(after, "settled") == [True]
+    (b,), (a,) = grid_reports(before, "iterations"), grid_reports(after, "iterations")
+    assert b % 8 == 0 and a % 20 == 0 and a > b
+
+
+def drift_effect(before, after):
+    # The noiseless sphere drifts less than the default 0.025 voxel an iteration, never less than 1e-12.
+    assert grid_reports(before, "settled") == [True] and grid_reports(before, "iterations")[0] < 60
+    assert grid_reports(after, "settled") == [False] and grid_reports(after, "iterations") == [60]
+
+
+def min_iterations_effect(before, after):
+    # A tolerance nothing misses converges at the first iteration allowed.
+    assert grid_reports(before, "iterations") == [4] and grid_reports(after, "iterations") == [9]
+    assert grid_reports(after, "converged") == [True]
+
+
+def max_iterations_effect(before, after):
+    # A limit below the default minimum (4) lowers the minimum, as the converter's does.
+    assert grid_reports(before, "iterations") == [300] and grid_reports(after, "iterations") == [3]
+
+
+def name_effect(before, after):
+    assert before.grid.name == "surface" and after.grid.name == "ball" and after.weight_grid.name == "weight"
+
+
+def layers_effect(before, after):
+    # Two more layers about the same active set: the band grows by about twice the active set.
+    assert grid_reports(after, "active_set_voxels") == grid_reports(before, "active_set_voxels")
+    (b,), (a,), (active,) = (grid_reports(before, "band_voxels"), grid_reports(after, "band_voxels"),
+                             grid_reports(after, "active_set_voxels"))
+    assert a - b == pytest.approx(2 * active, rel=0.1)
+    assert after.summary["engine"]["layers"] == 3
+
+
+def step_limit_effect(keyword, value):
+    def effect(before, after):
+        # A lower limit on the time step: less time simulated in the same six iterations.
+        assert grid_reports(before, "iterations") == grid_reports(after, "iterations") == [6]
+        assert grid_reports(after, "simulated_time")[0] < 0.9 * grid_reports(before, "simulated_time")[0]
+        assert after.summary["engine"][keyword] == value
+    return effect
+
+
+def grain_size_effect(before, after):
+    # Leaf nodes per parallel task: the engine's, reported; the result is the same byte for byte.
+    assert before.summary["engine"]["grain_size"] == 4 and after.summary["engine"]["grain_size"] == 0
+    assert after.vdb_bytes() == before.vdb_bytes()
+
+
+def linear_effect(before, after):
+    assert before.summary["method"] == "evolution" and after.summary["method"] == "linear"
+    assert after.summary["grids"] == [] and len(before.summary["grids"]) == 1
+
+
+def fit_effect(before, after):
+    assert "fit" in before.summary and "fit" not in after.summary
+
+
+def inputs_effect(before, after):
+    assert before.summary["inputs"] == ["6 range maps from Python"]
+    assert after.summary["inputs"] == ["ball.json"] and after.grid.metadata["levelfuse_inputs"] == "ball.json"
+
+
+KEYWORD_EFFECTS = [
+    pytest.param("voxel_size", 0.125, voxel_size_effect, {}, id="voxel_size"),
+    pytest.param("levels", 2, levels_effect, {}, id="levels"),
+    pytest.param("beta", 4.0, beta_effect, {}, id="beta"),
+    pytest.param("epsilon", 0.2, epsilon_effect, {}, id="epsilon"),
+    pytest.param("window", "binary", window_effect, {}, id="window"),
+    pytest.param("data_term", "grids", data_term_from_grids, {}, id="data_term-grids"),
+    pytest.param("data_term", "per_map", data_term_per_map, {"copies": 6}, id="data_term-per_map"),
+    pytest.param("tolerance", 1e-9, tolerance_effect, dict(drift=1e-12, max_iterations=30), id="tolerance"),
+    pytest.param("patience", 20, patience_effect, dict(tolerance=1e-9, drift=1e3, max_iterations=200),
+                 id="patience"),
+    pytest.param("drift", 1e-12, drift_effect, dict(tolerance=1e-9, patience=2, max_iterations=60), id="drift"),
+    pytest.param("min_iterations", 9, min_iterations_effect, dict(tolerance=1e3), id="min_iterations"),
+    pytest.param("max_iterations", 3, max_iterations_effect, NEVER_STOPPING, id="max_iterations"),
+    pytest.param("name", "ball", name_effect, {}, id="name"),
+    pytest.param("layers", 3, layers_effect, {}, id="layers"),
+    pytest.param("max_step_change", 0.05, step_limit_effect("max_step_change", 0.05), SIX_ITERATIONS,
+                 id="max_step_change"),
+    pytest.param("curvature_step_limit", 0.02, step_limit_effect("curvature_step_limit", 0.02), SIX_ITERATIONS,
+                 id="curvature_step_limit"),
+    pytest.param("stiffness_step_limit", 0.05, step_limit_effect("stiffness_step_limit", 0.05), SIX_ITERATIONS,
+                 id="stiffness_step_limit"),
+    pytest.param("grain_size", 0, grain_size_effect, {}, id="grain_size"),
+    pytest.param("linear", True, linear_effect, {}, id="linear"),
+    pytest.param("fit", False, fit_effect, {"fit": True}, id="fit"),
+    pytest.param("inputs", ["ball.json"], inputs_effect, {}, id="inputs"),
+]
+
+
+@pytest.mark.parametrize("keyword, value, effect, settings", KEYWORD_EFFECTS)
+def test_each_keyword_changes_what_it_sets(keyword, value, effect, settings):
+    settings = dict(settings)
+    maps = sphere_scans() * settings.pop("copies", 1)
+    run = {"voxel_size": 0.1, "fit": False, **settings}
+    assert run.get(keyword) != value
+    before = levelfuse.reconstruct(maps, **run)
+    after = levelfuse.reconstruct(maps, **{**run, keyword: value})
+    effect(before, after)
+
+
+def test_every_documented_keyword_has_its_effect_checked():
+    doc = levelfuse.reconstruct.__doc__
+    block = doc[doc.index("Keywords"):doc.index("and for paths")].split("\n", 1)[1]
+    documented = set(re.findall(r"\b([a-z_]+)(?==|,|\n| \()", block))
+    checked = {case.values[0] for case in KEYWORD_EFFECTS}
+    assert documented == checked
+
+
+def test_keywords_refuse_what_they_cannot_take():
     maps = sphere_scans()
-    result = levelfuse.reconstruct(maps, voxel_size=0.1, levels=2, beta=0.5, epsilon=0.05, window="binary",
-                                   data_term="per_map", tolerance=0.1, patience=4, drift=0.05, min_iterations=2,
-                                   max_iterations=20, name="ball", layers=2, max_step_change=0.4,
-                                   curvature_step_limit=0.2, stiffness_step_limit=0.4, grain_size=2, fit=False)
-    s = result.summary
-    assert (s["voxel_size"], s["levels"], s["beta"], s["epsilon"]) == (0.1, 2, 0.5, 0.05)
-    assert all(g["iterations"] <= 20 for g in s["grids"]) and "fit" not in s
-    assert result.grid.name == "ball"
     with pytest.raises(TypeError, match="colour"):
         levelfuse.reconstruct(maps, colour="red")
     with pytest.raises(ValueError, match="window"):
         levelfuse.reconstruct(maps, window="box")
+    with pytest.raises(ValueError, match="data_term"):
+        levelfuse.reconstruct(maps, data_term="voxels")
     with pytest.raises(TypeError, match="levels"):
         levelfuse.reconstruct(maps, levels=1.5)
+    with pytest.raises(ValueError, match="grain_size"):
+        levelfuse.reconstruct(maps, grain_size=-1)
+    with pytest.raises(ValueError, match="layers"):
+        levelfuse.reconstruct(maps, voxel_size=0.1, layers=4)
 
 
 def test_the_linear_solution():
