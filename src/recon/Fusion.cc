@@ -2,7 +2,6 @@
 
 #include <levelfuse/recon/Fusion.h>
 
-#include <levelfuse/recon/SharedData.h>
 
 #include <cmath>
 #include <stdexcept>
@@ -138,11 +137,6 @@ openvdb::FloatGrid::Ptr Fusion::linearSolution(const std::string& name, const In
       .toLevelSet(3.0, name);
 }
 
-ReconstructionResult Fusion::reconstruct(const ReconstructionOptions& options, const ProgressCallback& progress,
-                                         const Interrupter& interrupter) const {
-  return Reconstructor(*this, options).run(progress, interrupter);
-}
-
 std::size_t Fusion::memoryBytes() const {
   std::size_t bytes = sizeof(*this) + dataTermBytes();
   for (const PackedRangeMap& p : mPacked) bytes += p.memoryBytes();
@@ -163,17 +157,6 @@ std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const Recons
   std::unique_ptr<Fusion> fusion = std::make_unique<Fusion>(settings, keep);
   if (deferFinerGrids)
     for (int level = 1; level < settings.levels; ++level) fusion->deferLevel(level);
-  return fusion;
-}
-
-std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
-                                        const std::function<void(std::size_t, std::size_t)>& integrated,
-                                        const Interrupter& interrupter, const SlabTeam* team,
-                                        const SharedDataSlab* cut) {
-  std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostWithin(scans), scans.unpacked(), resolved,
-                                                Fusion::Keep::kPacked, team, interrupter, cut);
-  fusion->integrate(std::move(scans.maps), integrated, interrupter);
-  fusion->adoptSummary(std::move(scans.summary));
   return fusion;
 }
 

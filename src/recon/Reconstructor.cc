@@ -4,7 +4,6 @@
 
 #include <levelfuse/Version.h>
 #include <levelfuse/core/FreedMemory.h>
-#include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/recon/DataSpeed.h>
 #include <levelfuse/recon/Fusion.h>
@@ -22,7 +21,6 @@
 #include <limits>
 #include <memory>
 #include <optional>
-#include <sstream>
 
 namespace levelfuse {
 
@@ -89,80 +87,6 @@ double largestLocalDrift(const detail::EvolvingField& field, const openvdb::Floa
   return drift.empty() ? 0.0 : *std::max_element(drift.begin(), drift.end());
 }
 
-/// Throws InsufficientMemory if `bytes` exceed the memory budget (io::memoryShortfall).
-void requireMemory(double bytes, const std::string& what, const std::string& advice) {
-  const std::string shortfall = io::memoryShortfall(bytes, what, advice);
-  if (!shortfall.empty()) throw InsufficientMemory("reconstruction: " + shortfall);
-}
-
-std::string shortNumber(double value) {
-  std::ostringstream text;
-  text.precision(3);
-  text << value;
-  return text.str();
-}
-
-/// What the scans tell the derived settings.
-struct ScanFacts {
-  double raySpacing = 0.0;  ///< the median distance between neighbouring rays
-  double sigma = 0.0;       ///< the median noise
-  double extent = 0.0;      ///< the largest side of the readings' box
-  bool scene = false;  ///< scans of a scene (ScanSummary::aScene)
-};
-
-/// The voxel size: as given, or the scans' ray spacing; checked.
-double resolveVoxelSize(const std::optional<double>& given, const ScanFacts& scans) {
-  const double voxelSize = given.value_or(scans.raySpacing);
-  const bool derived = !given;
-  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
-    throw std::invalid_argument("reconstruction: the voxel size must be positive");
-  if (voxelSize < kSmallestVoxelSize)
-    throw std::invalid_argument(
-        "reconstruction: a voxel size of " + shortNumber(voxelSize) +
-        (derived ? " (the scans' median distance between rays)" : "") +
-        " is below the smallest a grid can have, " + shortNumber(kSmallestVoxelSize) +
-        (derived ? ": the scans' coordinates are in units too small (give them in metres), or choose "
-                   "--voxel-size of at least "
-                 : ": choose --voxel-size of at least ") +
-        shortNumber(kSmallestVoxelSize));
-  if (scans.extent / voxelSize > 1e5)
-    throw std::invalid_argument("reconstruction: a voxel size of " + std::to_string(voxelSize) +
-                                " makes the data " + std::to_string(scans.extent / voxelSize) +
-                                " voxels across; choose a voxel size of at least " + std::to_string(scans.extent / 1e5));
-  return voxelSize;
-}
-
-/// The number of grids: as given, or a coarsest grid about 64 voxels across (one for a scene); checked.
-int resolveLevels(const std::optional<int>& given, double voxelSize, const ScanFacts& scans) {
-  const int levels = given.value_or(
-      scans.scene ? 1 : 1 + std::max(0, static_cast<int>(std::lround(std::log2(scans.extent / (64.0 * voxelSize))))));
-  if (levels < 1 || levels > 12) throw std::invalid_argument("reconstruction: the number of grids must be 1 to 12");
-  return levels;
-}
-
-/// The window width: as given, or the scans' median sigma; checked against the data's extent.
-double resolveEpsilon(const std::optional<double>& given, const ScanFacts& scans) {
-  const double epsilon = given.value_or(scans.sigma);
-  const bool derived = !given;
-  if (!(epsilon > 0.0) || !std::isfinite(epsilon))
-    throw std::invalid_argument("reconstruction: the window width epsilon must be positive");
-  if (epsilon > scans.extent)
-    throw std::invalid_argument(
-        "reconstruction: a window width epsilon of " + shortNumber(epsilon) +
-        (derived ? " (the scans' median sigma)" : "") + " is wider than the data, which span " +
-        shortNumber(scans.extent) + ": a reading would speak for the whole scene; choose a window width (--epsilon) of " +
-        "at most " + shortNumber(scans.extent) + (derived ? ", or check the scans' sigma" : ""));
-  return epsilon;
-}
-
-/// The prior's weight: as given, or max(0.5, sigma / voxel) (0 for a scene); checked.
-double resolveBeta(const std::optional<double>& given, double voxelSize, const ScanFacts& scans) {
-  const double beta = given.value_or(scans.scene ? 0.0 : std::max(0.5, scans.sigma / voxelSize));
-  if (!(beta >= 0.0) || !std::isfinite(beta))
-    throw std::invalid_argument("reconstruction: beta must be finite and not negative (0 turns the prior off)");
-  return beta;
-}
-
 }  // namespace
 
 Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options)
@@ -196,70 +120,9 @@ Reconstructor::Reconstructor(const Fusion& fusion, const ReconstructionOptions& 
   mOptions = resolveReconstructionOptions(o, mSummary);
 }
 
-ReconstructionOptions resolveReconstructionOptions(const ReconstructionOptions& options, const ScanSummary& scans) {
-  // Counted, not judged by the box: the readings of one frame facing a wall square on may lie in a plane.
-  if (scans.scans() == 0) throw std::invalid_argument("reconstruction: no range maps to reconstruct from");
-  if (scans.readings() == 0) throw std::invalid_argument("reconstruction: the range maps hold no readings");
-  const openvdb::BBoxd& bounds = scans.bounds();
-  if (!(bounds.extents()[bounds.maxExtent()] > 0.0))
-    throw std::invalid_argument("reconstruction: every reading lies at one point: there is no surface to reconstruct");
-  ScanFacts facts;
-  facts.raySpacing = scans.medianRaySpacing();
-  facts.sigma = scans.medianSigma();
-  facts.extent = bounds.extents()[bounds.maxExtent()];
-  facts.scene = scans.aScene();
-  ReconstructionOptions o = options;
-  o.voxelSize = resolveVoxelSize(options.voxelSize, facts);
-  o.levels = resolveLevels(options.levels, *o.voxelSize, facts);
-  o.epsilon = resolveEpsilon(options.epsilon, facts);
-  o.beta = resolveBeta(options.beta, *o.voxelSize, facts);
-  if (o.dataTerm == DataTermSource::kAuto)
-    o.dataTerm = scans.scans() > kGridsFromScans ? DataTermSource::kGrids : DataTermSource::kPerMap;
-  if (!(o.tolerance > 0.0)) throw std::invalid_argument("reconstruction: the tolerance must be positive");
-  if (o.patience < 1) throw std::invalid_argument("reconstruction: the patience must be at least one iteration");
-  if (!(o.drift > 0.0)) throw std::invalid_argument("reconstruction: the drift tolerance must be positive");
-  if (o.minIterations < 0 || o.maxIterations < std::max(1, o.minIterations))
-    throw std::invalid_argument("reconstruction: iterations must satisfy 0 <= min <= max, max >= 1");
-  return o;
-}
 
-void Reconstructor::requireCoarsestGridMemory() const {
-  // The linear solution classifies every leaf-sized block of the data's box.
-  double blocks = 1.0;
-  for (int axis = 0; axis < 3; ++axis) blocks *= bounds().extents()[axis] / (8.0 * voxelSize(0)) + 3.0;
-  requireMemory(16.0 * blocks, "the initial model on a grid of voxel size " + shortNumber(voxelSize(0)),
-                "use more grids (levels) or a larger voxel size");
-}
 
-void requireAccumulationMemory(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved, int level) {
-  const FusionSettings grids = fusionSettingsOf(resolved);
-  const auto costAt = [&](double finest) {
-    const double h = std::ldexp(finest, grids.levels - 1 - level);
-    return costOf(h, forceFieldOptions(grids.epsilon, h, grids.window).dataWindow().reach());
-  };
-  const AccumulationCost cost = costAt(grids.voxelSize);
-  const double budget = static_cast<double>(io::memoryBudget());
-  if (cost.bytes <= budget) return;
-  // What would fit: the finest voxel size doubled until the data term's leaves do (a window of
-  // a fixed width reaches fewer, larger leaves), if some size within a million times does.
-  std::string advice = "no voxel size up to a million times this one fits: check the scans' geometry (focal "
-                       "lengths, depth scale, pixel size) and the window width (--epsilon)";
-  for (double finest = 2.0 * grids.voxelSize; finest <= 1e6 * grids.voxelSize; finest *= 2.0)
-    if (costAt(finest).bytes <= 0.9 * budget) {
-      advice = "choose a voxel size (--voxel-size) of at least " + shortNumber(finest) +
-               " or a narrower window (--epsilon)";
-      break;
-    }
-  requireMemory(cost.bytes,
-                "the data term on a grid of voxel size " + shortNumber(grids.levelVoxelSize(level)) +
-                    " (windows reaching " + shortNumber(grids.levelForceOptions(level).dataWindow().reach()) +
-                    " from their readings, " + shortNumber(cost.leafMarks) + " leaf nodes marked)",
-                advice);
-}
 
-void Reconstructor::requireAccumulationMemory(int level) const {
-  levelfuse::requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, level);
-}
 
 LinearBand Reconstructor::initialBand() const {
   // Structures thinner than a voxel of a coarse grid are noise against it; the
@@ -281,11 +144,11 @@ RangeMapSequence Reconstructor::carvingScans(const std::function<void(std::size_
 
 SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fusion* fusion,
                                         const std::function<void(std::size_t)>& carvedWith) const {
-  requireCoarsestGridMemory();
+  requireCoarsestGridMemory(mOptions, bounds());
   const LinearBand band = initialBand();
   const RangeMapSequence carving = carvingScans(carvedWith);
   if (fusion) return fusion->linearSolutionField(0, band, mOptions.engine, interrupter, carving);
-  requireAccumulationMemory(0);
+  requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, 0);
   const ForceFieldOptions f = forceOptions(0);
   return linearSolutionField(ForceField(mMaps, f).accumulate(voxelSize(0), interrupter), carving,
                              f.dataWindow().reach(), band, mOptions.engine, interrupter);
@@ -293,7 +156,7 @@ SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fu
 
 SlabField Reconstructor::initialSlab(const Interrupter& interrupter, const Fusion& fusion,
                                      const std::function<void(std::size_t)>& carvedWith, const SlabTeam& team) const {
-  requireCoarsestGridMemory();
+  requireCoarsestGridMemory(mOptions, bounds());
   // This process's slab of the data: the team agrees on the whole data's box.
   const SlabBounds data = *fusion.dataSlab();
   const DataTermGrids& grids = fusion.dataTerm(0);
@@ -302,28 +165,6 @@ SlabField Reconstructor::initialSlab(const Interrupter& interrupter, const Fusio
                                  mOptions.engine, interrupter);
 }
 
-void Reconstructor::requireFinestGridMemory(std::size_t coarsestActiveVoxels, const SlabTeam* team) const {
-  // The surface's area, and so the active set, grows four times with each grid.
-  const double finestActive = static_cast<double>(coarsestActiveVoxels) * std::pow(4.0, *mOptions.levels - 1);
-  const int processes = team ? team->size() : 1;
-  const bool shared = processes > 1;
-  // The first process makes the whole output, unless each keeps its piece.
-  const bool assembles = shared && team->rank() == 0 && !mOptions.keepPieces;
-  double perVoxel = kPeakBytesPerActiveVoxel;
-  if (shared) perVoxel = kPeakBytesPerActiveVoxel * kSlabShareMargin / processes;
-  if (assembles) perVoxel = std::max(perVoxel, kOutputBytesPerActiveVoxel);
-  const double bytes = perVoxel * finestActive;
-  const double budget = static_cast<double>(io::memoryBudget());
-  std::string share;
-  if (shared) share = ", this process's share of " + std::to_string(processes);
-  if (assembles) share += ", and the whole output";
-  requireMemory(bytes,
-                "a voxel size of " + shortNumber(*mOptions.voxelSize) + " (about " + shortNumber(finestActive / 1e6) +
-                    " million voxels on the surface" + share + ")",
-                "choose a voxel size of at least " +
-                    shortNumber(*mOptions.voxelSize * std::sqrt(1.1 * bytes / budget)) + " or allow more memory" +
-                    (shared && !assembles ? " or more processes" : ""));
-}
 
 void Reconstructor::requireWholeData(const char* what) const {
   if (mFusion && mFusion->forATeam())
@@ -333,12 +174,12 @@ void Reconstructor::requireWholeData(const char* what) const {
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
-  if (*mOptions.levels > 1) requireFinestGridMemory(initialModel(interrupter, mFusion).stats().activeSetVoxels);
-  else requireCoarsestGridMemory();
+  if (*mOptions.levels > 1) requireFinestGridMemory(mOptions, initialModel(interrupter, mFusion).stats().activeSetVoxels);
+  else requireCoarsestGridMemory(mOptions, bounds());
   if (mFusion)
     return mFusion->linearSolutionField(*mOptions.levels - 1, LinearBand::kZeroCrossings, mOptions.engine, interrupter)
         .toLevelSet(3.0, mOptions.name);
-  requireAccumulationMemory(*mOptions.levels - 1);
+  requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, *mOptions.levels - 1);
   const ForceField force(mMaps, forceOptions(*mOptions.levels - 1));
   return force.linearSolution(*mOptions.voxelSize, 3.0, mOptions.name, interrupter);
 }
@@ -363,18 +204,6 @@ openvdb::Vec3fGrid::Ptr Reconstructor::surfaceColour(const openvdb::FloatGrid& l
   return colour->activeVoxelCount() > 0 ? colour : nullptr;
 }
 
-FusionSettings fusionSettingsOf(const ReconstructionOptions& resolved) {
-  if (!resolved.voxelSize || !resolved.levels || !resolved.epsilon)
-    throw std::invalid_argument("fusionSettingsOf: the options' voxel size, levels and epsilon must be resolved "
-                                "(resolveReconstructionOptions)");
-  FusionSettings settings;
-  settings.voxelSize = *resolved.voxelSize;
-  settings.levels = *resolved.levels;
-  settings.epsilon = *resolved.epsilon;
-  settings.window = resolved.window;
-  settings.grainSize = resolved.engine.grainSize;
-  return settings;
-}
 
 double Reconstructor::voxelSize(int level) const { return fusionSettingsOf(mOptions).levelVoxelSize(level); }
 
@@ -387,7 +216,7 @@ DataTermGrids Reconstructor::dataTermGrids(int level, const Interrupter& interru
   if (mFusion)
     throw std::invalid_argument("Reconstructor::dataTermGrids: the scans were integrated into a fusion: ask it "
                                 "(Fusion::dataTerm)");
-  requireAccumulationMemory(level);
+  requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, level);
   const ForceFieldOptions f = forceOptions(level);
   DataTermGrids data(voxelSize(level), f.dataWindow(), f.positionVariance, f.grainSize);
   for (const RangeMap& map : *mMaps) {
@@ -493,11 +322,11 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
     if (fusion && fusion->dataSlab()) {
       // Made of this process's slab of the data alone: the team counts the whole.
       detail::EvolvingField slab(initialSlab(interrupter, *fusion, carvedWith, *team), *team);
-      requireFinestGridMemory(slab.stats().activeSetVoxels, team);
+      requireFinestGridMemory(mOptions, slab.stats().activeSetVoxels, team);
       return slab;
     }
     SparseField initial = initialModel(interrupter, fusion, carvedWith);
-    requireFinestGridMemory(initial.stats().activeSetVoxels, team);
+    requireFinestGridMemory(mOptions, initial.stats().activeSetVoxels, team);
     if (team && team->size() > 1) return detail::EvolvingField(initial, *team);
     return detail::EvolvingField(std::move(initial));
   }();
@@ -606,7 +435,7 @@ std::unique_ptr<DataTermGrids> Reconstructor::dataTermOfSlab(int level, const de
   const RangeMapSequence scans = mFusion ? RangeMapSequence{} : rangeMapsOf(*mMaps);
   const auto [xMin, xMax] = worldRangeOf(data, voxelSize(level));
   const AccumulationCostWithin costWithin = accumulationCostWithin(scans ? scans : fusion.scans());
-  levelfuse::requireAccumulationMemory(
+  requireAccumulationMemory(
       [&, xMin = xMin, xMax = xMax](double h, double reach) { return costWithin(h, reach, xMin, xMax); }, mOptions,
       level);
   state.stage = ReconstructionProgress::Stage::kIntegrating;
@@ -629,6 +458,11 @@ void Reconstructor::describeRun(openvdb::FloatGrid& out, int iterations) const {
   out.insertMeta("levelfuse_tolerance", openvdb::DoubleMetadata(mOptions.tolerance));
   out.insertMeta("levelfuse_iterations", openvdb::Int32Metadata(iterations));
   out.insertMeta("levelfuse_scans", openvdb::Int32Metadata(static_cast<int>(mSummary.scans())));
+}
+
+ReconstructionResult reconstruct(const Fusion& fusion, const ReconstructionOptions& options,
+                                 const ProgressCallback& progress, const Interrupter& interrupter) {
+  return Reconstructor(fusion, options).run(progress, interrupter);
 }
 
 }  // namespace levelfuse

@@ -93,4 +93,15 @@ SlabOfTheData slabOfTheData(const SlabBounds& data, const SlabTeam& team) {
   return SlabOfTheData{data, [&team](const openvdb::CoordBBox& own) { return teamBox(own, team); }};
 }
 
+std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
+                                        const std::function<void(std::size_t, std::size_t)>& integrated,
+                                        const Interrupter& interrupter, const SlabTeam* team,
+                                        const SharedDataSlab* cut) {
+  std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostWithin(scans), scans.unpacked(), resolved,
+                                                Fusion::Keep::kPacked, team, interrupter, cut);
+  fusion->integrate(std::move(scans.maps), integrated, interrupter);
+  fusion->adoptSummary(std::move(scans.summary));
+  return fusion;
+}
+
 }  // namespace levelfuse

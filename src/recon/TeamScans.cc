@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace levelfuse {
 
@@ -132,6 +134,58 @@ TeamScanPlan planTeamScans(const PackedScans& held, const std::vector<std::size_
   std::sort(plan.needed.begin(), plan.needed.end());
   plan.slab = slabs.at(static_cast<std::size_t>(team.rank()));
   return plan;
+}
+
+namespace {
+
+/// Scans held, each with its number among all the inputs' scans.
+using ScansByNumber = std::vector<std::pair<std::size_t, PackedRangeMap>>;
+
+/// Moves the scans of `part` that `isNeeded` picks into `into`; the others are let go.
+void moveScansNeeded(NumberedScans& part, const std::function<bool(std::size_t)>& isNeeded, ScansByNumber& into) {
+  for (std::size_t i = 0; i < part.numbers.size(); ++i)
+    if (isNeeded(part.numbers[i])) into.emplace_back(part.numbers[i], std::move(part.scans.maps[i]));
+  part.scans = PackedScans();
+}
+
+/// `scans` in the order of their numbers, with the summary of all the inputs' scans `whole`.
+PackedScans inNumberOrder(ScansByNumber scans, const ScanSummary& whole, std::vector<std::size_t>& numbers) {
+  std::stable_sort(scans.begin(), scans.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  PackedScans ordered;
+  ordered.summary = whole;
+  for (auto& [number, map] : scans) {
+    numbers.push_back(number);
+    ordered.maps.push_back(std::move(map));
+  }
+  return ordered;
+}
+
+}  // namespace
+
+NumberedScans readTeamScans(const NumberedScanReader& read, const ReconstructionOptions& given, bool needsEvery,
+                            const SlabTeam& team, std::optional<SharedDataSlab>& slab,
+                            const Interrupter& interrupter) {
+  NumberedScans first = read([&](std::size_t scan) { return readFirstBy(scan, team.rank(), team.size()); });
+  const ScanSummary whole = teamSummary(first.scans.summary, team);
+  const TeamScanPlan plan = planTeamScans(first.scans, first.numbers, first.scanCount,
+                                          resolveReconstructionOptions(given, whole), needsEvery, team, interrupter);
+  slab = plan.slab;
+  const auto isNeeded = [&](std::size_t scan) {
+    return std::binary_search(plan.needed.begin(), plan.needed.end(), scan);
+  };
+  // Those read first that this process does not need go before it reads those it lacks.
+  ScansByNumber needed;
+  moveScansNeeded(first, isNeeded, needed);
+  NumberedScans rest = read([&](std::size_t scan) {
+    return isNeeded(scan) && !std::binary_search(first.numbers.begin(), first.numbers.end(), scan);
+  });
+  moveScansNeeded(rest, isNeeded, needed);
+  NumberedScans held;
+  held.scans = inNumberOrder(std::move(needed), whole, held.numbers);
+  if (!needsEvery) held.scans.letSamplesGo();
+  held.scanCount = first.scanCount;
+  held.firstScan = std::move(first.firstScan);  // scan 0, which the first process reads first
+  return held;
 }
 
 }  // namespace levelfuse

@@ -197,12 +197,12 @@ TEST_F(ReconstructCli, BadInputFailsClearlyAndWritesNothing) {
   // A voxel size that needs more memory than allowed stops before it allocates.
   run = levelfuse("reconstruct " + scans + " --voxel-size 0.002 --max-memory 0.05 -o " + path("out.vdb"));
   EXPECT_EQ(run.exitCode, 1) << run.output;
-  EXPECT_NE(run.output.find("more than the 51.2 MiB levelfuse may use: choose a voxel size of at least"),
+  EXPECT_NE(run.output.find("more than the 51.2 MiB levelfuse may use: choose a voxel size (--voxel-size) of at least"),
             std::string::npos)
       << run.output;
   run = levelfuse("reconstruct --linear " + scans + " --voxel-size 0.002 --max-memory 0.05 -o " + path("out.vdb"));
   EXPECT_EQ(run.exitCode, 1) << run.output;
-  EXPECT_NE(run.output.find("choose a voxel size of at least"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("choose a voxel size (--voxel-size) of at least"), std::string::npos) << run.output;
   EXPECT_FALSE(fs::exists(path("out.vdb")));
   EXPECT_FALSE(fs::exists(path("out.stl")));
 }

@@ -267,7 +267,7 @@ const BadInput kCorpus[] = {
   {"vdb/half-floats-without-their-flag.vdb", Reader::kVdb, "a node's values: 0 bytes compressed (blosc) into 1, which blosc never does"},
   {"vdb/bool-grid.vdb", Reader::kVdb, "grid 'b' is of type 'Tree_bool_5_4_3'; levelfuse reads grids of float, double, int32, int64, vec3s, vec3d and vec3i values"},
   // Scans that read well but that no reconstruction can take: parameters checked against the data
-  {"reconstruct/sigma-of-1e300.json", Reader::kReconstruction, "a window width epsilon of 1e+300 (the scans' median sigma) is wider than the data, which span 0.06: a reading would speak for the whole scene; choose a window width (--epsilon) of at most 0.06"},
+  {"reconstruct/sigma-of-1e300.json", Reader::kReconstruction, "a window width epsilon of 1e+300 (the scans' median sigma) is wider than the data, which span 0.06: a reading would speak for the whole scene; choose a window width epsilon of at most 0.06"},
   {"reconstruct/spacing-of-1e-40.conf", Reader::kReconstruction, "a voxel size of 1e-40 (the scans' median distance between rays) is below the smallest a grid can have, 1.5e-05"},
 };
 // clang-format on
@@ -316,7 +316,7 @@ void read(Reader reader, const std::string& path) {
     case Reader::kKittiCalib: readKittiVelodyneToCamera(path); break;
     case Reader::kVdb: readVdb(path); break;
     case Reader::kReconstruction:
-      // As the CLI says it: the reconstruction's refusal, of the inputs.
+      // The reconstruction's refusal, of the inputs, in the library's words (the CLI adds its flags).
       try {
         Reconstructor(loadScans(path)).linearSolution();
       } catch (const std::invalid_argument& e) {

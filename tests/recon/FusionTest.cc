@@ -59,7 +59,7 @@ TEST(Fusion, FrameByFrameGivesWhatTheFramesTogetherGive) {
     EXPECT_EQ(streamed.options().dataTerm, DataTermSource::kGrids);
     EXPECT_TRUE(streamed.maps().empty());
     const ReconstructionResult expected = batch.run();
-    const ReconstructionResult got = fusion.reconstruct();
+    const ReconstructionResult got = reconstruct(fusion);
     expectSameGrid(*got.levelSet, *expected.levelSet);
     expectSameGrid(*got.weight, *expected.weight);
     ASSERT_EQ(got.levels.size(), expected.levels.size());
@@ -97,7 +97,7 @@ TEST(Fusion, AnswersAtAnyTimeAsFramesKeepComing) {
   const openvdb::FloatGrid::Ptr early = growing.linearSolution();
   expectSameGrid(*early, *firstHalf.linearSolution());
   const std::size_t evaluations = growing.dataTerm(0).evaluations();
-  EXPECT_NO_THROW(growing.reconstruct());
+  EXPECT_NO_THROW(reconstruct(growing));
   EXPECT_EQ(growing.dataTerm(0).evaluations(), evaluations);  // answering integrated nothing again
   for (std::size_t i = half; i < frames.reconstruction.size(); ++i) growing.integrate(frames.reconstruction[i]);
   Fusion all(settingsFor(batch));

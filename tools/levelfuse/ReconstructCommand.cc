@@ -117,11 +117,7 @@ std::vector<std::string> jobOutputs(const ReconstructSettings& s) {
 }
 
 /// The scans of the inputs this process holds, and the truth a synthetic manifest records.
-struct Inputs {
-  PackedScans scans;                  ///< read one at a time and held packed
-  std::vector<std::size_t> numbers;   ///< of each scan held, its number among all the inputs' (from 0)
-  std::size_t scanCount = 0;          ///< the scans of all the inputs, read or not
-  std::optional<RangeMap> firstScan;  ///< a scene's preview looks from its camera
+struct Inputs : NumberedScans {
   std::optional<shapes::AnalyticShape> truth;
 };
 
@@ -166,65 +162,27 @@ Inputs loadInputs(const ReconstructSettings& s, ProgressBar& bar, const std::fun
   return in;
 }
 
-/// Scans held, each with its number among all the inputs' scans.
-using NumberedScans = std::vector<std::pair<std::size_t, PackedRangeMap>>;
-
-/// Moves the scans of `part` that `isNeeded` picks into `into`; the others are let go.
-void moveScansNeeded(Inputs& part, const std::function<bool(std::size_t)>& isNeeded, NumberedScans& into) {
-  for (std::size_t i = 0; i < part.numbers.size(); ++i)
-    if (isNeeded(part.numbers[i])) into.emplace_back(part.numbers[i], std::move(part.scans.maps[i]));
-  part.scans = PackedScans();
-}
-
-/// `scans` in the order of their numbers, with the summary of all the inputs' scans `whole`.
-PackedScans inNumberOrder(NumberedScans scans, const ScanSummary& whole, std::vector<std::size_t>& numbers) {
-  std::stable_sort(scans.begin(), scans.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  PackedScans ordered;
-  ordered.summary = whole;
-  for (auto& [number, map] : scans) {
-    numbers.push_back(number);
-    ordered.maps.push_back(std::move(map));
-  }
-  return ordered;
-}
-
-/// The scans of the inputs this rank of an MPI `team` needs: the ranks
-/// read the scans in turn, agree on the settings from all of them, and,
-/// where they share the data in slabs, each keeps the scans its slab needs
-/// and reads those it lacks (recon/TeamScans.h). `cut` is set to this
-/// rank's slab of the data where they share it.
+/// The scans of the inputs this rank of an MPI `team` needs (readTeamScans):
+/// every scan at the rank that measures and writes the whole surface (the
+/// fit and the colour read them all). `cut` is set to this rank's slab of the
+/// data where the ranks share it.
 Inputs loadTeamInputs(const ReconstructSettings& s, ProgressBar& bar, const SlabTeam& team,
                       std::optional<SharedDataSlab>& cut) {
-  Inputs first = loadInputs(s, bar, [&](std::size_t scan) { return readFirstBy(scan, team.rank(), team.size()); });
-  const ScanSummary whole = teamSummary(first.scans.summary, team);
-  // The rank that measures and writes the whole surface needs every scan for the fit and the colour.
-  const bool measuresTheSurface = leadsTheJob() && !s.pieces;
-  const TeamScanPlan plan = [&] {
-    try {
-      return planTeamScans(first.scans, first.numbers, first.scanCount, resolveReconstructionOptions(s.options, whole),
-                           measuresTheSurface, team, cancellationInterrupter());
-    } catch (const std::invalid_argument& e) {
-      throw ofTheInputs(s, e);
-    }
-  }();
-  cut = plan.slab;
-  const auto isNeeded = [&](std::size_t scan) {
-    return std::binary_search(plan.needed.begin(), plan.needed.end(), scan);
+  std::optional<shapes::AnalyticShape> truth;
+  const NumberedScanReader read = [&](const std::function<bool(std::size_t)>& wanted) {
+    Inputs part = loadInputs(s, bar, wanted);
+    if (!truth) truth = std::move(part.truth);
+    return static_cast<NumberedScans>(std::move(part));
   };
-  // Those read first that this rank does not need go before it reads those it lacks.
-  NumberedScans needed;
-  moveScansNeeded(first, isNeeded, needed);
-  Inputs rest = loadInputs(s, bar, [&](std::size_t scan) {
-    return isNeeded(scan) && !std::binary_search(first.numbers.begin(), first.numbers.end(), scan);
-  });
-  moveScansNeeded(rest, isNeeded, needed);
+  const bool measuresTheSurface = leadsTheJob() && !s.pieces;
   Inputs in;
-  in.scans = inNumberOrder(std::move(needed), whole, in.numbers);
-  // Only the fit reads the points the scanners measured.
-  if (!measuresTheSurface) in.scans.letSamplesGo();
-  in.scanCount = first.scanCount;
-  in.truth = std::move(first.truth);
-  in.firstScan = std::move(first.firstScan);  // scan 0, which the first rank reads first
+  try {
+    static_cast<NumberedScans&>(in) =
+        readTeamScans(read, s.options, measuresTheSurface, team, cut, cancellationInterrupter());
+  } catch (const std::invalid_argument& e) {
+    throw ofTheInputs(s, e);
+  }
+  in.truth = std::move(truth);
   return in;
 }
 

@@ -2,6 +2,7 @@
 
 #include "Cancellation.h"
 #include "Commands.h"
+#include "FlagHints.h"
 #include "Job.h"
 #include "Support.h"
 
@@ -115,7 +116,7 @@ int runCommand(int argc, char** argv) {
       return failed(kExitFailure);
     } catch (const std::exception& e) {
       // Readers quote short excerpts; the cut is the last guard for a third party's message.
-      std::cerr << name + ": error: " + levelfuse::io::excerpt(e.what(), 2000) + jobPlace() + "\n";
+      std::cerr << name + ": error: " + withFlagHints(levelfuse::io::excerpt(e.what(), 2000)) + jobPlace() + "\n";
       return failed(kExitFailure);
     }
   }

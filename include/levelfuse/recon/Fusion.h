@@ -9,13 +9,14 @@
 //   Fusion fusion(FusionSettings{0.01, 1, 0.006});
 //   for (each frame) fusion.integrate(io::depthFrame(image, intrinsics, pose, io::DepthNoise{}, name));
 //   openvdb::FloatGrid::Ptr linear = fusion.linearSolution();
-//   ReconstructionResult result = fusion.reconstruct();
+//   ReconstructionResult result = reconstruct(fusion);  // recon/Reconstructor.h
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/recon/FusionSettings.h>
-#include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/MemoryPlan.h>
+#include <levelfuse/recon/ReconstructionOptions.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/PackedRangeMap.h>
@@ -120,11 +121,6 @@ class Fusion {
   /// The linear solution on the finest grid as an OpenVDB level set
   /// (half-width 3, GRID_LEVEL_SET): VRIP-style fusion of the maps so far.
   openvdb::FloatGrid::Ptr linearSolution(const std::string& name = "surface", const Interrupter& interrupter = {}) const;
-  /// The MAP reconstruction from the maps so far (Reconstructor on this
-  /// fusion): `options`' voxel size, levels, window and epsilon must be left
-  /// empty or agree with the fusion's settings.
-  ReconstructionResult reconstruct(const ReconstructionOptions& options = {}, const ProgressCallback& progress = {},
-                                   const Interrupter& interrupter = {}) const;
 
   /// Memory held (bytes): the grids and the packed maps.
   std::size_t memoryBytes() const;
@@ -152,18 +148,5 @@ class Fusion {
 std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved,
                                   Fusion::Keep keep, bool deferFinerGrids = false);
 
-/// `scans` integrated into a fusion for them (fusionFor), each map unpacked
-/// once and then kept packed by the fusion. `integrated`, if
-/// set, is told after each map how many of how many are in; Interrupted if
-/// `interrupter` asks to stop between maps.
-/// On a `team` that shares the data in slabs (recon/SharedData.h), the
-/// fusion holds this process's slab of the data alone (restrictToSlab), and
-/// only the team's run() reconstructs from it: the slab `cut` when it is
-/// given (planTeamScans), found from `scans` otherwise. The fusion's summary
-/// is `scans`' (adoptSummary): the team's, where this process holds a part.
-std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
-                                        const std::function<void(std::size_t, std::size_t)>& integrated = {},
-                                        const Interrupter& interrupter = {}, const SlabTeam* team = nullptr,
-                                        const SharedDataSlab* cut = nullptr);
 
 }  // namespace levelfuse

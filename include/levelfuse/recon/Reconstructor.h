@@ -14,6 +14,8 @@
 #include <levelfuse/core/PhaseClock.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/recon/FusionSettings.h>
+#include <levelfuse/recon/MemoryPlan.h>
+#include <levelfuse/recon/ReconstructionOptions.h>
 #include <levelfuse/scan/AccumulationCost.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
@@ -32,73 +34,6 @@
 
 namespace levelfuse {
 
-/// Where the evolution takes its data term from.
-enum class DataTermSource {
-  kAuto,    ///< grids from more than kGridsFromScans range maps, per map below
-  kPerMap,  ///< every range map that reaches an active voxel, at every iteration (ForceField)
-  kGrids,   ///< grids accumulated once per grid level, binned by line of sight (DataTermGrids)
-};
-
-/// From how many range maps kAuto samples the data term from grids: below,
-/// evaluating each map where the surface is costs less time and memory than
-/// grids (docs/RECONSTRUCTION.md has the measurements).
-inline constexpr std::size_t kGridsFromScans = 32;
-
-/// Settings of a reconstruction. The four left empty by default are derived
-/// from the data; Reconstructor::options() reports them all set.
-struct ReconstructionOptions {
-  /// Voxel size of the finest grid (world units). Derived: the scans' median
-  /// distance between neighbouring rays, the resolution the data supports.
-  std::optional<double> voxelSize;
-  /// Number of grids, each with half the voxel size of the one before.
-  /// Derived: so many that the coarsest grid is about 64 voxels across the
-  /// data; one for depth frames (pinhole range maps), whose many views give
-  /// the finest grid's linear solution every surface a coarse grid would lose.
-  std::optional<int> levels;
-  /// Weight of the surface-area prior (Eq. 19), in voxels of the finest grid:
-  /// where the data support a surface, a sphere of radius R voxels settles
-  /// 2 beta / R voxels inside it. 0 turns the prior off. Derived:
-  /// max(0.5, sigma / voxel size) with sigma the scans' median noise, the
-  /// best weight measured on noisy synthetic scans (docs/RESULTS.md); 0 for
-  /// depth frames, where it was measured to round edges and retract surfaces
-  /// seen from one side only, and held-out frames fit best without it.
-  std::optional<double> beta;
-  /// Width of the data term's window (Eqs. 8-9), world units. Derived: the
-  /// scans' median noise sigma: a reading speaks for the space within its own
-  /// uncertainty, and scans of thin walls seen from both sides do not
-  /// interfere (measured on the noisy mug, docs/RESULTS.md). The window never
-  /// narrows below a voxel of the grid it works on.
-  std::optional<double> epsilon;
-  WindowKind window = WindowKind::kGaussian;
-  /// Where the evolution samples the data term; kAuto is resolved to one of the others.
-  DataTermSource dataTerm = DataTermSource::kAuto;
-  /// A grid has converged when the rms speed of its active values falls below
-  /// this many voxels per unit time (the data term relaxes in about one). Values
-  /// the speed leaves at rest (no reading reaches them and the prior is off) are
-  /// not counted: the surface no scan saw is not waited for.
-  double tolerance = 0.05;
-  /// A grid has also settled when its rms speed has not fallen (by 5%) for
-  /// `patience` iterations and no region the scans saw drifts by `drift`
-  /// voxels per iteration or more (the mean change over a leaf node's active
-  /// voxels, measured over `patience` iterations): points whose zero crossing lies
-  /// near the edge of their voxel keep trading places with their neighbours,
-  /// and noisy data keep the surface trembling, so the speed of a settled
-  /// surface does not fall to zero, while a region still on its way moves
-  /// steadily one way.
-  int patience = 8;
-  double drift = 0.025;
-  int minIterations = 4;    ///< per grid
-  int maxIterations = 300;  ///< per grid
-  std::string name = "surface";  ///< the output grid's name
-  /// On a team (run with a SlabTeam), each process keeps its slab's piece of
-  /// the output, the whole level set there (levelset/LevelSetPieces.h,
-  /// closeLevelSetPiece), with the weight and colour grids of that piece,
-  /// and no process assembles the whole: for pipelines that keep the pieces
-  /// apart, and for outputs larger than one process's memory. The pieces'
-  /// CSG union is the assembled level set.
-  bool keepPieces = false;
-  SparseFieldOptions engine;     ///< the sparse-field engine's settings
-};
 
 /// Where a reconstruction is; passed to the progress callback.
 struct ReconstructionProgress {
@@ -130,37 +65,6 @@ class ReconstructionCancelled : public Interrupted {
   ReconstructionCancelled() : Interrupted("the reconstruction was cancelled") {}
 };
 
-/// Thrown by Reconstructor::run when the finest grid would need more memory
-/// than io::memoryBudget() (the machine's physical memory or the process's
-/// limit, or what io::setMemoryBudget() set); run() estimates it from the
-/// initial model before it allocates, and the message says which voxel size
-/// would fit.
-class InsufficientMemory : public std::runtime_error {
- public:
-  explicit InsufficientMemory(const std::string& what) : std::runtime_error(what) {}
-};
-
-/// The smallest voxel size a grid can have: OpenVDB's transforms refuse a
-/// scale whose cube is below 3e-15 (math::Tolerance<double>), so 1.5e-5
-/// world units, 15 micrometres for scans in metres.
-inline constexpr double kSmallestVoxelSize = 1.5e-5;
-
-/// Memory a reconstruction needs at its peak per voxel of the finest grid's
-/// active set (|psi| <= dx / 2): the sparse field and its layers (about 110
-/// bytes), the data term accumulated around the readings, the level set it is
-/// refined from and the snapshot that measures drift: what the bunny needed
-/// across voxel sizes (docs/RELIABILITY.md, "Memory guards").
-inline constexpr double kPeakBytesPerActiveVoxel = 450.0;
-/// The same for one process of a team of n that shares the evolution
-/// (Reconstructor::run with a SlabTeam): its slab of every grid, a share of
-/// kPeakBytesPerActiveVoxel / n with a margin for cuts at whole columns of
-/// leaf nodes (kSlabShareMargin), and at the first process, once its slab
-/// has gone, the whole output (kOutputBytesPerActiveVoxel): the level set,
-/// half-width 3, and beside it its weight grid or what the converter measures
-/// and meshes it with, each of the surface's size: what the converter's first
-/// process needed with a mesh (docs/RELIABILITY.md, "Memory guards").
-inline constexpr double kSlabShareMargin = 1.15;
-inline constexpr double kOutputBytesPerActiveVoxel = 300.0;
 
 /// What one grid of the reconstruction did.
 struct LevelReport {
@@ -204,18 +108,6 @@ struct ReconstructionResult {
   std::size_t peakEngineBytes = 0;  ///< the largest sparse field along the way
 };
 
-/// `given` with every derived setting resolved from the scans' summary as
-/// Reconstructor does (its options()): a fusion of scans read one at a time
-/// takes its settings from it (fusionSettingsOf). Throws
-/// std::invalid_argument for no readings or unusable options, with a hint.
-ReconstructionOptions resolveReconstructionOptions(const ReconstructionOptions& given, const ScanSummary& scans);
-/// The grids of resolved options (resolveReconstructionOptions), as a Fusion takes them.
-FusionSettings fusionSettingsOf(const ReconstructionOptions& resolved);
-/// Throws InsufficientMemory if accumulating the data term of the maps whose
-/// cost `costOf` finds on grid `level` of the resolved options would not fit,
-/// saying which voxel size would: asked before integrating
-/// (Reconstructor::run, and whoever fuses maps read one at a time).
-void requireAccumulationMemory(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved, int level);
 
 class Fusion;
 class SlabTeam;
@@ -295,8 +187,6 @@ class Reconstructor {
   const openvdb::BBoxd& bounds() const { return mSummary.bounds(); }
 
  private:
-  /// Throws InsufficientMemory if the coarsest grid's box would not fit.
-  void requireCoarsestGridMemory() const;
   /// The maps integrated into a fusion of every grid level (progress reported scan by scan).
   /// On a `team` that shares the data in slabs (recon/SharedData.h), the
   /// fusion holds this process's slab of the data alone.
@@ -338,18 +228,17 @@ class Reconstructor {
                                                 const Interrupter& interrupter) const;
   /// The run's parameters as the output grid's levelfuse_* metadata.
   void describeRun(openvdb::FloatGrid& out, int iterations) const;
-  /// Throws InsufficientMemory if accumulating the data term on grid `level`
-  /// would not fit (accumulationCost), saying which voxel size would.
-  void requireAccumulationMemory(int level) const;
-  /// Throws InsufficientMemory if the finest grid of a surface with this many
-  /// active voxels on the coarsest grid would not fit: the whole of it, or
-  /// this process's share on a `team`.
-  void requireFinestGridMemory(std::size_t coarsestActiveVoxels, const SlabTeam* team = nullptr) const;
 
   std::shared_ptr<const std::vector<RangeMap>> mMaps;
   const Fusion* mFusion = nullptr;  ///< the data term's source, if it was built on one
   ReconstructionOptions mOptions;
   ScanSummary mSummary;
 };
+
+/// The MAP reconstruction from the maps `fusion` has integrated so far
+/// (Reconstructor on the fusion): `options`' voxel size, levels, window and
+/// epsilon must be left empty or agree with the fusion's settings.
+ReconstructionResult reconstruct(const Fusion& fusion, const ReconstructionOptions& options = {},
+                                 const ProgressCallback& progress = {}, const Interrupter& interrupter = {});
 
 }  // namespace levelfuse

@@ -14,7 +14,7 @@
 #include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/recon/Fusion.h>
-#include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/ReconstructionOptions.h>
 #include <levelfuse/scan/AccumulationCost.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/RangeMap.h>
@@ -103,5 +103,19 @@ openvdb::CoordBBox teamBox(const openvdb::CoordBBox& own, const SlabTeam& team);
 /// This process's slab `data` of `team`'s data, as the linear solution of it
 /// asks (linearSolutionSlabField): the team agrees on the box of the whole data.
 SlabOfTheData slabOfTheData(const SlabBounds& data, const SlabTeam& team);
+
+/// `scans` integrated into a fusion for them (fusionFor), each map unpacked
+/// once and then kept packed by the fusion. `integrated`, if
+/// set, is told after each map how many of how many are in; Interrupted if
+/// `interrupter` asks to stop between maps.
+/// On a `team` that shares the data in slabs (recon/SharedData.h), the
+/// fusion holds this process's slab of the data alone (restrictToSlab), and
+/// only the team's run() reconstructs from it: the slab `cut` when it is
+/// given (planTeamScans), found from `scans` otherwise. The fusion's summary
+/// is `scans`' (adoptSummary): the team's, where this process holds a part.
+std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
+                                        const std::function<void(std::size_t, std::size_t)>& integrated = {},
+                                        const Interrupter& interrupter = {}, const SlabTeam* team = nullptr,
+                                        const SharedDataSlab* cut = nullptr);
 
 }  // namespace levelfuse

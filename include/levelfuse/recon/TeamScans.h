@@ -21,6 +21,7 @@
 #include <levelfuse/scan/ScanSummary.h>
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -64,5 +65,30 @@ TeamScanPlan planTeamScans(const PackedScans& held, const std::vector<std::size_
 /// windows reach, ReachedLeaves::voxelBox) cut to the slab and two blocks
 /// beyond, grown by a block and half a voxel, on a grid of `voxelSize`.
 openvdb::BBoxd carvingBoxOf(const SlabBounds& data, const openvdb::CoordBBox& dataVoxels, double voxelSize);
+
+/// Scans read from a run's inputs, each numbered among all the inputs' scans
+/// (from 0, in the order of the inputs), held packed.
+struct NumberedScans {
+  PackedScans scans;                  ///< held packed, in the order read
+  std::vector<std::size_t> numbers;   ///< of each scan held, its number
+  std::size_t scanCount = 0;          ///< the scans of all the inputs, read or not
+  std::optional<RangeMap> firstScan;  ///< scan 0, if it was read: a scene's preview looks from its camera
+};
+
+/// Reads the scans of a run's inputs that `wanted` picks by their number.
+using NumberedScanReader = std::function<NumberedScans(const std::function<bool(std::size_t)>& wanted)>;
+
+/// The scans this process of `team` needs of a run's inputs, read with
+/// `read`: the processes read the scans in turn (readFirstBy), agree on the
+/// settings from all of them (teamSummary, resolveReconstructionOptions of
+/// `given`), plan which each needs (planTeamScans; every scan if
+/// `needsEvery`), let go of those read first that they do not need, and read
+/// those they lack. The scans come in the order of their numbers, with the
+/// whole team's summary; their samples are let go unless `needsEvery` (only
+/// the fit reads them). `slab` is set to this process's slab of the data where
+/// the team shares it. Throws std::invalid_argument for unusable settings.
+NumberedScans readTeamScans(const NumberedScanReader& read, const ReconstructionOptions& given, bool needsEvery,
+                            const SlabTeam& team, std::optional<SharedDataSlab>& slab,
+                            const Interrupter& interrupter = {});
 
 }  // namespace levelfuse
