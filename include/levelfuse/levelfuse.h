@@ -18,6 +18,7 @@
 #include <levelfuse/core/MadeAhead.h>
 #include <levelfuse/core/Median.h>
 #include <levelfuse/core/Parallel.h>
+#include <levelfuse/core/PeakMemory.h>
 #include <levelfuse/core/PhaseClock.h>
 
 #include <levelfuse/geometry/NearestTriangle.h>
@@ -73,7 +74,10 @@
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/FusionSettings.h>
 #include <levelfuse/recon/HeldOutFrames.h>
+#include <levelfuse/recon/MemoryPlan.h>
+#include <levelfuse/recon/ReconstructionOptions.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/RunSummary.h>
 #include <levelfuse/recon/ScansReconstruction.h>
 #include <levelfuse/recon/SharedData.h>
 #include <levelfuse/recon/TeamScans.h>

@@ -11,6 +11,7 @@
 #include <levelfuse/io/Preview.h>
 #include <levelfuse/io/VdbFile.h>
 #include <levelfuse/levelset/Mesh.h>
+#include <levelfuse/recon/RunSummary.h>
 #include <levelfuse/recon/ScansReconstruction.h>
 
 #include <pybind11/numpy.h>
@@ -26,85 +27,25 @@ struct Result {
   py::dict summary;
 };
 
-/// What each grid of the evolution did.
-py::list gridReportsOf(const Outcome& o) {
-  py::list grids;
-  for (const LevelReport& l : o.result.levels) {
-    py::dict g;
-    g["voxel_size"] = l.voxelSize;
-    g["iterations"] = l.iterations;
-    g["converged"] = l.converged;
-    g["settled"] = l.settled;
-    g["simulated_time"] = l.simulatedTime;
-    g["seconds"] = l.seconds;
-    g["active_set_voxels"] = l.activeSetVoxels;
-    g["band_voxels"] = l.bandVoxels;
-    g["engine_bytes"] = l.engineBytes;
-    grids.append(g);
-  }
-  return grids;
-}
-
-/// The reconstruction's own phases.
-py::list phasesOf(const Outcome& o) {
-  py::list phases;
-  for (const PhaseTime& p : o.result.phases) {
-    py::dict phase;
-    phase["name"] = p.name;
-    phase["seconds"] = p.seconds;
-    phase["cpu_seconds"] = p.cpuSeconds;
-    phases.append(phase);
-  }
-  return phases;
-}
-
-/// The fit to the scans, as measured.
-py::dict fitOf(const Outcome& o) {
-  py::dict f;
-  f["points"] = o.fit->readings;
-  f["stride"] = o.fitStride;
-  f["mean"] = o.fit->mean;
-  f["rms"] = o.fit->rms;
-  f["median"] = o.fit->median;
-  f["p90"] = o.fit->p90;
-  f["p99"] = o.fit->p99;
-  f["within_voxel"] = o.fit->withinVoxel;
-  f["beyond_band"] = o.fit->beyondBand;
-  return f;
-}
-
-/// The sparse-field engine's settings the run used, named as the keywords that set them.
-py::dict engineSettingsOf(const Outcome& o) {
-  const SparseFieldOptions& e = o.options.engine;
-  py::dict d;
-  d["layers"] = e.layers;
-  d["max_step_change"] = e.maxStepChange;
-  d["curvature_step_limit"] = e.curvatureStepLimit;
-  d["stiffness_step_limit"] = e.stiffnessStepLimit;
-  d["grain_size"] = e.grainSize;
-  return d;
-}
-
+/// The run's summary (recon/RunSummary.h), the converter's --json output, as a dict.
 py::dict summaryOf(const Outcome& o) {
-  py::dict s;
-  s["inputs"] = o.inputs;
-  s["scans"] = o.scans;
-  s["points"] = o.points;
-  s["readings"] = o.readings;
-  s["method"] = o.linear ? "linear" : "evolution";
-  s["scene"] = o.scene;
-  s["voxel_size"] = *o.options.voxelSize;
-  s["levels"] = *o.options.levels;
-  s["beta"] = *o.options.beta;
-  s["epsilon"] = *o.options.epsilon;
-  s["engine"] = engineSettingsOf(o);
-  s["grids"] = gridReportsOf(o);
-  s["narrow_band_voxels"] = o.result.levelSet->activeVoxelCount();
-  s["peak_engine_bytes"] = o.result.peakEngineBytes;
-  s["seconds"] = o.seconds;
-  s["phases"] = phasesOf(o);
-  if (o.fit) s["fit"] = fitOf(o);
-  return s;
+  RunSummary summary;
+  summary.inputs = o.inputs;
+  summary.scans = o.scans;
+  summary.points = o.points;
+  summary.readings = o.readings;
+  summary.linear = o.linear;
+  summary.scene = o.scene;
+  summary.options = o.options;
+  summary.levels = o.result.levels;
+  summary.narrowBandVoxels = o.result.levelSet->activeVoxelCount();
+  summary.peakEngineBytes = o.result.peakEngineBytes;
+  summary.fit = o.fit;
+  summary.fitStride = o.fitStride;
+  summary.phases = o.result.phases;
+  summary.seconds = o.seconds;
+  recordProcessUsage(summary);
+  return py::module_::import("json").attr("loads")(runSummaryJson(summary));
 }
 
 /// A mesh held for Python: numpy views of its vertices and triangles.

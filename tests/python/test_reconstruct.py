@@ -32,10 +32,17 @@ def test_the_bunny_from_python_gives_the_converters_bytes(cli, tmp_path):
 def test_the_summary_says_what_the_converters_json_says(cli, torus_scans, tmp_path):
     cli_summary = json.loads(run_cli(cli, "reconstruct", torus_scans, "-o", tmp_path / "t.vdb", "--json").stdout)
     summary = levelfuse.reconstruct(torus_scans).summary
-    for key in ("scans", "points", "readings", "voxel_size", "levels", "beta", "epsilon", "narrow_band_voxels"):
+    # One summary, made by the library for both: the same keys (the converter also measures a
+    # synthetic scene against its truth), the same values but the run's own.
+    assert cli_summary.keys() - summary.keys() == {"truth"} and summary.keys() <= cli_summary.keys()
+    for key in ("scans", "points", "readings", "voxel_size", "levels", "beta", "epsilon", "engine", "scene",
+                "narrow_band_voxels", "peak_engine_bytes", "data_term_bytes", "triangles", "trimmed_unseen"):
         assert summary[key] == cli_summary[key], key
+    assert summary["outputs"] == {"vdb": None, "mesh": None, "preview": None}
+    assert cli_summary["outputs"] == {"vdb": str(tmp_path / "t.vdb"), "mesh": None, "preview": None}
     assert [g["iterations"] for g in summary["grids"]] == [g["iterations"] for g in cli_summary["grids"]]
-    for key in ("points", "mean", "median", "p90", "within_voxel"):
+    assert summary["fit"].keys() == cli_summary["fit"].keys()
+    for key in ("points", "stride", "mean", "median", "p90", "within_voxel"):
         assert summary["fit"][key] == pytest.approx(cli_summary["fit"][key], rel=1e-12), key
     assert summary["method"] == "evolution" and summary["scene"] is False
     # Where the time went: the reconstruction's phases, in the converter's among its own.
@@ -182,7 +189,7 @@ def linear_effect(before, after):
 
 
 def fit_effect(before, after):
-    assert "fit" in before.summary and "fit" not in after.summary
+    assert before.summary["fit"] is not None and after.summary["fit"] is None
 
 
 def inputs_effect(before, after):

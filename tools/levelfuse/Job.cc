@@ -99,11 +99,11 @@ std::uint64_t ghostBytesSent() {
   return 0;
 }
 
-std::vector<RankFacts> gatherRankFacts(const RankFacts& facts) {
+std::vector<ProcessFacts> gatherRankFacts(const ProcessFacts& facts) {
 #if defined(LEVELFUSE_HAVE_MPI)
   if (const SlabTeam* team = jobTeam()) {
-    std::vector<RankFacts> all(team->rank() == 0 ? static_cast<std::size_t>(team->size()) : 0);
-    MPI_Gather(&facts, sizeof(RankFacts), MPI_BYTE, all.data(), sizeof(RankFacts), MPI_BYTE, 0, MPI_COMM_WORLD);
+    std::vector<ProcessFacts> all(team->rank() == 0 ? static_cast<std::size_t>(team->size()) : 0);
+    MPI_Gather(&facts, sizeof(ProcessFacts), MPI_BYTE, all.data(), sizeof(ProcessFacts), MPI_BYTE, 0, MPI_COMM_WORLD);
     return all;
   }
 #endif

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <levelfuse/levelset/SlabTeam.h>
+#include <levelfuse/recon/RunSummary.h>
 
 #include <cstdint>
 #include <string>
@@ -40,20 +41,10 @@ std::vector<std::string> everyRanksText(const std::string& text);
 int jobRank();
 int jobRanks();
 
-/// What one rank's share of a reconstruction cost it.
-struct RankFacts {
-  double seconds = 0.0;           ///< from its start to the end of the evolution
-  std::uint64_t peakBytes = 0;    ///< its peak resident memory
-  std::uint64_t engineBytes = 0;  ///< its sparse field's, at the largest
-  std::uint64_t leafNodes = 0;    ///< its own leaf nodes of the finest grid
-  std::uint64_t ghostBytes = 0;   ///< the ghosts it sent its neighbours, every grid and iteration
-  std::uint64_t dataTermBytes = 0;  ///< its grids of the data term (0 with the data term from the maps)
-  std::uint64_t scansHeld = 0;      ///< the scans it held (those its slab needs, where the ranks share the data)
-};
 /// The bytes of ghosts this rank has sent its neighbours so far (0 outside a job).
 std::uint64_t ghostBytesSent();
 /// Every rank's facts, in rank order, at the first rank (empty on the
 /// others); outside a job, `facts` alone. Every rank of a job must call it.
-std::vector<RankFacts> gatherRankFacts(const RankFacts& facts);
+std::vector<ProcessFacts> gatherRankFacts(const ProcessFacts& facts);
 
 }  // namespace levelfuse::cli

@@ -19,6 +19,7 @@
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
+#include <levelfuse/recon/RunSummary.h>
 #include <levelfuse/recon/ScansReconstruction.h>
 #include <levelfuse/recon/SharedData.h>
 #include <levelfuse/recon/TeamScans.h>
@@ -313,22 +314,6 @@ std::size_t writeShownOutputs(io::OutputSet& outputs, const Inputs& in, const Re
   return mesh ? mesh->triangleCount() : 0;
 }
 
-/// The summary of a run, as JSON (lengths in metres) or as text for a person.
-struct Summary {
-  const ReconstructSettings& settings;
-  const Reconstructor& reconstructor;
-  const ReconstructionResult& result;
-  const Inputs& inputs;
-  const Measures& measures;
-  bool trimmed = false;  ///< the mesh and preview left out what no scan observed
-  std::size_t triangles = 0;
-  double seconds = 0.0;
-  std::vector<RankFacts> ranks;  ///< in an MPI job, what each rank's share cost
-  std::uint64_t bandVoxels = 0;     ///< the level set's active voxels, every piece's
-  std::vector<std::string> pieces;  ///< with --pieces, every rank's file
-  std::uint64_t dataTermBytes = 0;  ///< this process's grids of the data term (0 from the maps)
-};
-
 /// The memory of the grids of the data term `made` holds, with the largest
 /// grid this rank integrated within its slab as `result` was made, one at a
 /// time (0 with the data term from the maps).
@@ -352,88 +337,37 @@ std::vector<PhaseTime> runPhases(const ReconstructionResult& result) {
   return phases;
 }
 
-nlohmann::json phasesJson(const ReconstructionResult& result) {
-  nlohmann::json phases = nlohmann::json::array();
-  for (const PhaseTime& p : runPhases(result))
-    phases.push_back({{"name", p.name}, {"seconds", p.seconds}, {"cpu_seconds", p.cpuSeconds}});
-  return phases;
-}
-
-/// JSON of the fit to the points, null if it was not measured.
-nlohmann::json fitJson(const std::optional<DataFit>& fit) {
-  if (!fit) return nullptr;
-  return {{"points", fit->readings}, {"mean", fit->mean},     {"rms", fit->rms},
-          {"median", fit->median},  {"p90", fit->p90},       {"p99", fit->p99},
-          {"within_voxel", fit->withinVoxel}, {"beyond_band", fit->beyondBand}};
-}
-
-void printJson(const Summary& r) {
-  const ReconstructSettings& s = r.settings;
-  const ReconstructionOptions& o = r.reconstructor.options();
-  nlohmann::json levels = nlohmann::json::array();
-  for (const LevelReport& l : r.result.levels)
-    levels.push_back({{"voxel_size", l.voxelSize},
-                      {"iterations", l.iterations},
-                      {"converged", l.converged},
-                      {"settled", l.settled},
-                      {"simulated_time", l.simulatedTime},
-                      {"seconds", l.seconds},
-                      {"active_set_voxels", l.activeSetVoxels},
-                      {"band_voxels", l.bandVoxels},
-                      {"engine_bytes", l.engineBytes}});
-  nlohmann::json j{{"inputs", s.inputs},
-                   {"scans", r.reconstructor.summary().scans()},
-                   {"points", r.measures.points},
-                   {"readings", r.measures.readings},
-                   {"method", s.linear ? "linear" : "evolution"},
-                   {"voxel_size", *o.voxelSize},
-                   {"levels", *o.levels},
-                   {"beta", *o.beta},
-                   {"epsilon", *o.epsilon},
-                   {"grids", levels},
-                   {"narrow_band_voxels", r.bandVoxels},
-                   {"peak_engine_bytes", r.result.peakEngineBytes},
-                   {"data_term_bytes", r.dataTermBytes},
-                   {"peak_memory_bytes", peakResidentBytes()},
-                   {"fit", fitJson(r.measures.fit)},
-                   {"seconds", r.seconds},
-                   {"cpu_seconds", processCpuSeconds()},
-                   {"phases", phasesJson(r.result)},
-                   {"outputs", {{"vdb", r.pieces.empty() ? nlohmann::json(s.output) : nlohmann::json(r.pieces)},
-                                {"mesh", s.mesh},
-                                {"preview", s.preview}}},
-                   {"triangles", r.triangles},
-                   {"trimmed_unseen", r.trimmed}};
-  if (r.ranks.size() > 1) {
-    nlohmann::json ranks = nlohmann::json::array();
-    for (const RankFacts& f : r.ranks)
-      ranks.push_back({{"seconds", f.seconds},
-                       {"peak_memory_bytes", f.peakBytes},
-                       {"peak_engine_bytes", f.engineBytes},
-                       {"leaf_nodes", f.leafNodes},
-                       {"ghost_bytes_sent", f.ghostBytes},
-                       {"data_term_bytes", f.dataTermBytes},
-                       {"scans_held", f.scansHeld}});
-    j["ranks"] = ranks;
-  }
-  if (r.inputs.truth && r.measures.truthRms >= 0.0)
-    j["truth"] = {{"shape", r.inputs.truth->name()},
-                  {"rms_error", r.measures.truthRms},
-                  {"measured_on", r.trimmed ? "the surface seen" : "the whole surface"},
-                  {"rms_error_voxels", r.measures.truthRms / *o.voxelSize}};
-  std::cout << j.dump(2) << "\n";
+/// What the run did (recon/RunSummary.h): the scans, the settings, the
+/// grids, the time and the fit; the caller adds the outputs and the ranks.
+RunSummary runSummary(const ReconstructSettings& s, const Reconstructor& reconstructor,
+                      const ReconstructionResult& result, const Measures& m, double seconds) {
+  RunSummary summary;
+  summary.inputs = s.inputs;
+  summary.scans = reconstructor.summary().scans();
+  summary.points = m.points;
+  summary.readings = m.readings;
+  summary.linear = s.linear;
+  summary.scene = reconstructor.summary().aScene();
+  summary.options = reconstructor.options();
+  summary.levels = result.levels;
+  summary.peakEngineBytes = result.peakEngineBytes;
+  summary.fit = m.fit;
+  summary.fitStride = m.fitSample;
+  summary.phases = runPhases(result);
+  summary.seconds = seconds;
+  return summary;
 }
 
 /// The summary's line of the fit to the points.
-void printFit(const Measures& m) {
-  if (!m.fit) {
+void printFit(const RunSummary& r) {
+  if (!r.fit) {
     std::cout << "  fit to the points: not measured, the surface is in pieces (--pieces)\n";
     return;
   }
-  const DataFit& fit = *m.fit;
+  const DataFit& fit = *r.fit;
   std::cout << "  fit to the points"
-            << (m.fitSample > 1 ? " (a sample of " + withCommas(fit.readings) + ": one reading in " +
-                                      std::to_string(m.fitSample) + " along each row and column of each scan)"
+            << (r.fitStride > 1 ? " (a sample of " + withCommas(fit.readings) + ": one reading in " +
+                                      std::to_string(r.fitStride) + " along each row and column of each scan)"
                                 : std::string())
             << ": mean " << length(fit.mean) << ", median " << length(fit.median) << ", 90% " << length(fit.p90)
             << "; " << fixed(100.0 * fit.withinVoxel, 4) << "% within a voxel, " << fixed(100.0 * fit.beyondBand, 3)
@@ -442,10 +376,10 @@ void printFit(const Measures& m) {
 
 /// The summary's line of the time taken: in all, of CPU, and per phase (those
 /// of at least a hundredth of a second).
-void printTimes(const Summary& r) {
-  std::cout << "  " << duration(r.seconds) << " (CPU " << duration(processCpuSeconds()) << ")";
+void printTimes(const RunSummary& r) {
+  std::cout << "  " << duration(r.seconds) << " (CPU " << duration(r.cpuSeconds) << ")";
   const char* separator = ": ";
-  for (const PhaseTime& phase : runPhases(r.result)) {
+  for (const PhaseTime& phase : r.phases) {
     if (phase.seconds < 0.005) continue;
     std::cout << separator << phase.name << " " << duration(phase.seconds);
     separator = ", ";
@@ -454,63 +388,68 @@ void printTimes(const Summary& r) {
 }
 
 /// The summary's lines of the files written.
-void printWritten(const Summary& r) {
-  const ReconstructSettings& s = r.settings;
-  for (const std::string& piece : r.pieces)
-    std::cout << "  wrote " << piece << " (a piece of the closed level set, " << r.pieces.size()
+void printWritten(const RunSummary& r) {
+  for (const std::string& piece : r.levelSetPieces)
+    std::cout << "  wrote " << piece << " (a piece of the closed level set, " << r.levelSetPieces.size()
               << " in all, and its weight grid)\n";
-  for (const std::string* path : {&s.output, &s.mesh, &s.preview})
-    if (!path->empty() && r.pieces.empty())
-      std::cout << "  wrote " << *path
-                << (path == &s.mesh ? " (" + withCommas(r.triangles) + " triangles" +
-                                          (r.trimmed ? ", unseen parts left out" : "") + ")"
-                    : path == &s.output ? " (the closed level set and its weight grid)"
-                                        : "")
-                << "\n";
+  if (!r.levelSetFile.empty())
+    std::cout << "  wrote " << r.levelSetFile << " (the closed level set and its weight grid)\n";
+  if (!r.meshFile.empty())
+    std::cout << "  wrote " << r.meshFile << " (" << withCommas(r.triangles) << " triangles"
+              << (r.trimmedUnseen ? ", unseen parts left out" : "") << ")\n";
+  if (!r.previewFile.empty()) std::cout << "  wrote " << r.previewFile << "\n";
 }
 
-void printText(const Summary& r) {
-  const ReconstructSettings& s = r.settings;
-  const ReconstructionOptions& o = r.reconstructor.options();
-  const Measures& m = r.measures;
-  std::cout << "levelfuse reconstruct: " << r.reconstructor.summary().scans() << " scans, " << withCommas(m.points)
-            << " points"
-            << (m.points != m.readings ? " (" + withCommas(m.readings) + " readings of their range maps)"
+/// The summary's lines of an MPI job's ranks, one each.
+void printRanks(const RunSummary& r) {
+  std::uint64_t iterations = 0;
+  for (const LevelReport& l : r.levels) iterations += static_cast<std::uint64_t>(l.iterations);
+  iterations = std::max<std::uint64_t>(iterations, 1);
+  std::cout << "  " << r.processes.size() << " MPI ranks, one slab of every grid each:\n";
+  for (std::size_t k = 0; k < r.processes.size(); ++k) {
+    const ProcessFacts& rank = r.processes[k];
+    std::cout << "    rank " << k << ": " << withCommas(rank.leafNodes) << " leaf nodes of the finest grid, engine "
+              << mebibytes(rank.engineBytes)
+              << (rank.dataTermBytes > 0 ? ", data term " + mebibytes(rank.dataTermBytes) : std::string()) << ", "
+              << withCommas(rank.scansHeld) << (rank.scansHeld == 1 ? " scan" : " scans") << ", process peak "
+              << mebibytes(rank.peakBytes) << ", " << fixed(rank.seconds, 3) << " s to the end of the evolution, "
+              << mebibytes(rank.ghostBytes) << " of ghosts sent (" << mebibytes(rank.ghostBytes / iterations)
+              << " an iteration)\n";
+  }
+}
+
+void printText(const RunSummary& r) {
+  const ReconstructionOptions& o = r.options;
+  std::cout << "levelfuse reconstruct: " << r.scans << " scans, " << withCommas(r.points) << " points"
+            << (r.points != r.readings ? " (" + withCommas(r.readings) + " readings of their range maps)"
                                        : std::string())
-            << " (" << joined(s.inputs) << ")\n"
+            << " (" << joined(r.inputs) << ")\n"
             << "  voxel " << length(*o.voxelSize) << ", " << *o.levels << (*o.levels == 1 ? " grid" : " grids")
             << ", beta " << fixed(*o.beta) << " voxels, window " << length(*o.epsilon) << "\n";
-  if (s.linear) std::cout << "  the linear solution (zero set of g), no evolution\n";
-  for (const LevelReport& l : r.result.levels)
+  if (r.linear) std::cout << "  the linear solution (zero set of g), no evolution\n";
+  for (const LevelReport& l : r.levels)
     std::cout << "  grid " << length(l.voxelSize) << ": " << l.iterations << " iterations ("
               << (l.converged ? "converged" : l.settled ? "settled" : "iteration limit") << "), "
               << withCommas(l.activeSetVoxels) << " voxels in the active set, " << fixed(l.seconds, 3) << " s\n";
-  std::cout << "  surface: " << withCommas(r.bandVoxels)
-            << " narrow-band voxels; memory: engine " << mebibytes(r.result.peakEngineBytes)
+  std::cout << "  surface: " << withCommas(r.narrowBandVoxels) << " narrow-band voxels; memory: engine "
+            << mebibytes(r.peakEngineBytes)
             << (r.dataTermBytes > 0 ? ", data term " + mebibytes(r.dataTermBytes) : std::string()) << ", process peak "
-            << mebibytes(peakResidentBytes()) << (r.ranks.size() > 1 ? " (rank 0)" : "") << "\n";
-  if (r.ranks.size() > 1) {
-    std::uint64_t iterations = 0;
-    for (const LevelReport& l : r.result.levels) iterations += static_cast<std::uint64_t>(l.iterations);
-    iterations = std::max<std::uint64_t>(iterations, 1);
-    std::cout << "  " << r.ranks.size() << " MPI ranks, one slab of every grid each:\n";
-    for (std::size_t k = 0; k < r.ranks.size(); ++k)
-      std::cout << "    rank " << k << ": " << withCommas(r.ranks[k].leafNodes) << " leaf nodes of the finest grid, engine "
-                << mebibytes(r.ranks[k].engineBytes)
-                << (r.ranks[k].dataTermBytes > 0 ? ", data term " + mebibytes(r.ranks[k].dataTermBytes) : std::string())
-                << ", " << withCommas(r.ranks[k].scansHeld) << (r.ranks[k].scansHeld == 1 ? " scan" : " scans")
-                << ", process peak " << mebibytes(r.ranks[k].peakBytes) << ", "
-                << fixed(r.ranks[k].seconds, 3) << " s to the end of the evolution, "
-                << mebibytes(r.ranks[k].ghostBytes) << " of ghosts sent (" << mebibytes(r.ranks[k].ghostBytes / iterations)
-                << " an iteration)\n";
-  }
-  printFit(m);
-  if (r.inputs.truth && m.truthRms >= 0.0)
-    std::cout << "  error against the true " << r.inputs.truth->name() << (r.trimmed ? " where seen" : "")
-              << ": rms " << length(m.truthRms) << " ("
-              << fixed(m.truthRms / *o.voxelSize, 3) << " voxel)\n";
+            << mebibytes(r.peakMemoryBytes) << (r.processes.size() > 1 ? " (rank 0)" : "") << "\n";
+  if (r.processes.size() > 1) printRanks(r);
+  printFit(r);
+  if (r.truth)
+    std::cout << "  error against the true " << r.truth->shape << (r.truth->whereSeen ? " where seen" : "")
+              << ": rms " << length(r.truth->rms) << " (" << fixed(r.truth->rms / *o.voxelSize, 3) << " voxel)\n";
   printTimes(r);
   printWritten(r);
+}
+
+/// The summary, as JSON (--json) or as text (not with --quiet), with the
+/// process's peak memory and CPU time as it is printed.
+void printSummary(RunSummary summary, const ReconstructSettings& s) {
+  recordProcessUsage(summary);
+  if (s.json) std::cout << runSummaryJson(summary) << "\n";
+  else if (!s.quiet) printText(summary);
 }
 
 /// Writes this rank's piece (its level set and weight grid) with every other
@@ -549,16 +488,16 @@ void writePieceWithTheOthers(const ReconstructionResult& result, const Reconstru
 
 /// With --pieces: every rank writes its piece, the first prints the summary.
 int finishInPieces(const ReconstructSettings& s, const ScansReconstruction& made, const ReconstructionResult& result,
-                   const Inputs& inputs, const std::vector<RankFacts>& ranks, double seconds) {
+                   const std::vector<ProcessFacts>& ranks, double seconds) {
   const std::uint64_t bandVoxels = totalOverJob(result.levelSet->activeVoxelCount());
   writePieceWithTheOthers(result, s);
   if (!leadsTheJob()) return kExitSuccess;
-  const Measures counts = countsOf(made);
-  Summary summary{s,       *made.reconstructor, result, inputs, counts, false, 0, seconds,
-                  ranks,   bandVoxels,          {},     dataTermBytesOf(made, result)};
-  summary.pieces = pieceFiles(s);
-  if (s.json) printJson(summary);
-  else if (!s.quiet) printText(summary);
+  RunSummary summary = runSummary(s, *made.reconstructor, result, countsOf(made), seconds);
+  summary.narrowBandVoxels = bandVoxels;
+  summary.dataTermBytes = dataTermBytesOf(made, result);
+  summary.processes = ranks;
+  summary.levelSetPieces = pieceFiles(s);
+  printSummary(std::move(summary), s);
   return kExitSuccess;
 }
 
@@ -580,14 +519,14 @@ int runReconstruct(ReconstructSettings s) {
   if (s.linear && !leadsTheJob()) return kExitSuccess;  // the linear solution is not shared
   ReconstructionResult result = reconstructSurface(reconstructor, s, shown, bar);
   const std::uint64_t dataTermBytes = dataTermBytesOf(made, result);
-  std::vector<RankFacts> ranks;
+  std::vector<ProcessFacts> ranks;
   if (!s.linear)
-    ranks = gatherRankFacts(RankFacts{std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
+    ranks = gatherRankFacts(ProcessFacts{std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
                                       peakResidentBytes(), result.peakEngineBytes,
                                       result.levels.empty() ? 0 : result.levels.back().ownLeafNodes,
                                       ghostBytesSent(), dataTermBytes, scansHeld});
   const auto secondsSoFar = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
-  if (s.pieces) return finishInPieces(s, made, result, inputs, ranks, secondsSoFar());
+  if (s.pieces) return finishInPieces(s, made, result, ranks, secondsSoFar());
   if (!leadsTheJob()) return kExitSuccess;
   made.letTheGridsGo();
   // The grids are written first: past them, only trimming reads the weight,
@@ -600,11 +539,18 @@ int runReconstruct(ReconstructSettings s) {
   if (summaryShown) enterPhase("measuring");
   const Measures measures = summaryShown ? measure(made, result, shown, inputs) : countsOf(made);
   const std::size_t triangles = writeShownOutputs(outputs, inputs, result, shown, s);
-  const Summary summary{s,         reconstructor,  result, inputs, measures, shown.trim,
-                        triangles, secondsSoFar(), ranks,  result.levelSet->activeVoxelCount(), {},
-                        dataTermBytes};
-  if (s.json) printJson(summary);
-  else if (summaryShown) printText(summary);
+  RunSummary summary = runSummary(s, reconstructor, result, measures, secondsSoFar());
+  summary.narrowBandVoxels = result.levelSet->activeVoxelCount();
+  summary.dataTermBytes = dataTermBytes;
+  summary.processes = ranks;
+  summary.levelSetFile = s.output;
+  summary.meshFile = s.mesh;
+  summary.previewFile = s.preview;
+  summary.triangles = triangles;
+  summary.trimmedUnseen = shown.trim;
+  if (inputs.truth && measures.truthRms >= 0.0)
+    summary.truth = TruthError{inputs.truth->name(), measures.truthRms, shown.trim};
+  if (summaryShown) printSummary(std::move(summary), s);
   return kExitSuccess;
 }
 

@@ -6,8 +6,6 @@
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 
-#include <sys/resource.h>
-
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -19,12 +17,6 @@ ThreadLimit::ThreadLimit(int threads) {
   if (threads > 0)
     mControl = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                      static_cast<std::size_t>(threads));
-}
-
-std::size_t peakResidentBytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<std::size_t>(usage.ru_maxrss) * 1024;  // kilobytes on Linux
 }
 
 CLI::Validator numberIn(double lo, double hi, bool aboveLo) {

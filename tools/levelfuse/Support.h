@@ -1,6 +1,7 @@
 // levelfuse CLI: small things the subcommands share.
 #pragma once
 
+#include <levelfuse/core/PeakMemory.h>
 #include <levelfuse/io/AtomicWrite.h>
 
 #include <CLI/CLI.hpp>
@@ -23,9 +24,6 @@ class ThreadLimit {
  private:
   std::unique_ptr<tbb::global_control> mControl;
 };
-
-/// The process's peak resident memory so far, in bytes.
-std::size_t peakResidentBytes();
 
 /// A number option's check: a finite number from `lo` to `hi` (above `lo` if
 /// `aboveLo`); NaN and infinities are refused (exit 2). The description that
