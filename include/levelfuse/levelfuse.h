@@ -93,6 +93,7 @@
 #include <levelfuse/scan/ScanSummary.h>
 #include <levelfuse/scan/Scenes.h>
 #include <levelfuse/scan/SightBins.h>
+#include <levelfuse/scan/SphereAngles.h>
 #include <levelfuse/scan/SphericalScan.h>
 #include <levelfuse/scan/SurfaceColour.h>
 #include <levelfuse/scan/Synth.h>
