@@ -25,6 +25,7 @@
 
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/ColourImages.h>
+#include <levelfuse/io/DepthFrames.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/E57Scans.h>
 #include <levelfuse/io/InputError.h>
@@ -36,7 +37,9 @@
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/io/PointScans.h>
 #include <levelfuse/io/Preview.h>
+#include <levelfuse/io/PtxScan.h>
 #include <levelfuse/io/PtxScans.h>
+#include <levelfuse/io/ScanLoadOptions.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/io/StationGrid.h>
