@@ -63,9 +63,12 @@
 #include <levelfuse/levelset/SlabFieldStep.h>
 #include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/SparseFieldOptions.h>
+#include <levelfuse/levelset/SparseFieldStats.h>
 #include <levelfuse/levelset/SparseFieldStep.h>
 #include <levelfuse/levelset/SpeedTerms.h>
 #include <levelfuse/levelset/Stencil.h>
+#include <levelfuse/levelset/StepResult.h>
 #include <levelfuse/levelset/StepTally.h>
 #include <levelfuse/levelset/TimeStep.h>
 #include <levelfuse/levelset/VoxelNormals.h>
