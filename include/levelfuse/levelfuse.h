@@ -70,6 +70,7 @@
 #include <levelfuse/levelset/Stencil.h>
 #include <levelfuse/levelset/StepResult.h>
 #include <levelfuse/levelset/StepTally.h>
+#include <levelfuse/levelset/TilesBesideLeaves.h>
 #include <levelfuse/levelset/TimeStep.h>
 #include <levelfuse/levelset/VoxelNormals.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
