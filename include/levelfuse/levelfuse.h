@@ -26,6 +26,7 @@
 
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/io/ColourImages.h>
+#include <levelfuse/io/DepthFrames.h>
 #include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/E57Scans.h>
 #include <levelfuse/io/InputError.h>
@@ -37,7 +38,9 @@
 #include <levelfuse/io/Ply.h>
 #include <levelfuse/io/PointScans.h>
 #include <levelfuse/io/Preview.h>
+#include <levelfuse/io/PtxScan.h>
 #include <levelfuse/io/PtxScans.h>
+#include <levelfuse/io/ScanLoadOptions.h>
 #include <levelfuse/io/Scans.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/io/StationGrid.h>
@@ -61,10 +64,14 @@
 #include <levelfuse/levelset/SlabFieldStep.h>
 #include <levelfuse/levelset/SlabTeam.h>
 #include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/SparseFieldOptions.h>
+#include <levelfuse/levelset/SparseFieldStats.h>
 #include <levelfuse/levelset/SparseFieldStep.h>
 #include <levelfuse/levelset/SpeedTerms.h>
 #include <levelfuse/levelset/Stencil.h>
+#include <levelfuse/levelset/StepResult.h>
 #include <levelfuse/levelset/StepTally.h>
+#include <levelfuse/levelset/TilesBesideLeaves.h>
 #include <levelfuse/levelset/TimeStep.h>
 #include <levelfuse/levelset/VoxelNormals.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
@@ -97,6 +104,7 @@
 #include <levelfuse/scan/ScanSummary.h>
 #include <levelfuse/scan/Scenes.h>
 #include <levelfuse/scan/SightBins.h>
+#include <levelfuse/scan/SphereAngles.h>
 #include <levelfuse/scan/SphericalScan.h>
 #include <levelfuse/scan/SurfaceColour.h>
 #include <levelfuse/scan/Synth.h>

@@ -4,7 +4,7 @@
 
 #include "ManifestEntry.h"
 
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/ScanLoadOptions.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <vector>

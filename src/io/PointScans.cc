@@ -5,7 +5,7 @@
 #include <levelfuse/scan/LaserSweep.h>
 
 #include "FileExtension.h"
-#include "StationGridChecks.h"
+#include "GridPixels.h"
 
 #include <algorithm>
 #include <cstdio>

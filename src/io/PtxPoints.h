@@ -6,7 +6,7 @@
 #include "TextLineReader.h"
 
 #include <levelfuse/core/Interrupter.h>
-#include <levelfuse/io/PtxScans.h>
+#include <levelfuse/io/PtxScan.h>
 
 namespace levelfuse::io {
 

@@ -4,7 +4,7 @@
 
 #include <levelfuse/core/MadeAhead.h>
 #include <levelfuse/io/LoadProgress.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/ScanLoadOptions.h>
 
 #include <cstddef>
 #include <functional>

@@ -73,26 +73,6 @@ std::vector<RangeMap> handedOverAsWanted(std::vector<RangeMap> maps, const ScanL
 
 }  // namespace
 
-void checkDepthOptions(const ScanLoadOptions& options, const std::string& source) {
-  if (options.frameStride < 1) throw InputError(source, "the frame stride must be at least 1");
-  if (!(options.maxDepth > 0.0)) throw InputError(source, "the maximum depth must be positive");
-  if (!(options.depthScale >= 0.0) || !std::isfinite(options.depthScale))
-    throw InputError(source, "the depth scale must be positive");
-}
-
-RangeMap loadDepthFrame(const std::string& image, const PinholeProjection& intrinsics,
-                        const openvdb::math::Mat4d& cameraToWorld, const ScanLoadOptions& options,
-                        double conventionScale) {
-  DepthImage depth = readDepthImage(image, options.depthScale > 0.0 ? options.depthScale : conventionScale);
-  dropReadingsBeyond(depth, options.maxDepth);
-  try {
-    return depthFrame(std::move(depth), intrinsics, cameraToWorld, options.depthNoise,
-                      fs::path(image).filename().string());
-  } catch (const std::invalid_argument& e) {  // the frame's geometry: its size against the intrinsics
-    throw InputError(image, e.what());
-  }
-}
-
 std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& options) {
   requireInputFile(path, /*folderToo=*/true);
   std::error_code ec;

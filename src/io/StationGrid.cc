@@ -1,6 +1,6 @@
 // levelfuse: a station's points on one grid, and the station as a range map.
 
-#include "StationGridChecks.h"
+#include "GridPixels.h"
 
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/StationGrid.h>
@@ -16,56 +16,15 @@ namespace levelfuse::io {
 
 namespace {
 
-using openvdb::Vec3d;
-
-/// Bins of azimuth for the arc the returns cover: a ten-thousandth of a turn each.
-constexpr int kAzimuthBins = 1 << 16;
-
-bool isReturn(const Vec3d& p) { return p != Vec3d(0.0); }
-
-/// The arc of azimuths the returns cover, a turn less the widest gap between
-/// them, overestimated by at most two bins (the gap is counted in whole empty bins).
-double azimuthArcAtMost(const std::vector<Vec3d>& points) {
-  std::vector<bool> filled(kAzimuthBins, false);
-  for (const Vec3d& p : points) {
-    if (!isReturn(p)) continue;
-    const double turns = (std::atan2(p.y(), p.x()) + M_PI) / kTurn;
-    filled[static_cast<std::size_t>(std::clamp(static_cast<int>(turns * kAzimuthBins), 0, kAzimuthBins - 1))] = true;
-  }
-  int widestGap = 0, gap = 0;
-  for (int k = 0; k < 2 * kAzimuthBins; ++k) {  // twice round: a gap across azimuth -pi is counted whole
-    gap = filled[static_cast<std::size_t>(k % kAzimuthBins)] ? 0 : gap + 1;
-    widestGap = std::max(widestGap, std::min(gap, kAzimuthBins));
-  }
-  return kTurn * static_cast<double>(kAzimuthBins - widestGap) / kAzimuthBins;
-}
-
-/// The span of the returns' elevations.
-double elevationSpan(const std::vector<Vec3d>& points) {
-  double lowest = M_PI, highest = -M_PI;
-  for (const Vec3d& p : points) {
-    if (!isReturn(p)) continue;
-    const double elevation = std::atan2(p.z(), std::hypot(p.x(), p.y()));
-    lowest = std::min(lowest, elevation);
-    highest = std::max(highest, elevation);
-  }
-  return std::max(0.0, highest - lowest);
-}
-
 std::string rounded(double x) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.3g", x);
   return text;
 }
 
-}  // namespace
-
-double gridPixelsAtMost(const std::vector<Vec3d>& points, const AngularSteps& steps) {
-  const double columns = std::min(azimuthArcAtMost(points), kTurn) / steps.azimuth + 2.0;
-  const double rows = elevationSpan(points) / steps.elevation + 2.0;
-  return columns * rows;
-}
-
+/// Throws InputError naming `path` and `scan` if binning the station's
+/// returns with `steps` could make more than kMaxPixelsPerPoint pixels per
+/// point.
 void requireGridOfTheStationsSize(const StationGrid& station, const AngularSteps& steps, const std::string& path,
                                   const std::string& scan) {
   const double points = static_cast<double>(station.columns) * static_cast<double>(station.rows);
@@ -78,6 +37,8 @@ void requireGridOfTheStationsSize(const StationGrid& station, const AngularSteps
                                std::to_string(station.rows) + " rows: its points do not lie on one scanner's grid");
 }
 
+/// Throws InputError naming `path` and `scan` if `map`, the station binned,
+/// has readings for fewer than half its returns (the others shared a pixel).
 void requireReturnsOnTheirOwnPixels(const StationGrid& station, const RangeMap& map, const std::string& path,
                                     const std::string& scan) {
   if (2 * map.validCount() >= station.returns) return;
@@ -88,6 +49,8 @@ void requireReturnsOnTheirOwnPixels(const StationGrid& station, const RangeMap& 
                              rounded(std::fabs(grid.elevationStep)) +
                              " rad): its points do not lie on one scanner's grid");
 }
+
+}  // namespace
 
 RangeMap rangeMapFromStationGrid(const StationGrid& station, double sigma, const std::string& path,
                                  const std::string& scan, const std::string& name) {

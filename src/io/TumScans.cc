@@ -1,6 +1,8 @@
 // levelfuse: TUM RGB-D folders.
 
 #include <levelfuse/io/ColourImages.h>
+#include <levelfuse/io/DepthFrames.h>
+#include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/TextRecords.h>
 #include <levelfuse/io/TumScans.h>

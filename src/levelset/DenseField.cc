@@ -1,11 +1,14 @@
 // levelfuse: the dense-field reference.
 
-#include <levelfuse/levelset/DenseFieldStep.h>
+#include <levelfuse/core/Parallel.h>
+#include <levelfuse/levelset/DenseField.h>
 #include <levelfuse/levelset/RequireLevelSet.h>
 
 #include <openvdb/tools/SignedFloodFill.h>
 
+#include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace levelfuse {
 
@@ -58,9 +61,5 @@ openvdb::FloatGrid::Ptr DenseField::toGrid(double bandWidth) const {
   openvdb::tools::signedFloodFill(grid->tree());
   return grid;
 }
-
-template StepResult DenseField::step<MeanCurvatureFlow>(const MeanCurvatureFlow&, double);
-template StepResult DenseField::step<ConstantSpeed>(const ConstantSpeed&, double);
-template StepResult DenseField::step<ExternalForceSpeed>(const ExternalForceSpeed&, double);
 
 }  // namespace levelfuse

@@ -1,7 +1,7 @@
 // levelfuse: slabs of a sparse field: construction, ghosts, assembly.
 
-#include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/levelset/SlabField.h>
+#include <levelfuse/levelset/TilesBesideLeaves.h>
 #include <levelfuse/levelset/detail/SparseFieldState.h>
 
 #include <openvdb/tools/SignedFloodFill.h>

@@ -3,9 +3,9 @@
 // their angular steps).
 #pragma once
 
-#include <levelfuse/scan/SphericalScan.h>
+#include <levelfuse/scan/SphereAngles.h>
 
-#include <openvdb/math/Vec3.h>
+#include <openvdb/Types.h>
 
 #include <cmath>
 #include <optional>

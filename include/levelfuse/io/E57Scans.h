@@ -29,7 +29,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/ScanLoadOptions.h>
 #include <levelfuse/io/StationGrid.h>
 #include <levelfuse/scan/RangeMap.h>
 

@@ -51,7 +51,7 @@
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/io/AtomicWrite.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/ScanLoadOptions.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <optional>

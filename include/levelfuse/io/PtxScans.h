@@ -32,7 +32,8 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/PtxScan.h>
+#include <levelfuse/io/ScanLoadOptions.h>
 #include <levelfuse/io/StationGrid.h>
 #include <levelfuse/scan/Colour.h>
 #include <levelfuse/scan/RangeMap.h>
@@ -48,17 +49,6 @@
 #include <vector>
 
 namespace levelfuse::io {
-
-/// A point's colour as a seven-field PTX line gives it: r, g, b from 0 to 255.
-using PtxColour = Rgb8;
-
-/// One scan of a PTX file: a station (its points in the scanner's own
-/// frame, intensities always) and where the file holds it.
-struct PtxScan : StationGrid {
-  int index = 0;      ///< 1 for the file's first scan
-  std::int64_t firstLine = 0;  ///< the line of its column count
-  std::int64_t lastLine = 0;   ///< the line of its last point
-};
 
 /// Takes each scan of a file as soon as it is read.
 using PtxScanTaker = std::function<void(PtxScan&&)>;

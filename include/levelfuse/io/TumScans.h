@@ -20,7 +20,7 @@
 // named), and of Freiburg 1 for any other name.
 #pragma once
 
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/ScanLoadOptions.h>
 #include <levelfuse/scan/RangeMap.h>
 
 #include <openvdb/math/Mat4.h>

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <levelfuse/levelset/SlabField.h>
+#include <levelfuse/levelset/TilesBesideLeaves.h>
 
 #include <openvdb/openvdb.h>
 
@@ -91,14 +92,5 @@ void forgetLevelSetPiece(openvdb::FloatGrid& levelSet);
 /// (an empty tree, or one holding none of them): this process's own piece,
 /// which needs no copy. `from` keeps inactive tiles in their place.
 void moveLevelSetLeaves(openvdb::FloatGrid& from, const SlabBounds& bounds, openvdb::FloatGrid& to);
-
-/// Sets every leaf-sized cell beside a leaf of `grid` (face, edge or corner)
-/// that holds no leaf to an inactive tile of the side of the leaf voxel
-/// nearest it. Those voxels lie beyond the band or at its edge, and a voxel
-/// beyond the band lies on the side of its neighbours, so every leaf beside a
-/// cell agrees. A slab's flood fill could not see the band beyond its ghosts;
-/// the level set of a slab put together from pieces that cover only its reach
-/// (levelSetReach) takes its tiles so too, which is all the slab reads.
-void setTilesBesideLeaves(openvdb::FloatGrid& grid);
 
 }  // namespace levelfuse

@@ -11,6 +11,10 @@
 // whatever the number of threads.
 #pragma once
 
+#include <levelfuse/levelset/SparseFieldOptions.h>
+#include <levelfuse/levelset/SparseFieldStats.h>
+#include <levelfuse/levelset/StepResult.h>
+
 #include <openvdb/openvdb.h>
 
 #include <cstddef>
@@ -24,52 +28,6 @@ namespace detail {
 struct SparseFieldState;
 }
 struct InvariantReport;
-
-/// Settings of the sparse-field engine.
-struct SparseFieldOptions {
-  /// N, the number of layers on each side of the active set. The 3x3x3 kernel
-  /// of the curvature term needs N >= 2 (section 5); at most 3.
-  int layers = 2;
-  /// Largest change of an active value in one step, in voxels. Must stay below
-  /// 1/2 so that no point skips a layer (section 5).
-  double maxStepChange = 0.45;
-  /// Stability limit of the explicit mean-curvature term: dt <= this * dx^2 / beta.
-  /// At the active points the term acts as diffusion within the surface, whose
-  /// explicit limit is 1/4 (2D); measured on noisy spheres, 0.25 damps noise as
-  /// fast as 1/6 while 0.3 lets it grow for a while.
-  double curvatureStepLimit = 0.25;
-  /// Limit for speeds with a stiffness k (see speedStiffness): dt k <= this,
-  /// so that a displaced surface relaxes without overshooting. With a
-  /// curvature term as well, the two limits combine as rates do:
-  /// 1 / dt >= k / stiffnessStepLimit + beta / (curvatureStepLimit dx^2).
-  double stiffnessStepLimit = 0.5;
-  /// Leaf nodes per parallel task; 0 runs every phase serially.
-  std::size_t grainSize = 4;
-};
-
-/// What one step did.
-struct StepResult {
-  double dt = 0.0;                 ///< time advanced
-  double maxSpeed = 0.0;           ///< largest |d psi/dt| over the active set (world units per time)
-  double maxChange = 0.0;          ///< largest change of an active value (world units)
-  double rmsChange = 0.0;          ///< rms change of the active values (world units)
-  /// rms change of the active values the speed did not leave at rest
-  /// (speedAtRestIn; world units): the motion of the surface the speed acts on.
-  double rmsChangeNotAtRest = 0.0;
-  std::size_t pointsAtRest = 0;    ///< active points the speed left at rest
-  std::size_t activeSetVoxels = 0;    ///< |L0| after the step
-  std::size_t movedOut = 0;        ///< points that left L0 outward (into L+1)
-  std::size_t movedIn = 0;         ///< points that left L0 inward (into L-1)
-  std::size_t conflicts = 0;       ///< adjacent points that tried to leave L0 on opposite sides
-};
-
-/// Counts and bytes of a sparse field.
-struct SparseFieldStats {
-  std::size_t activeSetVoxels = 0;    ///< |L0|
-  std::size_t bandVoxels = 0;      ///< voxels in all layers, L0 included
-  std::size_t leafNodes = 0;
-  std::size_t memoryBytes = 0;     ///< values, layers and the engine's bookkeeping
-};
 
 class SparseField {
  public:

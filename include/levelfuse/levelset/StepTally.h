@@ -8,7 +8,7 @@
 // a maximum.
 #pragma once
 
-#include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/StepResult.h>
 
 #include <cstdint>
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <levelfuse/scan/RangeMap.h>
+#include <levelfuse/scan/SphereAngles.h>
 
 #include <openvdb/math/Mat4.h>
 #include <openvdb/math/Vec3.h>
@@ -37,13 +38,6 @@ struct AngularSteps {
 /// std::invalid_argument, naming `who`, unless the rows are two or more,
 /// finite and strictly increasing (requireRowElevations).
 AngularSteps stepsOnRows(double azimuthStep, std::vector<double> rowElevations, const std::string& who);
-
-/// A whole turn, radians.
-inline constexpr double kTurn = 2.0 * M_PI;
-
-/// Points closer to a pole than this (radians, 0.1 degree) have no azimuth a
-/// grid can hold: binning leaves them out.
-inline constexpr double kPoleMargin = 0.1 * M_PI / 180.0;
 
 /// The points binned into a spherical range map with these steps: each pixel
 /// keeps the nearest point that falls in it. The grid is placed so that the

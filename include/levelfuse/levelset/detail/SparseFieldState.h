@@ -7,7 +7,8 @@
 // parallel phase reaches across leaf faces without a tree lookup.
 #pragma once
 
-#include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/levelset/SparseFieldOptions.h>
+#include <levelfuse/levelset/SparseFieldStats.h>
 #include <levelfuse/levelset/StepTally.h>
 #include <levelfuse/levelset/detail/LeafMaskOps.h>
 
@@ -18,6 +19,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
