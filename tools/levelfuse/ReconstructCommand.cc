@@ -683,9 +683,9 @@ Command addReconstructCommand(CLI::App& app) {
                                    "Window width of a reading, world units (default: sigma; at least a voxel)")
       ->check(numberIn(0.0, 1e6, true));
   cmd->add_option_function<std::string>(
-         "--window", [s](const std::string& w) { s->options.window = w == "binary" ? WindowKind::kBinary : WindowKind::kGaussian; },
+         "--window", [s](const std::string& w) { s->options.window = windowKindFromName(w); },
          "Window of a reading: gaussian (default) or binary")
-      ->check(CLI::IsMember({"gaussian", "binary"}));
+      ->check(CLI::IsMember(windowKindNames()));
   cmd->add_option("--tolerance", o.tolerance, "A grid has converged below this rms speed (voxels per unit time)")
       ->check(numberIn(0.0, 1e3, true))
       ->capture_default_str();
