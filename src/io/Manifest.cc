@@ -187,10 +187,121 @@ void keepWanted(std::vector<RangeMap>& maps, std::size_t first, const std::funct
   maps.erase(maps.begin() + static_cast<std::ptrdiff_t>(kept), maps.end());
 }
 
+/// A "stanford-conf" entry's scans: a Stanford .conf file's.
+std::vector<RangeMap> loadStanfordConfEntry(const Entry& e, const ScanLoadOptions& defaults) {
+  StanfordScanOptions stanford = stanfordOptions(e);
+  stanford.interrupter = defaults.interrupter;
+  return loadStanfordScans(e.path("file"), stanford);
+}
+
+/// A "stanford-ply" entry's scan: a range grid placed by a translation and a unit quaternion.
+RangeMap loadStanfordPlyEntry(const Entry& e) {
+  StanfordPlacement placement;
+  const auto t = e.numbers("translation", 3);
+  const auto q = e.numbers("quaternion", 4);
+  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (norm < 1e-9 || std::fabs(norm - 1.0) > 1e-3)
+    e.fail("'quaternion' has norm " + std::to_string(norm) + ": a rotation needs a unit quaternion");
+  placement.translation = openvdb::Vec3d(t[0], t[1], t[2]);
+  placement.rotation = openvdb::math::Quatd(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);
+  const std::string file = e.path("file");
+  return rangeMapFromScan(readRangeGridPly(file), placement.scanToWorld(), stanfordOptions(e),
+                          fs::path(file).filename().string());
+}
+
+/// A depth image's entry ("depth-png", "depth-pfm" or "depth-exr"): the
+/// image, its intrinsics and pose, and optionally its scale, maximum depth
+/// and noise (`path`: the manifest's).
+RangeMap loadDepthImageEntry(const Entry& e, const std::string& format, const std::string& path,
+                             const ScanLoadOptions& defaults) {
+  const std::string file = e.path("file");
+  const double defaultScale = defaults.depthScale > 0.0 ? defaults.depthScale : 0.001;
+  DepthImage image = format == "depth-png" ? readDepthPng(file, e.positive("depth_scale", defaultScale))
+                     : format == "depth-pfm" ? readDepthPfm(file)
+                                             : readDepthExr(file);
+  dropReadingsBeyond(image, e.positive("max_depth", defaults.maxDepth));
+  const PinholeProjection intrinsics = intrinsicsOf(e);
+  const openvdb::math::Mat4d pose = poseOf(e, path);
+  try {
+    return depthFrame(std::move(image), intrinsics, pose, depthNoiseOf(e), fs::path(file).filename().string());
+  } catch (const std::invalid_argument& error) {
+    e.fail(error.what());
+  }
+}
+
+/// An "orthographic-pfm" entry's scan: depths along parallel rays, their
+/// pixel size, origin, pose and noise (`path`: the manifest's).
+RangeMap loadOrthographicEntry(const Entry& e, const std::string& path) {
+  const std::string file = e.path("file");
+  DepthImage image = readDepthPfm(file, false);
+  if (!e.has("pixel_size")) e.fail("missing 'pixel_size'");
+  OrthographicProjection projection;
+  projection.pixelSize = e.positive("pixel_size", 0.0);
+  if (e.has("origin")) {
+    const auto o = e.numbers("origin", 2);
+    projection.origin = openvdb::math::Vec2d(o[0], o[1]);
+  }
+  if (!e.has("sigma")) e.fail("missing 'sigma'");
+  const double sigma = e.positive("sigma", 0.0);
+  try {
+    return RangeMap::orthographic(image.width, image.height, std::move(image.depth), projection, poseOf(e, path),
+                                  sigma, fs::path(file).filename().string());
+  } catch (const std::invalid_argument& error) {
+    e.fail(error.what());
+  }
+}
+
+/// A "spherical-pfm" entry's scan: ranges on an angular grid, its pose and
+/// noise (`path`: the manifest's).
+RangeMap loadSphericalEntry(const Entry& e, const std::string& path) {
+  const std::string file = e.path("file");
+  DepthImage image = readDepthPfm(file);
+  if (!e.has("sigma")) e.fail("missing 'sigma'");
+  const SphericalProjection grid = sphericalGridOf(e, image.height);
+  try {
+    return RangeMap::spherical(image.width, image.height, std::move(image.depth), grid, poseOf(e, path),
+                               depthNoiseOf(e), fs::path(file).filename().string());
+  } catch (const std::invalid_argument& error) {
+    e.fail(error.what());
+  }
+}
+
+/// Appends the scans of entry `e`, of format `format`, to `maps` (`path`: the manifest's).
+void appendEntryScans(const Entry& e, const std::string& format, const std::string& path,
+                      const ScanLoadOptions& defaults, std::vector<RangeMap>& maps) {
+  const auto append = [&](std::vector<RangeMap> loaded) {
+    for (RangeMap& m : loaded) maps.push_back(std::move(m));
+  };
+  if (format == "stanford-conf") append(loadStanfordConfEntry(e, defaults));
+  else if (format == "stanford-ply") maps.push_back(loadStanfordPlyEntry(e));
+  else if (format == "depth-png" || format == "depth-pfm" || format == "depth-exr")
+    maps.push_back(loadDepthImageEntry(e, format, path, defaults));
+  else if (format == "tum") append(loadTumEntry(e, defaults));
+  else if (format == "ptx") append(loadPtxEntry(e, defaults));
+  else if (format == "e57") append(loadE57Entry(e, defaults));
+  else if (format == "points") maps.push_back(loadPointsEntry(e, defaults));
+  else if (format == "kitti-bin") append(loadKittiBinEntry(e, defaults));
+  else if (format == "orthographic-pfm") maps.push_back(loadOrthographicEntry(e, path));
+  else if (format == "spherical-pfm") maps.push_back(loadSphericalEntry(e, path));
+  else
+    e.fail("unknown format " + quote(format) +
+           " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, e57, points, kitti-bin, "
+           "orthographic-pfm or spherical-pfm)");
+}
+
+/// An entry's "misses_are_empty" and "dropout_reach", for the scans it holds (maps[first] on).
+void setMissesAreEmpty(const Entry& e, std::vector<RangeMap>& maps, std::size_t first) {
+  if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");
+  const double reach = e.number("dropout_reach", 2.0);
+  if (reach < 0.0 || reach > 1000.0 || reach != std::floor(reach))
+    e.fail("'dropout_reach' must be a whole number of pixels, 0 to 1000");
+  for (std::size_t m = first; m < maps.size(); ++m)
+    maps[m].setMissesAreEmpty(e["misses_are_empty"].get<bool>(), static_cast<int>(reach));
+}
+
 }  // namespace
 
 std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOptions& defaults) {
-  const Interrupter& interrupter = defaults.interrupter;
   const json root = parseManifest(path);
   if (!root.is_object() || !root.contains("scans") || !root["scans"].is_array())
     throw InputError(path, "expected an object with an array 'scans'");
@@ -199,7 +310,7 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
   std::vector<RangeMap> maps;
   std::size_t asked = 0;  // scans the options' wanted was asked of
   for (std::size_t i = 0; i < root["scans"].size(); ++i) {
-    checkInterrupter(interrupter);
+    checkInterrupter(defaults.interrupter);
     const Entry e(path, root["scans"][i], i);
     const std::string format = e.string("format");
     if (defaults.wanted && makesOneScan(format) && !defaults.wanted(asked++)) {
@@ -207,90 +318,9 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       continue;
     }
     const std::size_t first = maps.size();
-    if (format == "stanford-conf") {
-      StanfordScanOptions stanford = stanfordOptions(e);
-      stanford.interrupter = interrupter;
-      for (RangeMap& m : loadStanfordScans(e.path("file"), stanford)) maps.push_back(std::move(m));
-    } else if (format == "stanford-ply") {
-      StanfordPlacement placement;
-      const auto t = e.numbers("translation", 3);
-      const auto q = e.numbers("quaternion", 4);
-      const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-      if (norm < 1e-9 || std::fabs(norm - 1.0) > 1e-3)
-        e.fail("'quaternion' has norm " + std::to_string(norm) + ": a rotation needs a unit quaternion");
-      placement.translation = openvdb::Vec3d(t[0], t[1], t[2]);
-      placement.rotation = openvdb::math::Quatd(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);
-      const std::string file = e.path("file");
-      maps.push_back(rangeMapFromScan(readRangeGridPly(file), placement.scanToWorld(), stanfordOptions(e),
-                                      fs::path(file).filename().string()));
-    } else if (format == "depth-png" || format == "depth-pfm" || format == "depth-exr") {
-      const std::string file = e.path("file");
-      const double defaultScale = defaults.depthScale > 0.0 ? defaults.depthScale : 0.001;
-      DepthImage image = format == "depth-png" ? readDepthPng(file, e.positive("depth_scale", defaultScale))
-                         : format == "depth-pfm" ? readDepthPfm(file)
-                                                 : readDepthExr(file);
-      dropReadingsBeyond(image, e.positive("max_depth", defaults.maxDepth));
-      const PinholeProjection intrinsics = intrinsicsOf(e);
-      const openvdb::math::Mat4d pose = poseOf(e, path);
-      try {
-        maps.push_back(
-            depthFrame(std::move(image), intrinsics, pose, depthNoiseOf(e), fs::path(file).filename().string()));
-      } catch (const std::invalid_argument& error) {
-        e.fail(error.what());
-      }
-    } else if (format == "tum") {
-      for (RangeMap& m : loadTumEntry(e, defaults)) maps.push_back(std::move(m));
-    } else if (format == "ptx") {
-      for (RangeMap& m : loadPtxEntry(e, defaults)) maps.push_back(std::move(m));
-    } else if (format == "e57") {
-      for (RangeMap& m : loadE57Entry(e, defaults)) maps.push_back(std::move(m));
-    } else if (format == "points") {
-      maps.push_back(loadPointsEntry(e, defaults));
-    } else if (format == "kitti-bin") {
-      for (RangeMap& m : loadKittiBinEntry(e, defaults)) maps.push_back(std::move(m));
-    } else if (format == "orthographic-pfm") {
-      const std::string file = e.path("file");
-      DepthImage image = readDepthPfm(file, false);
-      if (!e.has("pixel_size")) e.fail("missing 'pixel_size'");
-      OrthographicProjection projection;
-      projection.pixelSize = e.positive("pixel_size", 0.0);
-      if (e.has("origin")) {
-        const auto o = e.numbers("origin", 2);
-        projection.origin = openvdb::math::Vec2d(o[0], o[1]);
-      }
-      if (!e.has("sigma")) e.fail("missing 'sigma'");
-      const double sigma = e.positive("sigma", 0.0);
-      try {
-        maps.push_back(RangeMap::orthographic(image.width, image.height, std::move(image.depth), projection,
-                                              poseOf(e, path), sigma, fs::path(file).filename().string()));
-      } catch (const std::invalid_argument& error) {
-        e.fail(error.what());
-      }
-    } else if (format == "spherical-pfm") {
-      const std::string file = e.path("file");
-      DepthImage image = readDepthPfm(file);
-      if (!e.has("sigma")) e.fail("missing 'sigma'");
-      const SphericalProjection grid = sphericalGridOf(e, image.height);
-      try {
-        maps.push_back(RangeMap::spherical(image.width, image.height, std::move(image.depth), grid, poseOf(e, path),
-                                           depthNoiseOf(e), fs::path(file).filename().string()));
-      } catch (const std::invalid_argument& error) {
-        e.fail(error.what());
-      }
-    } else {
-      e.fail("unknown format " + quote(format) +
-             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, e57, points, kitti-bin, "
-             "orthographic-pfm or spherical-pfm)");
-    }
+    appendEntryScans(e, format, path, defaults, maps);
     if (e.has("colour")) colourEntry(e, maps, first);
-    if (e.has("misses_are_empty")) {
-      if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");
-      const double reach = e.number("dropout_reach", 2.0);
-      if (reach < 0.0 || reach > 1000.0 || reach != std::floor(reach))
-        e.fail("'dropout_reach' must be a whole number of pixels, 0 to 1000");
-      for (std::size_t m = first; m < maps.size(); ++m)
-        maps[m].setMissesAreEmpty(e["misses_are_empty"].get<bool>(), static_cast<int>(reach));
-    }
+    if (e.has("misses_are_empty")) setMissesAreEmpty(e, maps, first);
     if (defaults.wanted && !makesOneScan(format)) keepWanted(maps, first, defaults.wanted, asked);
     reportLoaded(defaults.progress, i + 1, root["scans"].size());
   }
