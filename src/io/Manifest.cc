@@ -377,92 +377,109 @@ std::string writeScanSet(const std::string& directory, const std::vector<RangeMa
   return manifest;
 }
 
+namespace {
+
+/// A matrix's entries row after row, as manifests write poses (OpenVDB's row vectors: the transpose).
+std::vector<double> rowMajor(const openvdb::math::Mat4d& m) {
+  std::vector<double> v(16);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) v[static_cast<std::size_t>(4 * r + c)] = m(c, r);
+  return v;
+}
+
+/// A manifest entry's projection: its format and the keys of its pixel grid.
+void writeProjection(const RangeMap& m, json& entry) {
+  if (m.kind() == RangeMap::Kind::kOrthographic) {
+    entry["format"] = "orthographic-pfm";
+    entry["pixel_size"] = m.orthographicProjection().pixelSize;
+    entry["origin"] = {m.orthographicProjection().origin.x(), m.orthographicProjection().origin.y()};
+  } else if (m.kind() == RangeMap::Kind::kSpherical) {
+    constexpr double kDegrees = 180.0 / M_PI;
+    const SphericalProjection& p = m.sphericalProjection();
+    entry["format"] = "spherical-pfm";
+    entry["azimuth_start"] = p.azimuthStart * kDegrees;
+    entry["azimuth_step"] = p.azimuthStep * kDegrees;
+    if (p.rowElevations.empty()) {
+      entry["elevation_start"] = p.elevationStart * kDegrees;
+      entry["elevation_step"] = p.elevationStep * kDegrees;
+    } else {
+      std::vector<double> rows;
+      for (const double elevation : p.rowElevations) rows.push_back(elevation * kDegrees);
+      entry["row_elevations"] = rows;
+    }
+  } else {
+    const PinholeProjection& p = m.pinholeProjection();
+    entry["format"] = "depth-pfm";
+    entry["intrinsics"] = {{"fx", p.fx}, {"fy", p.fy}, {"cx", p.cx}, {"cy", p.cy}};
+  }
+}
+
+/// Writes range map `m`, the j-th, into `directory` (its readings as
+/// scan<j>.pfm, its colours as scan<j>.colour.png) and returns its manifest entry.
+json writeScan(OutputSet& outputs, const std::string& directory, const RangeMap& m, std::size_t j) {
+  if (m.hasRayDirections()) throw std::invalid_argument("writeScanSet: per-pixel rays cannot be written");
+  const std::string file = "scan" + std::to_string(j) + ".pfm";
+  DepthImage image;
+  image.width = m.width();
+  image.height = m.height();
+  image.depth.reserve(static_cast<std::size_t>(m.width()) * m.height());
+  for (int v = 0; v < m.height(); ++v)
+    for (int u = 0; u < m.width(); ++u) image.depth.push_back(m.reading(u, v));
+  writeDepthPfm(outputs, (fs::path(directory) / file).string(), image);
+  json entry{{"file", file}, {"pose", rowMajor(m.mapToWorld())}, {"sigma", m.sigma()}};
+  if (m.hasColours()) {
+    const std::string colourFile = "scan" + std::to_string(j) + ".colour.png";
+    writeColourPng(outputs, (fs::path(directory) / colourFile).string(), colourImageOf(m));
+    entry["colour"] = colourFile;
+  }
+  if (const DepthNoise* noise = m.depthNoise())
+    entry["sigma"] = {
+        {"minimum", noise->minimum}, {"per_metre", noise->perMetre}, {"per_square_metre", noise->perSquareMetre}};
+  writeProjection(m, entry);
+  if (m.missesAreEmpty()) {
+    entry["misses_are_empty"] = true;
+    entry["dropout_reach"] = m.dropoutReach();
+  }
+  return entry;
+}
+
+/// A manifest's "truth": the analytic shape the scans were made of.
+json truthEntry(const shapes::AnalyticShape& truth) {
+  const auto vec = [](const openvdb::Vec3d& v) { return json::array({v.x(), v.y(), v.z()}); };
+  switch (truth.kind) {
+    case shapes::AnalyticShape::Kind::kSphere:
+      return {{"shape", "sphere"}, {"centre", vec(truth.sphere.centre)}, {"radius", truth.sphere.radius}};
+    case shapes::AnalyticShape::Kind::kTorus:
+      return {{"shape", "torus"}, {"centre", vec(truth.torus.centre)}, {"major", truth.torus.major},
+              {"minor", truth.torus.minor}};
+    case shapes::AnalyticShape::Kind::kMug:
+      return {{"shape", "mug"},          {"centre", vec(truth.mug.centre)},
+              {"radius", truth.mug.radius}, {"height", truth.mug.height},
+              {"wall", truth.mug.wall},     {"handle_bend", truth.mug.handleBend},
+              {"handle_radius", truth.mug.handleRadius}};
+    case shapes::AnalyticShape::Kind::kRoom:
+      return {{"shape", "room"},
+              {"centre", vec(truth.room.centre)},
+              {"width", truth.room.size.x()},
+              {"depth", truth.room.size.y()},
+              {"height", truth.room.size.z()}};
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 std::string writeScanSet(OutputSet& outputs, const std::string& directory, const std::vector<RangeMap>& maps,
                          const std::optional<shapes::AnalyticShape>& truth) {
   std::error_code ec;
   fs::create_directories(directory, ec);
   if (ec) throw std::runtime_error("cannot create the folder '" + directory + "': " + ec.message());
-  const auto rowMajor = [](const openvdb::math::Mat4d& m) {
-    std::vector<double> v(16);
-    for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c) v[static_cast<std::size_t>(4 * r + c)] = m(c, r);  // OpenVDB's row vectors: the transpose
-    return v;
-  };
   json scans = json::array();
-  for (std::size_t j = 0; j < maps.size(); ++j) {
-    const RangeMap& m = maps[j];
-    if (m.hasRayDirections()) throw std::invalid_argument("writeScanSet: per-pixel rays cannot be written");
-    const std::string file = "scan" + std::to_string(j) + ".pfm";
-    DepthImage image;
-    image.width = m.width();
-    image.height = m.height();
-    image.depth.reserve(static_cast<std::size_t>(m.width()) * m.height());
-    for (int v = 0; v < m.height(); ++v)
-      for (int u = 0; u < m.width(); ++u) image.depth.push_back(m.reading(u, v));
-    writeDepthPfm(outputs, (fs::path(directory) / file).string(), image);
-    json entry{{"file", file}, {"pose", rowMajor(m.mapToWorld())}, {"sigma", m.sigma()}};
-    if (m.hasColours()) {
-      const std::string colourFile = "scan" + std::to_string(j) + ".colour.png";
-      writeColourPng(outputs, (fs::path(directory) / colourFile).string(), colourImageOf(m));
-      entry["colour"] = colourFile;
-    }
-    if (const DepthNoise* noise = m.depthNoise())
-      entry["sigma"] = {
-          {"minimum", noise->minimum}, {"per_metre", noise->perMetre}, {"per_square_metre", noise->perSquareMetre}};
-    if (m.kind() == RangeMap::Kind::kOrthographic) {
-      entry["format"] = "orthographic-pfm";
-      entry["pixel_size"] = m.orthographicProjection().pixelSize;
-      entry["origin"] = {m.orthographicProjection().origin.x(), m.orthographicProjection().origin.y()};
-    } else if (m.kind() == RangeMap::Kind::kSpherical) {
-      constexpr double kDegrees = 180.0 / M_PI;
-      const SphericalProjection& p = m.sphericalProjection();
-      entry["format"] = "spherical-pfm";
-      entry["azimuth_start"] = p.azimuthStart * kDegrees;
-      entry["azimuth_step"] = p.azimuthStep * kDegrees;
-      if (p.rowElevations.empty()) {
-        entry["elevation_start"] = p.elevationStart * kDegrees;
-        entry["elevation_step"] = p.elevationStep * kDegrees;
-      } else {
-        std::vector<double> rows;
-        for (const double elevation : p.rowElevations) rows.push_back(elevation * kDegrees);
-        entry["row_elevations"] = rows;
-      }
-    } else {
-      const PinholeProjection& p = m.pinholeProjection();
-      entry["format"] = "depth-pfm";
-      entry["intrinsics"] = {{"fx", p.fx}, {"fy", p.fy}, {"cx", p.cx}, {"cy", p.cy}};
-    }
-    if (m.missesAreEmpty()) {
-      entry["misses_are_empty"] = true;
-      entry["dropout_reach"] = m.dropoutReach();
-    }
-    scans.push_back(entry);
-  }
+  for (std::size_t j = 0; j < maps.size(); ++j) scans.push_back(writeScan(outputs, directory, maps[j], j));
   json root{{"scans", scans}};
   if (truth) {
-    const auto vec = [](const openvdb::Vec3d& v) { return json::array({v.x(), v.y(), v.z()}); };
-    switch (truth->kind) {
-      case shapes::AnalyticShape::Kind::kSphere:
-        root["truth"] = {{"shape", "sphere"}, {"centre", vec(truth->sphere.centre)}, {"radius", truth->sphere.radius}};
-        break;
-      case shapes::AnalyticShape::Kind::kTorus:
-        root["truth"] = {{"shape", "torus"}, {"centre", vec(truth->torus.centre)}, {"major", truth->torus.major},
-                         {"minor", truth->torus.minor}};
-        break;
-      case shapes::AnalyticShape::Kind::kMug:
-        root["truth"] = {{"shape", "mug"},          {"centre", vec(truth->mug.centre)},
-                         {"radius", truth->mug.radius}, {"height", truth->mug.height},
-                         {"wall", truth->mug.wall},     {"handle_bend", truth->mug.handleBend},
-                         {"handle_radius", truth->mug.handleRadius}};
-        break;
-      case shapes::AnalyticShape::Kind::kRoom:
-        root["truth"] = {{"shape", "room"},
-                         {"centre", vec(truth->room.centre)},
-                         {"width", truth->room.size.x()},
-                         {"depth", truth->room.size.y()},
-                         {"height", truth->room.size.z()}};
-        break;
-    }
+    const json shape = truthEntry(*truth);
+    if (!shape.is_null()) root["truth"] = shape;
   }
   const std::string manifest = (fs::path(directory) / "scans.json").string();
   outputs.add(manifest, [&](const std::string& temporary) {
