@@ -187,10 +187,121 @@ void keepWanted(std::vector<RangeMap>& maps, std::size_t first, const std::funct
   maps.erase(maps.begin() + static_cast<std::ptrdiff_t>(kept), maps.end());
 }
 
+/// A "stanford-conf" entry's scans: a Stanford .conf file's.
+std::vector<RangeMap> loadStanfordConfEntry(const Entry& e, const ScanLoadOptions& defaults) {
+  StanfordScanOptions stanford = stanfordOptions(e);
+  stanford.interrupter = defaults.interrupter;
+  return loadStanfordScans(e.path("file"), stanford);
+}
+
+/// A "stanford-ply" entry's scan: a range grid placed by a translation and a unit quaternion.
+RangeMap loadStanfordPlyEntry(const Entry& e) {
+  StanfordPlacement placement;
+  const auto t = e.numbers("translation", 3);
+  const auto q = e.numbers("quaternion", 4);
+  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (norm < 1e-9 || std::fabs(norm - 1.0) > 1e-3)
+    e.fail("'quaternion' has norm " + std::to_string(norm) + ": a rotation needs a unit quaternion");
+  placement.translation = openvdb::Vec3d(t[0], t[1], t[2]);
+  placement.rotation = openvdb::math::Quatd(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);
+  const std::string file = e.path("file");
+  return rangeMapFromScan(readRangeGridPly(file), placement.scanToWorld(), stanfordOptions(e),
+                          fs::path(file).filename().string());
+}
+
+/// A depth image's entry ("depth-png", "depth-pfm" or "depth-exr"): the
+/// image, its intrinsics and pose, and optionally its scale, maximum depth
+/// and noise (`path`: the manifest's).
+RangeMap loadDepthImageEntry(const Entry& e, const std::string& format, const std::string& path,
+                             const ScanLoadOptions& defaults) {
+  const std::string file = e.path("file");
+  const double defaultScale = defaults.depthScale > 0.0 ? defaults.depthScale : 0.001;
+  DepthImage image = format == "depth-png" ? readDepthPng(file, e.positive("depth_scale", defaultScale))
+                     : format == "depth-pfm" ? readDepthPfm(file)
+                                             : readDepthExr(file);
+  dropReadingsBeyond(image, e.positive("max_depth", defaults.maxDepth));
+  const PinholeProjection intrinsics = intrinsicsOf(e);
+  const openvdb::math::Mat4d pose = poseOf(e, path);
+  try {
+    return depthFrame(std::move(image), intrinsics, pose, depthNoiseOf(e), fs::path(file).filename().string());
+  } catch (const std::invalid_argument& error) {
+    e.fail(error.what());
+  }
+}
+
+/// An "orthographic-pfm" entry's scan: depths along parallel rays, their
+/// pixel size, origin, pose and noise (`path`: the manifest's).
+RangeMap loadOrthographicEntry(const Entry& e, const std::string& path) {
+  const std::string file = e.path("file");
+  DepthImage image = readDepthPfm(file, false);
+  if (!e.has("pixel_size")) e.fail("missing 'pixel_size'");
+  OrthographicProjection projection;
+  projection.pixelSize = e.positive("pixel_size", 0.0);
+  if (e.has("origin")) {
+    const auto o = e.numbers("origin", 2);
+    projection.origin = openvdb::math::Vec2d(o[0], o[1]);
+  }
+  if (!e.has("sigma")) e.fail("missing 'sigma'");
+  const double sigma = e.positive("sigma", 0.0);
+  try {
+    return RangeMap::orthographic(image.width, image.height, std::move(image.depth), projection, poseOf(e, path),
+                                  sigma, fs::path(file).filename().string());
+  } catch (const std::invalid_argument& error) {
+    e.fail(error.what());
+  }
+}
+
+/// A "spherical-pfm" entry's scan: ranges on an angular grid, its pose and
+/// noise (`path`: the manifest's).
+RangeMap loadSphericalEntry(const Entry& e, const std::string& path) {
+  const std::string file = e.path("file");
+  DepthImage image = readDepthPfm(file);
+  if (!e.has("sigma")) e.fail("missing 'sigma'");
+  const SphericalProjection grid = sphericalGridOf(e, image.height);
+  try {
+    return RangeMap::spherical(image.width, image.height, std::move(image.depth), grid, poseOf(e, path),
+                               depthNoiseOf(e), fs::path(file).filename().string());
+  } catch (const std::invalid_argument& error) {
+    e.fail(error.what());
+  }
+}
+
+/// Appends the scans of entry `e`, of format `format`, to `maps` (`path`: the manifest's).
+void appendEntryScans(const Entry& e, const std::string& format, const std::string& path,
+                      const ScanLoadOptions& defaults, std::vector<RangeMap>& maps) {
+  const auto append = [&](std::vector<RangeMap> loaded) {
+    for (RangeMap& m : loaded) maps.push_back(std::move(m));
+  };
+  if (format == "stanford-conf") append(loadStanfordConfEntry(e, defaults));
+  else if (format == "stanford-ply") maps.push_back(loadStanfordPlyEntry(e));
+  else if (format == "depth-png" || format == "depth-pfm" || format == "depth-exr")
+    maps.push_back(loadDepthImageEntry(e, format, path, defaults));
+  else if (format == "tum") append(loadTumEntry(e, defaults));
+  else if (format == "ptx") append(loadPtxEntry(e, defaults));
+  else if (format == "e57") append(loadE57Entry(e, defaults));
+  else if (format == "points") maps.push_back(loadPointsEntry(e, defaults));
+  else if (format == "kitti-bin") append(loadKittiBinEntry(e, defaults));
+  else if (format == "orthographic-pfm") maps.push_back(loadOrthographicEntry(e, path));
+  else if (format == "spherical-pfm") maps.push_back(loadSphericalEntry(e, path));
+  else
+    e.fail("unknown format " + quote(format) +
+           " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, e57, points, kitti-bin, "
+           "orthographic-pfm or spherical-pfm)");
+}
+
+/// An entry's "misses_are_empty" and "dropout_reach", for the scans it holds (maps[first] on).
+void setMissesAreEmpty(const Entry& e, std::vector<RangeMap>& maps, std::size_t first) {
+  if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");
+  const double reach = e.number("dropout_reach", 2.0);
+  if (reach < 0.0 || reach > 1000.0 || reach != std::floor(reach))
+    e.fail("'dropout_reach' must be a whole number of pixels, 0 to 1000");
+  for (std::size_t m = first; m < maps.size(); ++m)
+    maps[m].setMissesAreEmpty(e["misses_are_empty"].get<bool>(), static_cast<int>(reach));
+}
+
 }  // namespace
 
 std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOptions& defaults) {
-  const Interrupter& interrupter = defaults.interrupter;
   const json root = parseManifest(path);
   if (!root.is_object() || !root.contains("scans") || !root["scans"].is_array())
     throw InputError(path, "expected an object with an array 'scans'");
@@ -199,7 +310,7 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
   std::vector<RangeMap> maps;
   std::size_t asked = 0;  // scans the options' wanted was asked of
   for (std::size_t i = 0; i < root["scans"].size(); ++i) {
-    checkInterrupter(interrupter);
+    checkInterrupter(defaults.interrupter);
     const Entry e(path, root["scans"][i], i);
     const std::string format = e.string("format");
     if (defaults.wanted && makesOneScan(format) && !defaults.wanted(asked++)) {
@@ -207,90 +318,9 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
       continue;
     }
     const std::size_t first = maps.size();
-    if (format == "stanford-conf") {
-      StanfordScanOptions stanford = stanfordOptions(e);
-      stanford.interrupter = interrupter;
-      for (RangeMap& m : loadStanfordScans(e.path("file"), stanford)) maps.push_back(std::move(m));
-    } else if (format == "stanford-ply") {
-      StanfordPlacement placement;
-      const auto t = e.numbers("translation", 3);
-      const auto q = e.numbers("quaternion", 4);
-      const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-      if (norm < 1e-9 || std::fabs(norm - 1.0) > 1e-3)
-        e.fail("'quaternion' has norm " + std::to_string(norm) + ": a rotation needs a unit quaternion");
-      placement.translation = openvdb::Vec3d(t[0], t[1], t[2]);
-      placement.rotation = openvdb::math::Quatd(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);
-      const std::string file = e.path("file");
-      maps.push_back(rangeMapFromScan(readRangeGridPly(file), placement.scanToWorld(), stanfordOptions(e),
-                                      fs::path(file).filename().string()));
-    } else if (format == "depth-png" || format == "depth-pfm" || format == "depth-exr") {
-      const std::string file = e.path("file");
-      const double defaultScale = defaults.depthScale > 0.0 ? defaults.depthScale : 0.001;
-      DepthImage image = format == "depth-png" ? readDepthPng(file, e.positive("depth_scale", defaultScale))
-                         : format == "depth-pfm" ? readDepthPfm(file)
-                                                 : readDepthExr(file);
-      dropReadingsBeyond(image, e.positive("max_depth", defaults.maxDepth));
-      const PinholeProjection intrinsics = intrinsicsOf(e);
-      const openvdb::math::Mat4d pose = poseOf(e, path);
-      try {
-        maps.push_back(
-            depthFrame(std::move(image), intrinsics, pose, depthNoiseOf(e), fs::path(file).filename().string()));
-      } catch (const std::invalid_argument& error) {
-        e.fail(error.what());
-      }
-    } else if (format == "tum") {
-      for (RangeMap& m : loadTumEntry(e, defaults)) maps.push_back(std::move(m));
-    } else if (format == "ptx") {
-      for (RangeMap& m : loadPtxEntry(e, defaults)) maps.push_back(std::move(m));
-    } else if (format == "e57") {
-      for (RangeMap& m : loadE57Entry(e, defaults)) maps.push_back(std::move(m));
-    } else if (format == "points") {
-      maps.push_back(loadPointsEntry(e, defaults));
-    } else if (format == "kitti-bin") {
-      for (RangeMap& m : loadKittiBinEntry(e, defaults)) maps.push_back(std::move(m));
-    } else if (format == "orthographic-pfm") {
-      const std::string file = e.path("file");
-      DepthImage image = readDepthPfm(file, false);
-      if (!e.has("pixel_size")) e.fail("missing 'pixel_size'");
-      OrthographicProjection projection;
-      projection.pixelSize = e.positive("pixel_size", 0.0);
-      if (e.has("origin")) {
-        const auto o = e.numbers("origin", 2);
-        projection.origin = openvdb::math::Vec2d(o[0], o[1]);
-      }
-      if (!e.has("sigma")) e.fail("missing 'sigma'");
-      const double sigma = e.positive("sigma", 0.0);
-      try {
-        maps.push_back(RangeMap::orthographic(image.width, image.height, std::move(image.depth), projection,
-                                              poseOf(e, path), sigma, fs::path(file).filename().string()));
-      } catch (const std::invalid_argument& error) {
-        e.fail(error.what());
-      }
-    } else if (format == "spherical-pfm") {
-      const std::string file = e.path("file");
-      DepthImage image = readDepthPfm(file);
-      if (!e.has("sigma")) e.fail("missing 'sigma'");
-      const SphericalProjection grid = sphericalGridOf(e, image.height);
-      try {
-        maps.push_back(RangeMap::spherical(image.width, image.height, std::move(image.depth), grid, poseOf(e, path),
-                                           depthNoiseOf(e), fs::path(file).filename().string()));
-      } catch (const std::invalid_argument& error) {
-        e.fail(error.what());
-      }
-    } else {
-      e.fail("unknown format " + quote(format) +
-             " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, e57, points, kitti-bin, "
-             "orthographic-pfm or spherical-pfm)");
-    }
+    appendEntryScans(e, format, path, defaults, maps);
     if (e.has("colour")) colourEntry(e, maps, first);
-    if (e.has("misses_are_empty")) {
-      if (!e["misses_are_empty"].is_boolean()) e.fail("'misses_are_empty' must be true or false");
-      const double reach = e.number("dropout_reach", 2.0);
-      if (reach < 0.0 || reach > 1000.0 || reach != std::floor(reach))
-        e.fail("'dropout_reach' must be a whole number of pixels, 0 to 1000");
-      for (std::size_t m = first; m < maps.size(); ++m)
-        maps[m].setMissesAreEmpty(e["misses_are_empty"].get<bool>(), static_cast<int>(reach));
-    }
+    if (e.has("misses_are_empty")) setMissesAreEmpty(e, maps, first);
     if (defaults.wanted && !makesOneScan(format)) keepWanted(maps, first, defaults.wanted, asked);
     reportLoaded(defaults.progress, i + 1, root["scans"].size());
   }
@@ -347,92 +377,109 @@ std::string writeScanSet(const std::string& directory, const std::vector<RangeMa
   return manifest;
 }
 
+namespace {
+
+/// A matrix's entries row after row, as manifests write poses (OpenVDB's row vectors: the transpose).
+std::vector<double> rowMajor(const openvdb::math::Mat4d& m) {
+  std::vector<double> v(16);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) v[static_cast<std::size_t>(4 * r + c)] = m(c, r);
+  return v;
+}
+
+/// A manifest entry's projection: its format and the keys of its pixel grid.
+void writeProjection(const RangeMap& m, json& entry) {
+  if (m.kind() == RangeMap::Kind::kOrthographic) {
+    entry["format"] = "orthographic-pfm";
+    entry["pixel_size"] = m.orthographicProjection().pixelSize;
+    entry["origin"] = {m.orthographicProjection().origin.x(), m.orthographicProjection().origin.y()};
+  } else if (m.kind() == RangeMap::Kind::kSpherical) {
+    constexpr double kDegrees = 180.0 / M_PI;
+    const SphericalProjection& p = m.sphericalProjection();
+    entry["format"] = "spherical-pfm";
+    entry["azimuth_start"] = p.azimuthStart * kDegrees;
+    entry["azimuth_step"] = p.azimuthStep * kDegrees;
+    if (p.rowElevations.empty()) {
+      entry["elevation_start"] = p.elevationStart * kDegrees;
+      entry["elevation_step"] = p.elevationStep * kDegrees;
+    } else {
+      std::vector<double> rows;
+      for (const double elevation : p.rowElevations) rows.push_back(elevation * kDegrees);
+      entry["row_elevations"] = rows;
+    }
+  } else {
+    const PinholeProjection& p = m.pinholeProjection();
+    entry["format"] = "depth-pfm";
+    entry["intrinsics"] = {{"fx", p.fx}, {"fy", p.fy}, {"cx", p.cx}, {"cy", p.cy}};
+  }
+}
+
+/// Writes range map `m`, the j-th, into `directory` (its readings as
+/// scan<j>.pfm, its colours as scan<j>.colour.png) and returns its manifest entry.
+json writeScan(OutputSet& outputs, const std::string& directory, const RangeMap& m, std::size_t j) {
+  if (m.hasRayDirections()) throw std::invalid_argument("writeScanSet: per-pixel rays cannot be written");
+  const std::string file = "scan" + std::to_string(j) + ".pfm";
+  DepthImage image;
+  image.width = m.width();
+  image.height = m.height();
+  image.depth.reserve(static_cast<std::size_t>(m.width()) * m.height());
+  for (int v = 0; v < m.height(); ++v)
+    for (int u = 0; u < m.width(); ++u) image.depth.push_back(m.reading(u, v));
+  writeDepthPfm(outputs, (fs::path(directory) / file).string(), image);
+  json entry{{"file", file}, {"pose", rowMajor(m.mapToWorld())}, {"sigma", m.sigma()}};
+  if (m.hasColours()) {
+    const std::string colourFile = "scan" + std::to_string(j) + ".colour.png";
+    writeColourPng(outputs, (fs::path(directory) / colourFile).string(), colourImageOf(m));
+    entry["colour"] = colourFile;
+  }
+  if (const DepthNoise* noise = m.depthNoise())
+    entry["sigma"] = {
+        {"minimum", noise->minimum}, {"per_metre", noise->perMetre}, {"per_square_metre", noise->perSquareMetre}};
+  writeProjection(m, entry);
+  if (m.missesAreEmpty()) {
+    entry["misses_are_empty"] = true;
+    entry["dropout_reach"] = m.dropoutReach();
+  }
+  return entry;
+}
+
+/// A manifest's "truth": the analytic shape the scans were made of.
+json truthEntry(const shapes::AnalyticShape& truth) {
+  const auto vec = [](const openvdb::Vec3d& v) { return json::array({v.x(), v.y(), v.z()}); };
+  switch (truth.kind) {
+    case shapes::AnalyticShape::Kind::kSphere:
+      return {{"shape", "sphere"}, {"centre", vec(truth.sphere.centre)}, {"radius", truth.sphere.radius}};
+    case shapes::AnalyticShape::Kind::kTorus:
+      return {{"shape", "torus"}, {"centre", vec(truth.torus.centre)}, {"major", truth.torus.major},
+              {"minor", truth.torus.minor}};
+    case shapes::AnalyticShape::Kind::kMug:
+      return {{"shape", "mug"},          {"centre", vec(truth.mug.centre)},
+              {"radius", truth.mug.radius}, {"height", truth.mug.height},
+              {"wall", truth.mug.wall},     {"handle_bend", truth.mug.handleBend},
+              {"handle_radius", truth.mug.handleRadius}};
+    case shapes::AnalyticShape::Kind::kRoom:
+      return {{"shape", "room"},
+              {"centre", vec(truth.room.centre)},
+              {"width", truth.room.size.x()},
+              {"depth", truth.room.size.y()},
+              {"height", truth.room.size.z()}};
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 std::string writeScanSet(OutputSet& outputs, const std::string& directory, const std::vector<RangeMap>& maps,
                          const std::optional<shapes::AnalyticShape>& truth) {
   std::error_code ec;
   fs::create_directories(directory, ec);
   if (ec) throw std::runtime_error("cannot create the folder '" + directory + "': " + ec.message());
-  const auto rowMajor = [](const openvdb::math::Mat4d& m) {
-    std::vector<double> v(16);
-    for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c) v[static_cast<std::size_t>(4 * r + c)] = m(c, r);  // OpenVDB's row vectors: the transpose
-    return v;
-  };
   json scans = json::array();
-  for (std::size_t j = 0; j < maps.size(); ++j) {
-    const RangeMap& m = maps[j];
-    if (m.hasRayDirections()) throw std::invalid_argument("writeScanSet: per-pixel rays cannot be written");
-    const std::string file = "scan" + std::to_string(j) + ".pfm";
-    DepthImage image;
-    image.width = m.width();
-    image.height = m.height();
-    image.depth.reserve(static_cast<std::size_t>(m.width()) * m.height());
-    for (int v = 0; v < m.height(); ++v)
-      for (int u = 0; u < m.width(); ++u) image.depth.push_back(m.reading(u, v));
-    writeDepthPfm(outputs, (fs::path(directory) / file).string(), image);
-    json entry{{"file", file}, {"pose", rowMajor(m.mapToWorld())}, {"sigma", m.sigma()}};
-    if (m.hasColours()) {
-      const std::string colourFile = "scan" + std::to_string(j) + ".colour.png";
-      writeColourPng(outputs, (fs::path(directory) / colourFile).string(), colourImageOf(m));
-      entry["colour"] = colourFile;
-    }
-    if (const DepthNoise* noise = m.depthNoise())
-      entry["sigma"] = {
-          {"minimum", noise->minimum}, {"per_metre", noise->perMetre}, {"per_square_metre", noise->perSquareMetre}};
-    if (m.kind() == RangeMap::Kind::kOrthographic) {
-      entry["format"] = "orthographic-pfm";
-      entry["pixel_size"] = m.orthographicProjection().pixelSize;
-      entry["origin"] = {m.orthographicProjection().origin.x(), m.orthographicProjection().origin.y()};
-    } else if (m.kind() == RangeMap::Kind::kSpherical) {
-      constexpr double kDegrees = 180.0 / M_PI;
-      const SphericalProjection& p = m.sphericalProjection();
-      entry["format"] = "spherical-pfm";
-      entry["azimuth_start"] = p.azimuthStart * kDegrees;
-      entry["azimuth_step"] = p.azimuthStep * kDegrees;
-      if (p.rowElevations.empty()) {
-        entry["elevation_start"] = p.elevationStart * kDegrees;
-        entry["elevation_step"] = p.elevationStep * kDegrees;
-      } else {
-        std::vector<double> rows;
-        for (const double elevation : p.rowElevations) rows.push_back(elevation * kDegrees);
-        entry["row_elevations"] = rows;
-      }
-    } else {
-      const PinholeProjection& p = m.pinholeProjection();
-      entry["format"] = "depth-pfm";
-      entry["intrinsics"] = {{"fx", p.fx}, {"fy", p.fy}, {"cx", p.cx}, {"cy", p.cy}};
-    }
-    if (m.missesAreEmpty()) {
-      entry["misses_are_empty"] = true;
-      entry["dropout_reach"] = m.dropoutReach();
-    }
-    scans.push_back(entry);
-  }
+  for (std::size_t j = 0; j < maps.size(); ++j) scans.push_back(writeScan(outputs, directory, maps[j], j));
   json root{{"scans", scans}};
   if (truth) {
-    const auto vec = [](const openvdb::Vec3d& v) { return json::array({v.x(), v.y(), v.z()}); };
-    switch (truth->kind) {
-      case shapes::AnalyticShape::Kind::kSphere:
-        root["truth"] = {{"shape", "sphere"}, {"centre", vec(truth->sphere.centre)}, {"radius", truth->sphere.radius}};
-        break;
-      case shapes::AnalyticShape::Kind::kTorus:
-        root["truth"] = {{"shape", "torus"}, {"centre", vec(truth->torus.centre)}, {"major", truth->torus.major},
-                         {"minor", truth->torus.minor}};
-        break;
-      case shapes::AnalyticShape::Kind::kMug:
-        root["truth"] = {{"shape", "mug"},          {"centre", vec(truth->mug.centre)},
-                         {"radius", truth->mug.radius}, {"height", truth->mug.height},
-                         {"wall", truth->mug.wall},     {"handle_bend", truth->mug.handleBend},
-                         {"handle_radius", truth->mug.handleRadius}};
-        break;
-      case shapes::AnalyticShape::Kind::kRoom:
-        root["truth"] = {{"shape", "room"},
-                         {"centre", vec(truth->room.centre)},
-                         {"width", truth->room.size.x()},
-                         {"depth", truth->room.size.y()},
-                         {"height", truth->room.size.z()}};
-        break;
-    }
+    const json shape = truthEntry(*truth);
+    if (!shape.is_null()) root["truth"] = shape;
   }
   const std::string manifest = (fs::path(directory) / "scans.json").string();
   outputs.add(manifest, [&](const std::string& temporary) {

@@ -2,6 +2,8 @@
 
 #include <levelfuse/io/StanfordScans.h>
 
+#include "FrameAlong.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -45,14 +47,8 @@ double estimateRangeNoise(const RangeGridScan& scan, const Vec3d& towardScanner)
   const double length = towardScanner.length();
   if (!(length > 0.0) || !std::isfinite(length)) return 0.0;
   // Coordinates with z along the line of sight, x and y across it.
-  const Vec3d zAxis = towardScanner / length;
-  const Vec3d helper = std::fabs(zAxis.x()) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
-  const Vec3d yAxis = zAxis.cross(helper).unit();
-  const Vec3d xAxis = yAxis.cross(zAxis);
-  const auto local = [&](int index) {
-    const Vec3d& p = scan.points[static_cast<std::size_t>(index)];
-    return Vec3d(p.dot(xAxis), p.dot(yAxis), p.dot(zAxis));
-  };
+  const FrameAlong axes(towardScanner);
+  const auto local = [&](int index) { return axes.local(scan.points[static_cast<std::size_t>(index)]); };
   std::vector<double> residuals;
   for (int row = 1; row + 1 < scan.rows; ++row)
     for (int col = 1; col + 1 < scan.cols; ++col) {

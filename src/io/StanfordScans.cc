@@ -7,6 +7,8 @@
 #include <levelfuse/io/TextRecords.h>
 #include <levelfuse/scan/DepthRaster.h>
 
+#include "FrameAlong.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -205,16 +207,13 @@ RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, c
   if (!(tl > 0.0) || !std::isfinite(tl)) throw InputError(scan.path, "the direction toward the scanner is zero");
   if (!(options.edgeExtension >= 0.0) || !(options.edgeExtension <= 8.0))
     throw InputError(scan.path, "the edge extension must be 0 to 8 pixels");
-  const Vec3d zAxis = -options.towardScanner / tl;
-  const Vec3d helper = std::fabs(zAxis.x()) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
-  const Vec3d yAxis = zAxis.cross(helper).unit();
-  const Vec3d xAxis = yAxis.cross(zAxis);
+  const FrameAlong axes(-options.towardScanner);
 
   std::vector<Vec3d> local(scan.points.size());
   double xmin = std::numeric_limits<double>::max(), ymin = xmin, xmax = -xmin, ymax = -xmin;
   for (std::size_t i = 0; i < scan.points.size(); ++i) {
     const Vec3d& p = scan.points[i];
-    local[i] = Vec3d(p.dot(xAxis), p.dot(yAxis), p.dot(zAxis));
+    local[i] = axes.local(p);
     xmin = std::min(xmin, local[i].x());
     xmax = std::max(xmax, local[i].x());
     ymin = std::min(ymin, local[i].y());
@@ -253,8 +252,8 @@ RangeMap rangeMapFromScan(const RangeGridScan& scan, const Mat4d& scanToWorld, c
     pixels[i] = Vec3d((local[i].x() - projection.origin.x()) / pixel, (local[i].y() - projection.origin.y()) / pixel,
                       local[i].z());
   std::vector<float> depth = rasteriseDepth(pixels, triangles, width, height, options.edgeExtension);
-  const Mat4d mapToScan(xAxis.x(), xAxis.y(), xAxis.z(), 0.0, yAxis.x(), yAxis.y(), yAxis.z(), 0.0, zAxis.x(),
-                        zAxis.y(), zAxis.z(), 0.0, 0.0, 0.0, 0.0, 1.0);
+  const Mat4d mapToScan(axes.x.x(), axes.x.y(), axes.x.z(), 0.0, axes.y.x(), axes.y.y(), axes.y.z(), 0.0, axes.z.x(),
+                        axes.z.y(), axes.z.z(), 0.0, 0.0, 0.0, 0.0, 1.0);
   double sigma = options.sigma;
   if (!(sigma > 0.0)) {
     sigma = estimateRangeNoise(scan, options.towardScanner);

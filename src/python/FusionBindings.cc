@@ -35,8 +35,7 @@ std::unique_ptr<PyFusion> makeFusion(double voxelSize, int levels, const py::han
   s.voxelSize = numberFrom(py::float_(voxelSize), "voxel_size", true);
   s.levels = levels;
   s.epsilon = epsilon.is_none() ? s.voxelSize : numberFrom(epsilon, "epsilon", true);
-  if (window == "binary") s.window = WindowKind::kBinary;
-  else if (window != "gaussian") throw py::value_error("window must be 'gaussian' or 'binary', not '" + window + "'");
+  s.window = windowKindFromName(window);
   s.grainSize = grainSize;
   return std::make_unique<PyFusion>(PyFusion{std::make_unique<Fusion>(s), std::nullopt});
 }

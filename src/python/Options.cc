@@ -37,12 +37,6 @@ void takeInto(py::dict& kwargs, const char* key, T& into) {
   if (auto v = take<T>(kwargs, key)) into = *v;
 }
 
-WindowKind windowFrom(const std::string& name) {
-  if (name == "gaussian") return WindowKind::kGaussian;
-  if (name == "binary") return WindowKind::kBinary;
-  throw py::value_error("window must be 'gaussian' or 'binary', not '" + name + "'");
-}
-
 DataTermSource dataTermFrom(const std::string& name) {
   if (name == "auto") return DataTermSource::kAuto;
   if (name == "per_map") return DataTermSource::kPerMap;
@@ -71,7 +65,7 @@ ReconstructionOptions takeReconstructionOptions(py::dict& kwargs) {
   o.levels = take<int>(kwargs, "levels");
   o.beta = take<double>(kwargs, "beta");
   o.epsilon = take<double>(kwargs, "epsilon");
-  if (auto w = take<std::string>(kwargs, "window")) o.window = windowFrom(*w);
+  if (auto w = take<std::string>(kwargs, "window")) o.window = windowKindFromName(*w);
   if (auto d = take<std::string>(kwargs, "data_term")) o.dataTerm = dataTermFrom(*d);
   takeInto(kwargs, "tolerance", o.tolerance);
   takeInto(kwargs, "patience", o.patience);

@@ -451,8 +451,7 @@ void Reconstructor::describeRun(openvdb::FloatGrid& out, int iterations) const {
   out.insertMeta("levelfuse_levels", openvdb::Int32Metadata(*mOptions.levels));
   out.insertMeta("levelfuse_beta", openvdb::DoubleMetadata(*mOptions.beta));
   out.insertMeta("levelfuse_epsilon", openvdb::DoubleMetadata(*mOptions.epsilon));
-  out.insertMeta("levelfuse_window",
-                 openvdb::StringMetadata(mOptions.window == WindowKind::kGaussian ? "gaussian" : "binary"));
+  out.insertMeta("levelfuse_window", openvdb::StringMetadata(windowKindName(mOptions.window)));
   out.insertMeta("levelfuse_data_term",
                  openvdb::StringMetadata(mOptions.dataTerm == DataTermSource::kGrids ? "grids" : "maps"));
   out.insertMeta("levelfuse_tolerance", openvdb::DoubleMetadata(mOptions.tolerance));

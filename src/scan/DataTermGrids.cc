@@ -16,33 +16,36 @@
 
 namespace levelfuse {
 
-namespace {
+namespace detail {
 
-using openvdb::Coord;
-using openvdb::Vec3d;
-using openvdb::Vec3f;
 using FloatLeaf = openvdb::FloatTree::LeafNodeType;
 using VectorLeaf = openvdb::Vec3fTree::LeafNodeType;
 using MaskLeaf = openvdb::Int32Tree::LeafNodeType;
-
-/// Room made for a cube's terms before they are counted: a quarter of its 64
-/// voxels (the 500 7-Scenes frames at 10 mm make one term for 4.4 voxels visited).
-constexpr std::size_t kTermsPerCube = 16;
 
 /// One range map's term at one voxel of a leaf.
 struct VoxelTerm {
   std::uint16_t offset;  ///< within the leaf
   std::uint8_t bin;
   float g, weight;
-  Vec3f gradient;  ///< weight * grad D, world
+  openvdb::Vec3f gradient;  ///< weight * grad D, world
 };
 
 /// One range map's sums over a leaf's terms, per bin: S_b, and the sums of
 /// the weights and of the windows.
 struct LeafSums {
-  std::array<Vec3f, kSightBins> sight;
+  std::array<openvdb::Vec3f, kSightBins> sight;
   std::array<openvdb::Vec2d, kSightBins> weightAndWindows;
 };
+
+/// One range map's terms at a batch of leaves, per leaf.
+struct BatchTerms {
+  explicit BatchTerms(std::size_t count) : terms(count), binsOfLeaf(count, 0), evaluations(count, 0), leafSums(count) {}
+  std::vector<std::vector<VoxelTerm>> terms;
+  std::vector<std::uint16_t> binsOfLeaf;  ///< bit b: a term of bin b
+  std::vector<std::size_t> evaluations;   ///< the voxels whose terms were evaluated
+  std::vector<LeafSums> leafSums;
+};
+static_assert(kSightBins <= 16, "a bit per bin");
 
 /// The leaves of one bin that a leaf's terms go into.
 struct BinLeaves {
@@ -54,6 +57,34 @@ struct BinLeaves {
   FloatLeaf* leafWindows = nullptr;
   openvdb::Index sightOffset = 0;
 };
+
+/// The leaves of the grids that a batch's terms go into, per leaf: those of
+/// each bin it has terms of (none of the others), and the bin mask's.
+struct BatchTargets {
+  explicit BatchTargets(std::size_t count) : bins(count), maskLeaves(count, nullptr) {}
+  std::vector<std::array<BinLeaves, kSightBins>> bins;
+  std::vector<MaskLeaf*> maskLeaves;
+};
+
+}  // namespace detail
+
+namespace {
+
+using openvdb::Coord;
+using openvdb::Vec3d;
+using openvdb::Vec3f;
+using detail::BatchTargets;
+using detail::BatchTerms;
+using detail::BinLeaves;
+using detail::FloatLeaf;
+using detail::LeafSums;
+using detail::MaskLeaf;
+using detail::VectorLeaf;
+using detail::VoxelTerm;
+
+/// Room made for a cube's terms before they are counted: a quarter of its 64
+/// voxels (the 500 7-Scenes frames at 10 mm make one term for 4.4 voxels visited).
+constexpr std::size_t kTermsPerCube = 16;
 
 template <typename GridT>
 typename GridT::Ptr emptyGrid(double voxelSize, const char* name) {
@@ -85,6 +116,114 @@ int commonBinOfLeaf(const RangeMap& map, const Vec3d& base, const Vec3d step[3])
 /// (arithmetic shifts: floor division, also of negative coordinates).
 Coord leafBlock(const Coord& ijk) {
   return Coord(ijk.x() >> FloatLeaf::LOG2DIM, ijk.y() >> FloatLeaf::LOG2DIM, ijk.z() >> FloatLeaf::LOG2DIM);
+}
+
+/// One range map's terms at the voxels of a leaf (Eqs. 17, 38) and their
+/// sums per bin, with what the map's leaves share worked out once.
+class LeafTermsOfMap {
+ public:
+  LeafTermsOfMap(const RangeMap& map, const detail::UsableSpans& spans, double voxelSize, const DataWindow& window,
+                 double positionVariance)
+      : mMap(map),
+        mSpans(spans),
+        mWindow(window),
+        mPositionVariance(positionVariance),
+        mReach(window.reach()),
+        mH(voxelSize),
+        mToMap(map.worldToMap()),
+        mToWorld(map.mapToWorld()),
+        mStep{mToMap.transform3x3(Vec3d(mH, 0, 0)), mToMap.transform3x3(Vec3d(0, mH, 0)),
+              mToMap.transform3x3(Vec3d(0, 0, mH))},
+        // Parallel rays: one line of sight, one bin.
+        mParallel(map.kind() == RangeMap::Kind::kOrthographic && !map.hasRayDirections()),
+        mParallelBin(sightBin(mToWorld.transform3x3(Vec3d(0, 0, 1)))) {}
+
+  /// The terms of leaf l of the batch (at `leaves[l]`) into `batch`; `s` is
+  /// scratch. Inlined into the loop over a task's leaves, as is the map's
+  /// interpolation into it: the hot loop of integration.
+#if defined(__GNUC__)
+  __attribute__((always_inline))
+#endif
+  void evaluate(const Coord* leaves, std::size_t l, RangeMap::LocalSample& s, BatchTerms& batch) const {
+    if (!detail::leafMayBeReached(mSpans, leaves[l], mH, mReach)) return;
+    const std::uint8_t cubes = detail::leafCubesMayBeReached(mSpans, leaves[l], mH, mReach);
+    if (cubes == 0) return;
+    const Vec3d base = mToMap.transform(leaves[l].asVec3d() * mH);
+    const int leafBin = mParallel ? mParallelBin : commonBinOfLeaf(mMap, base, mStep);
+    std::vector<VoxelTerm>& out = batch.terms[l];
+    out.reserve(kTermsPerCube * static_cast<std::size_t>(openvdb::util::CountOn(cubes)));
+    LeafSums& sums = batch.leafSums[l];
+    sums.sight.fill(Vec3f(0.0f));
+    sums.weightAndWindows.fill(openvdb::Vec2d(0.0));
+    std::uint16_t& binsOfLeaf = batch.binsOfLeaf[l];
+    std::size_t& evaluations = batch.evaluations[l];
+    for (int i = 0; i < kLeafNodeWidth; ++i)
+      for (int j = 0; j < kLeafNodeWidth; ++j) {
+        Vec3d q = base + mStep[0] * i + mStep[1] * j;
+        const int row = (i << 6) | (j << 3);
+        const int cubeRow = ((i >> 2) << 2) | ((j >> 2) << 1);
+        for (int k = 0; k < kLeafNodeWidth; ++k, q += mStep[2]) {
+          if (!(cubes & (1 << (cubeRow | (k >> 2))))) continue;
+          ++evaluations;
+          if (!mMap.sampleLocal(q, mReach, s)) continue;
+          const double w = mWindow(s.D);
+          if (w == 0.0) continue;
+          const double weight = detail::readingWeight(w, s, mPositionVariance);  // Eq. 38
+          const Vec3d sight = mToWorld.transform3x3(s.lineOfSight);
+          const int bin = leafBin >= 0 ? leafBin : sightBin(sight);
+          binsOfLeaf = static_cast<std::uint16_t>(binsOfLeaf | (1u << bin));
+          out.push_back(VoxelTerm{static_cast<std::uint16_t>(row + k), static_cast<std::uint8_t>(bin),
+                                  static_cast<float>(weight * s.D),  // Eq. 17
+                                  static_cast<float>(weight), Vec3f(mToWorld.transform3x3(s.gradD) * weight)});
+          sums.sight[bin] += Vec3f(sight * weight);
+          sums.weightAndWindows[bin] += openvdb::Vec2d(static_cast<float>(weight), static_cast<float>(w));
+        }
+      }
+  }
+
+ private:
+  const RangeMap& mMap;
+  const detail::UsableSpans& mSpans;
+  const DataWindow& mWindow;
+  const double mPositionVariance, mReach, mH;
+  const openvdb::math::Mat4d& mToMap;
+  const openvdb::math::Mat4d& mToWorld;
+  const Vec3d mStep[3];
+  const bool mParallel;
+  const int mParallelBin;
+};
+
+/// Adds each term of the batch to its voxel in its bin's grids and sets the
+/// bin's bit in the mask, each leaf by one task: deterministic.
+void addVoxelTerms(const BatchTerms& batch, const BatchTargets& targets, std::size_t grainSize) {
+  parallelFor(batch.terms.size(), grainSize, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t l = begin; l < end; ++l) {
+      for (const VoxelTerm& t : batch.terms[l]) {
+        const BinLeaves& target = targets.bins[l][t.bin];
+        const openvdb::Index o = t.offset;
+        target.g->setValueOn(o, target.g->getValue(o) + t.g);
+        target.weight->setValueOn(o, target.weight->getValue(o) + t.weight);
+        target.gradient->setValueOn(o, target.gradient->getValue(o) + t.gradient);
+        targets.maskLeaves[l]->setValueOn(o, targets.maskLeaves[l]->getValue(o) | (1 << t.bin));
+      }
+    }
+  });
+}
+
+/// Adds each leaf's sums per bin (S_b and the sums of the weights and of the
+/// windows) to the voxel of the sight grids that stands for the leaf,
+/// serially: many leaves share a leaf of those grids.
+void addLeafSums(const BatchTerms& batch, const BatchTargets& targets) {
+  for (std::size_t l = 0; l < batch.terms.size(); ++l)
+    for (std::size_t b = 0; b < kSightBins; ++b) {
+      const BinLeaves& target = targets.bins[l][b];
+      if (!target.sight) continue;
+      const LeafSums& sums = batch.leafSums[l];
+      const openvdb::Index o = target.sightOffset;
+      target.sight->setValueOn(o, target.sight->getValue(o) + sums.sight[b]);
+      target.leafWeight->setValueOn(o, static_cast<float>(target.leafWeight->getValue(o) + sums.weightAndWindows[b][0]));
+      target.leafWindows->setValueOn(o, static_cast<float>(target.leafWindows->getValue(o) + sums.weightAndWindows[b][1]));
+    }
 }
 
 }  // namespace
@@ -129,111 +268,44 @@ void DataTermGrids::integrate(const RangeMap& map) {
 
 void DataTermGrids::integrateLeaves(const RangeMap& map, const detail::UsableSpans& spans, const Coord* leaves,
                                     std::size_t count) {
-  const double reach = mWindow.reach();
-  const double h = mVoxelSize;
-  const openvdb::math::Mat4d& toMap = map.worldToMap();
-  const openvdb::math::Mat4d& toWorld = map.mapToWorld();
-  const Vec3d step[3] = {toMap.transform3x3(Vec3d(h, 0, 0)), toMap.transform3x3(Vec3d(0, h, 0)),
-                         toMap.transform3x3(Vec3d(0, 0, h))};
-  // Parallel rays: one line of sight, one bin.
-  const bool parallel = map.kind() == RangeMap::Kind::kOrthographic && !map.hasRayDirections();
-  const int parallelBin = sightBin(toWorld.transform3x3(Vec3d(0, 0, 1)));
-
-  // 1. Per leaf, the map's terms at its voxels (Eqs. 17, 38) and their sums per bin.
-  std::vector<std::vector<VoxelTerm>> terms(count);
-  std::vector<std::uint16_t> binsOfLeaf(count, 0);  // bit b: a term of bin b
-  static_assert(kSightBins <= 16, "a bit per bin");
-  std::vector<std::size_t> evaluations(count, 0);
-  std::vector<LeafSums> leafSums(count);
+  // 1. Per leaf, the map's terms at its voxels and their sums per bin.
+  const LeafTermsOfMap termsOfMap(map, spans, mVoxelSize, mWindow, mPositionVariance);
+  BatchTerms batch(count);
   parallelFor(count, mGrainSize, [&](std::size_t begin, std::size_t end) {
     RangeMap::LocalSample s;
-    for (std::size_t l = begin; l < end; ++l) {
-      if (!detail::leafMayBeReached(spans, leaves[l], h, reach)) continue;
-      const std::uint8_t cubes = detail::leafCubesMayBeReached(spans, leaves[l], h, reach);
-      if (cubes == 0) continue;
-      const Vec3d base = toMap.transform(leaves[l].asVec3d() * h);
-      const int leafBin = parallel ? parallelBin : commonBinOfLeaf(map, base, step);
-      std::vector<VoxelTerm>& out = terms[l];
-      out.reserve(kTermsPerCube * static_cast<std::size_t>(openvdb::util::CountOn(cubes)));
-      LeafSums& sums = leafSums[l];
-      sums.sight.fill(Vec3f(0.0f));
-      sums.weightAndWindows.fill(openvdb::Vec2d(0.0));
-      for (int i = 0; i < kLeafNodeWidth; ++i)
-        for (int j = 0; j < kLeafNodeWidth; ++j) {
-          Vec3d q = base + step[0] * i + step[1] * j;
-          const int row = (i << 6) | (j << 3);
-          const int cubeRow = ((i >> 2) << 2) | ((j >> 2) << 1);
-          for (int k = 0; k < kLeafNodeWidth; ++k, q += step[2]) {
-            if (!(cubes & (1 << (cubeRow | (k >> 2))))) continue;
-            ++evaluations[l];
-            if (!map.sampleLocal(q, reach, s)) continue;
-            const double w = mWindow(s.D);
-            if (w == 0.0) continue;
-            const double weight = detail::readingWeight(w, s, mPositionVariance);  // Eq. 38
-            const Vec3d sight = toWorld.transform3x3(s.lineOfSight);
-            const int bin = leafBin >= 0 ? leafBin : sightBin(sight);
-            binsOfLeaf[l] = static_cast<std::uint16_t>(binsOfLeaf[l] | (1u << bin));
-            out.push_back(VoxelTerm{static_cast<std::uint16_t>(row + k), static_cast<std::uint8_t>(bin),
-                                    static_cast<float>(weight * s.D),  // Eq. 17
-                                    static_cast<float>(weight), Vec3f(toWorld.transform3x3(s.gradD) * weight)});
-            sums.sight[bin] += Vec3f(sight * weight);
-            sums.weightAndWindows[bin] += openvdb::Vec2d(static_cast<float>(weight), static_cast<float>(w));
-          }
-        }
-    }
+    for (std::size_t l = begin; l < end; ++l) termsOfMap.evaluate(leaves, l, s, batch);
   });
-
   // 2. The leaves that receive terms, created serially (tree topology).
-  std::vector<std::array<BinLeaves, kSightBins>> targets(count);
-  std::vector<MaskLeaf*> maskLeaves(count, nullptr);
-  {
-    openvdb::tree::ValueAccessor<openvdb::Int32Tree> mask(mBinMask->tree());
-    for (std::size_t l = 0; l < count; ++l) {
-      if (terms[l].empty()) continue;
-      maskLeaves[l] = mask.touchLeaf(leaves[l]);
-      for (std::size_t b = 0; b < kSightBins; ++b) {
-        if (!(binsOfLeaf[l] & (1u << b))) continue;
-        BinLeaves& target = targets[l][b];
-        Bin& bin = mBins[b];
-        target.g = bin.g->tree().touchLeaf(leaves[l]);
-        target.weight = bin.weight->tree().touchLeaf(leaves[l]);
-        target.gradient = bin.gradient->tree().touchLeaf(leaves[l]);
-        const Coord block = leafBlock(leaves[l]);
-        target.sight = bin.sight->tree().touchLeaf(block);
-        target.leafWeight = bin.leafWeight->tree().touchLeaf(block);
-        target.leafWindows = bin.leafWindows->tree().touchLeaf(block);
-        target.sightOffset = VectorLeaf::coordToOffset(block);
-      }
+  const BatchTargets targets = touchTargetLeaves(batch, leaves);
+  // 3. The terms added in, each leaf by one task: deterministic.
+  addVoxelTerms(batch, targets, mGrainSize);
+  // 4. S_b of each leaf, serially: many leaves share a leaf of the sight grids.
+  addLeafSums(batch, targets);
+
+  for (std::size_t e : batch.evaluations) mEvaluations += e;
+}
+
+detail::BatchTargets DataTermGrids::touchTargetLeaves(const detail::BatchTerms& batch, const Coord* leaves) {
+  BatchTargets targets(batch.terms.size());
+  openvdb::tree::ValueAccessor<openvdb::Int32Tree> mask(mBinMask->tree());
+  for (std::size_t l = 0; l < batch.terms.size(); ++l) {
+    if (batch.terms[l].empty()) continue;
+    targets.maskLeaves[l] = mask.touchLeaf(leaves[l]);
+    for (std::size_t b = 0; b < kSightBins; ++b) {
+      if (!(batch.binsOfLeaf[l] & (1u << b))) continue;
+      BinLeaves& target = targets.bins[l][b];
+      Bin& bin = mBins[b];
+      target.g = bin.g->tree().touchLeaf(leaves[l]);
+      target.weight = bin.weight->tree().touchLeaf(leaves[l]);
+      target.gradient = bin.gradient->tree().touchLeaf(leaves[l]);
+      const Coord block = leafBlock(leaves[l]);
+      target.sight = bin.sight->tree().touchLeaf(block);
+      target.leafWeight = bin.leafWeight->tree().touchLeaf(block);
+      target.leafWindows = bin.leafWindows->tree().touchLeaf(block);
+      target.sightOffset = VectorLeaf::coordToOffset(block);
     }
   }
-
-  // 3. The terms added in, each leaf by one task: deterministic.
-  parallelFor(count, mGrainSize, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t l = begin; l < end; ++l) {
-      for (const VoxelTerm& t : terms[l]) {
-        BinLeaves& target = targets[l][t.bin];
-        const openvdb::Index o = t.offset;
-        target.g->setValueOn(o, target.g->getValue(o) + t.g);
-        target.weight->setValueOn(o, target.weight->getValue(o) + t.weight);
-        target.gradient->setValueOn(o, target.gradient->getValue(o) + t.gradient);
-        maskLeaves[l]->setValueOn(o, maskLeaves[l]->getValue(o) | (1 << t.bin));
-      }
-    }
-  });
-
-  // 4. S_b of each leaf, serially: many leaves share a leaf of the sight grids.
-  for (std::size_t l = 0; l < count; ++l)
-    for (std::size_t b = 0; b < kSightBins; ++b) {
-      const BinLeaves& target = targets[l][b];
-      if (!target.sight) continue;
-      const LeafSums& sums = leafSums[l];
-      const openvdb::Index o = target.sightOffset;
-      target.sight->setValueOn(o, target.sight->getValue(o) + sums.sight[b]);
-      target.leafWeight->setValueOn(o, static_cast<float>(target.leafWeight->getValue(o) + sums.weightAndWindows[b][0]));
-      target.leafWindows->setValueOn(o, static_cast<float>(target.leafWindows->getValue(o) + sums.weightAndWindows[b][1]));
-    }
-
-  for (std::size_t e : evaluations) mEvaluations += e;
+  return targets;
 }
 
 namespace {

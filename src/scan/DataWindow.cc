@@ -7,6 +7,23 @@
 
 namespace levelfuse {
 
+const std::vector<std::string>& windowKindNames() {
+  static const std::vector<std::string> names{"gaussian", "binary"};
+  return names;
+}
+
+const std::string& windowKindName(WindowKind kind) { return windowKindNames()[static_cast<std::size_t>(kind)]; }
+
+WindowKind windowKindFromName(const std::string& name) {
+  const std::vector<std::string>& names = windowKindNames();
+  std::string accepted;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (name == names[k]) return static_cast<WindowKind>(k);
+    accepted += (k == 0 ? "'" : k + 1 == names.size() ? " or '" : ", '") + names[k] + "'";
+  }
+  throw std::invalid_argument("window must be " + accepted + ", not '" + name + "'");
+}
+
 DataWindow::DataWindow(WindowKind kind, double epsilon, double reach) : mKind(kind), mEpsilon(epsilon), mReach(reach) {
   if (!(epsilon > 0.0) || !std::isfinite(epsilon))
     throw std::invalid_argument("the window width epsilon must be positive and finite");

@@ -191,7 +191,7 @@ CubeFootprint cubeFootprint(const RangeMap& m, const Coord& origin, double voxel
     const Vec3d q = base + toMap.transform3x3(Vec3d((c & 1) * span, ((c >> 1) & 1) * span, (c >> 2) * span));
     f.z0 = std::min(f.z0, q.z());
     f.z1 = std::max(f.z1, q.z());
-    if (m.kind() == RangeMap::Kind::kPinhole && !(q.z() > 0.0)) continue;
+    if (!m.canProject(q)) continue;  // behind the camera (a station's were answered above)
     ++f.inFront;
     const openvdb::math::Vec2d uv = m.project(q);
     f.u0 = std::min(f.u0, uv.x());

@@ -401,9 +401,7 @@ bool RangeMap::extendEdge(int i, int j, double& fu, double& fv, double& r, doubl
 }
 
 bool RangeMap::colourAt(const openvdb::Vec3d& p, openvdb::Vec3f& rgb) const {
-  if (mColours.empty()) return false;
-  if (mKind == Kind::kPinhole && !(p.z() > 0.0)) return false;
-  if (mKind == Kind::kSpherical && !(p.x() * p.x() + p.y() * p.y() > 0.0)) return false;
+  if (mColours.empty() || !canProject(p)) return false;
   const openvdb::math::Vec2d uv = project(p);
   double r, ru, rv, fu, fv;
   int i, j;
@@ -489,8 +487,7 @@ void RangeMap::setMissesAreEmpty(bool empty, int dropoutReach) {
 
 RangeMap::Sight RangeMap::sight(const Vec3d& x, double margin) const {
   const Vec3d p = mWorldToMap.transform(x);
-  if (mKind == Kind::kPinhole && !(p.z() > 0.0)) return Sight::kOutside;
-  if (mKind == Kind::kSpherical && !(p.x() * p.x() + p.y() * p.y() > 0.0)) return Sight::kOutside;
+  if (!canProject(p)) return Sight::kOutside;
   const openvdb::math::Vec2d uv = project(p);
   return sightAtPixel(uv.x(), uv.y(), readingCoordinate(p), margin);
 }
@@ -528,7 +525,7 @@ bool RangeMap::mayBeSeenIn(const openvdb::BBoxd& box) const {
     const Vec3d x((corner & 1) ? box.max().x() : box.min().x(), (corner & 2) ? box.max().y() : box.min().y(),
                   (corner & 4) ? box.max().z() : box.min().z());
     const Vec3d p = mWorldToMap.transform(x);
-    if (mKind == Kind::kPinhole && !(p.z() > 0.0)) continue;
+    if (!canProject(p)) continue;  // behind the camera (a station's were answered above)
     ++inFront;
     const openvdb::math::Vec2d uv = project(p);
     u0 = std::min(u0, uv.x());

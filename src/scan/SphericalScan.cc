@@ -98,73 +98,94 @@ std::vector<BinnedPoint> directionsOf(const std::vector<Vec3d>& points) {
   return directions;
 }
 
-BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>& colours, AngularSteps steps,
-                      const std::string& name) {
-  const std::string who = "spherical scan '" + name + "'";
+/// Refuses angular steps that are not positive and less than half a turn,
+/// and colours that are not one per point.
+void checkBinning(const std::vector<Vec3d>& points, const std::vector<Rgb8>& colours, const AngularSteps& steps,
+                  const std::string& who) {
   if (!(steps.azimuth > 0.0) || !(steps.elevation > 0.0) || !std::isfinite(steps.azimuth) ||
       !std::isfinite(steps.elevation) || steps.azimuth > M_PI || steps.elevation > M_PI)
     throw std::invalid_argument(who + ": the angular steps must be positive and less than half a turn");
   if (!colours.empty() && colours.size() != points.size())
     throw std::invalid_argument(who + ": " + std::to_string(colours.size()) + " colours for " +
                                 std::to_string(points.size()) + " points");
-  const std::vector<BinnedPoint> directions = directionsOf(points);
-  if (directions.empty()) throw std::invalid_argument(who + ": no point away from the scanner and its poles");
-  // A scanner turns a whole number of columns: a step within a twentieth of
-  // one of that is taken to be it, so that a whole turn closes.
-  const double perTurn = kTurn / steps.azimuth;
-  const long wholeColumns = std::lround(perTurn);
-  const bool wholeTurn = std::fabs(perTurn - static_cast<double>(wholeColumns)) < 0.05;
-  if (wholeTurn) steps.azimuth = kTurn / static_cast<double>(wholeColumns);
-  // Rows evenly spaced on the points' phase, or the uneven rows given (each
-  // point in the row nearest its elevation).
-  const bool unevenRows = !steps.rowElevations.empty();
-  if (unevenRows) requireRowElevations(steps.rowElevations, who);
-  SphericalProjection rowsGiven;
-  rowsGiven.rowElevations = steps.rowElevations;
-  const double elevationPhase =
-      unevenRows ? 0.0 : phaseOf(directions, [](const BinnedPoint& d) { return d.elevation; }, steps.elevation);
-  const auto nearest = [](double x) { return static_cast<long>(std::floor(x + 0.5)); };
-  // A point's fractional row, its row, and how far it lies from that row's centre.
-  const auto rowPositionOf = [&](const BinnedPoint& d) {
-    return unevenRows ? rowOfElevation(rowsGiven, d.elevation) : (d.elevation - elevationPhase) / steps.elevation;
-  };
-  const auto rowOf = [&](const BinnedPoint& d) { return nearest(rowPositionOf(d)); };
-  const auto offsetOf = [&](double position) {
-    return static_cast<float>(position - static_cast<double>(nearest(position)));
-  };
+}
 
-  // The sweep's columns, counted from its first by each point's azimuth from
-  // the cut: the turn is cut in the sweep's widest gap, so that a step which
-  // does not divide the turn misplaces no column across it; a whole turn
-  // every column of which is filled is closed.
-  const TurnCut turn = turnCutOf(directions, steps.azimuth, wholeTurn);
-  const auto turnOf = [&](const BinnedPoint& d) { return turnFrom(d.azimuth, turn.cut); };
-  const double turnPhase = phaseOf(directions, turnOf, steps.azimuth);
-  double firstTurn = kTurn;
-  long lowestRow = std::numeric_limits<long>::max(), highestRow = std::numeric_limits<long>::min();
-  for (const BinnedPoint& d : directions) {
-    firstTurn = std::min(firstTurn, turnOf(d));
-    lowestRow = std::min(lowestRow, rowOf(d));
-    highestRow = std::max(highestRow, rowOf(d));
+/// The whole number nearest to x (halves up).
+long nearestWhole(double x) { return static_cast<long>(std::floor(x + 0.5)); }
+
+/// How far a fractional row or column lies from the centre of its pixel.
+float offsetFromCentre(double position) {
+  return static_cast<float>(position - static_cast<double>(nearestWhole(position)));
+}
+
+/// The rows of a sweep's angular grid: evenly spaced on the points' phase, or
+/// the uneven rows given (each point in the row nearest its elevation), from
+/// the lowest the points fill (the first given) to the highest (the last).
+struct SweepRows {
+  SweepRows(const std::vector<BinnedPoint>& directions, const AngularSteps& steps, const std::string& who)
+      : uneven(!steps.rowElevations.empty()), step(steps.elevation) {
+    if (uneven) requireRowElevations(steps.rowElevations, who);
+    given.rowElevations = steps.rowElevations;
+    phase = uneven ? 0.0 : phaseOf(directions, [](const BinnedPoint& d) { return d.elevation; }, step);
+    if (uneven) {  // the rows given, whichever the points fill
+      lowest = 0;
+      highest = static_cast<long>(steps.rowElevations.size()) - 1;
+      return;
+    }
+    for (const BinnedPoint& d : directions) {
+      lowest = std::min(lowest, row(d));
+      highest = std::max(highest, row(d));
+    }
   }
-  if (unevenRows) {  // the rows given, whichever the points fill
-    lowestRow = 0;
-    highestRow = static_cast<long>(steps.rowElevations.size()) - 1;
+  /// A point's fractional row (the lowest's counted too), and its row.
+  double position(const BinnedPoint& d) const {
+    return uneven ? rowOfElevation(given, d.elevation) : (d.elevation - phase) / step;
   }
-  // The first column on the points' phase, at most half a step from the first point.
-  const double startTurn =
-      turnPhase + steps.azimuth * static_cast<double>(nearest((firstTurn - turnPhase) / steps.azimuth));
-  // A point's fractional column from the first, and its column.
-  const auto columnPositionOf = [&](const BinnedPoint& d) { return (turnOf(d) - startTurn) / steps.azimuth; };
-  const auto columnOf = [&](const BinnedPoint& d) {
-    const long u = nearest(columnPositionOf(d));
+  long row(const BinnedPoint& d) const { return nearestWhole(position(d)); }
+
+  bool uneven;
+  SphericalProjection given;  ///< the uneven rows' elevations
+  double step, phase = 0.0;
+  long lowest = std::numeric_limits<long>::max(), highest = std::numeric_limits<long>::min();
+};
+
+/// The columns of a sweep's angular grid, counted from its first by each
+/// point's azimuth from the cut: the turn is cut in the sweep's widest gap, so
+/// that a step which does not divide the turn misplaces no column across it;
+/// a whole turn every column of which is filled is closed.
+struct SweepColumns {
+  SweepColumns(const std::vector<BinnedPoint>& directions, double azimuthStep, bool wholeTurn, long columnsPerTurn)
+      : turn(turnCutOf(directions, azimuthStep, wholeTurn)), step(azimuthStep), wholeColumns(columnsPerTurn) {
+    const double turnPhase = phaseOf(directions, [&](const BinnedPoint& d) { return turnOf(d); }, step);
+    double firstTurn = kTurn;
+    for (const BinnedPoint& d : directions) firstTurn = std::min(firstTurn, turnOf(d));
+    // The first column on the points' phase, at most half a step from the first point.
+    start = turnPhase + step * static_cast<double>(nearestWhole((firstTurn - turnPhase) / step));
+    for (const BinnedPoint& d : directions) last = std::max(last, column(d));
+  }
+  /// A point's azimuth from the cut, its fractional column from the first, and its column.
+  double turnOf(const BinnedPoint& d) const { return turnFrom(d.azimuth, turn.cut); }
+  double position(const BinnedPoint& d) const { return (turnOf(d) - start) / step; }
+  long column(const BinnedPoint& d) const {
+    const long u = nearestWhole(position(d));
     return turn.closed ? ((u % wholeColumns) + wholeColumns) % wholeColumns : std::max(0L, u);
-  };
-  long lastColumn = 0;
-  for (const BinnedPoint& d : directions) lastColumn = std::max(lastColumn, columnOf(d));
+  }
+  /// Columns in the grid: a closed turn's whole number, and the first again.
+  long width() const { return turn.closed ? wholeColumns + 1 : last + 1; }
 
+  TurnCut turn;
+  double step;
+  long wholeColumns;
+  double start = 0.0;
+  long last = 0;
+};
+
+/// A scan of the grid of `rows` and `columns`, with no reading yet; refuses a
+/// grid narrower than 2 pixels either way, or too large.
+BinnedScan emptyScanOf(const SweepRows& rows, const SweepColumns& columns, const AngularSteps& steps, bool coloured,
+                       const std::string& who) {
   BinnedScan scan;
-  const long width = turn.closed ? wholeColumns + 1 : lastColumn + 1, height = highestRow - lowestRow + 1;
+  const long width = columns.width(), height = rows.highest - rows.lowest + 1;
   if (width < 2 || height < 2)
     throw std::invalid_argument(who + ": its points span " + std::to_string(width) + " column(s) and " +
                                 std::to_string(height) +
@@ -175,28 +196,53 @@ BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>&
                                 std::to_string(height) + " pixels is too large (are the angular steps the scanner's?)");
   scan.width = static_cast<int>(width);
   scan.height = static_cast<int>(height);
-  scan.grid.azimuthStart = turn.cut + startTurn;
+  scan.grid.azimuthStart = columns.turn.cut + columns.start;
   scan.grid.azimuthStep = steps.azimuth;
-  scan.grid.elevationStart = elevationPhase + static_cast<double>(lowestRow) * steps.elevation;
+  scan.grid.elevationStart = rows.phase + static_cast<double>(rows.lowest) * steps.elevation;
   scan.grid.elevationStep = steps.elevation;
   scan.grid.rowElevations = steps.rowElevations;  // RangeMap::spherical takes the start and step from them
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   scan.ranges.assign(pixels, std::numeric_limits<float>::quiet_NaN());
-  if (!colours.empty()) scan.colours.assign(pixels, Rgb8{0, 0, 0});
+  if (coloured) scan.colours.assign(pixels, Rgb8{0, 0, 0});
   scan.columnOffsets.assign(pixels, 0.0f);
   scan.rowOffsets.assign(pixels, 0.0f);
-  scan.closedTurn = turn.closed;
+  scan.closedTurn = columns.turn.closed;
+  return scan;
+}
+
+/// Each point into its pixel of `scan`, the nearest point of a pixel its reading.
+void binPoints(const std::vector<BinnedPoint>& directions, const std::vector<Rgb8>& colours, const SweepRows& rows,
+               const SweepColumns& columns, BinnedScan& scan) {
+  const long width = scan.width, height = scan.height;
   for (const BinnedPoint& d : directions) {
-    const long u = columnOf(d);
-    const long v = rowOf(d) - lowestRow;
+    const long u = columns.column(d);
+    const long v = rows.row(d) - rows.lowest;
     if (v < 0 || v >= height) continue;  // beyond the uneven rows given
     const std::size_t at = static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u);
     if (scan.ranges[at] <= d.range) continue;  // the nearest point of a pixel
     scan.ranges[at] = d.range;
-    scan.columnOffsets[at] = offsetOf(columnPositionOf(d));
-    scan.rowOffsets[at] = offsetOf(rowPositionOf(d));
+    scan.columnOffsets[at] = offsetFromCentre(columns.position(d));
+    scan.rowOffsets[at] = offsetFromCentre(rows.position(d));
     if (!colours.empty()) scan.colours[at] = colours[d.point];
   }
+}
+
+BinnedScan binnedScan(const std::vector<Vec3d>& points, const std::vector<Rgb8>& colours, AngularSteps steps,
+                      const std::string& name) {
+  const std::string who = "spherical scan '" + name + "'";
+  checkBinning(points, colours, steps, who);
+  const std::vector<BinnedPoint> directions = directionsOf(points);
+  if (directions.empty()) throw std::invalid_argument(who + ": no point away from the scanner and its poles");
+  // A scanner turns a whole number of columns: a step within a twentieth of
+  // one of that is taken to be it, so that a whole turn closes.
+  const double perTurn = kTurn / steps.azimuth;
+  const long wholeColumns = std::lround(perTurn);
+  const bool wholeTurn = std::fabs(perTurn - static_cast<double>(wholeColumns)) < 0.05;
+  if (wholeTurn) steps.azimuth = kTurn / static_cast<double>(wholeColumns);
+  const SweepRows rows(directions, steps, who);
+  const SweepColumns columns(directions, steps.azimuth, wholeTurn, wholeColumns);
+  BinnedScan scan = emptyScanOf(rows, columns, steps, !colours.empty(), who);
+  binPoints(directions, colours, rows, columns, scan);
   centreReadingsOnPixels(scan);
   closeTheTurn(scan);
   return scan;

@@ -554,12 +554,8 @@ int runReconstruct(ReconstructSettings s) {
   return kExitSuccess;
 }
 
-}  // namespace
-
-Command addReconstructCommand(CLI::App& app) {
-  auto s = std::make_shared<ReconstructSettings>();
-  CLI::App* cmd = app.add_subcommand(
-      "reconstruct", "Reconstruct a surface from registered range scans (the MAP level-set method of Whitaker 1998)");
+/// reconstruct's inputs and outputs.
+void addReconstructInputsAndOutputs(CLI::App* cmd, const std::shared_ptr<ReconstructSettings>& s) {
   cmd->add_option("inputs", s->inputs,
                   "Scans: a Stanford .conf file, a PTX or E57 file, a JSON manifest, or a folder of depth frames (7-Scenes "
                   "or TUM RGB-D layout)")
@@ -572,6 +568,10 @@ Command addReconstructCommand(CLI::App& app) {
                 "Under mpirun, each rank writes its own slab of the level set, with its weight grid, to -o's name "
                 "with .<rank>-of-<ranks> before .vdb, and no rank holds the whole: the pieces' CSG union is the level "
                 "set (no --mesh or --preview, which need it whole)");
+}
+
+/// The options of the method: its grids, its prior, its window and when it stops.
+void addReconstructMethodOptions(CLI::App* cmd, const std::shared_ptr<ReconstructSettings>& s) {
   ReconstructionOptions& o = s->options;
   cmd->add_option_function<double>("--voxel-size", [s](double v) { s->options.voxelSize = v; },
                                    "Finest voxel size, world units (default: the scans' ray spacing)")
@@ -587,9 +587,9 @@ Command addReconstructCommand(CLI::App& app) {
                                    "Window width of a reading, world units (default: sigma; at least a voxel)")
       ->check(numberIn(0.0, 1e6, true));
   cmd->add_option_function<std::string>(
-         "--window", [s](const std::string& w) { s->options.window = w == "binary" ? WindowKind::kBinary : WindowKind::kGaussian; },
+         "--window", [s](const std::string& w) { s->options.window = windowKindFromName(w); },
          "Window of a reading: gaussian (default) or binary")
-      ->check(CLI::IsMember({"gaussian", "binary"}));
+      ->check(CLI::IsMember(windowKindNames()));
   cmd->add_option("--tolerance", o.tolerance, "A grid has converged below this rms speed (voxels per unit time)")
       ->check(numberIn(0.0, 1e3, true))
       ->capture_default_str();
@@ -598,6 +598,10 @@ Command addReconstructCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--name", o.name, "Name of the output grid")->capture_default_str();
   cmd->add_flag("--linear", s->linear, "Only the linear solution (zero set of g, VRIP-style fusion), no evolution");
+}
+
+/// The options of reading the scans.
+void addReconstructScanOptions(CLI::App* cmd, const std::shared_ptr<ReconstructSettings>& s) {
   cmd->add_option("--toward-scanner", s->towardScanner,
                   "Stanford scans: direction toward the scanner in the scan frame, x,y,z (default 0,0,1)")
       ->check(threeNumbers());
@@ -611,6 +615,10 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("--frame-stride", s->frameStride, "Depth frames: use every n-th frame")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
+}
+
+/// The options of the preview, the mesh and the run: threads, memory and what is printed.
+void addReconstructRunOptions(CLI::App* cmd, const std::shared_ptr<ReconstructSettings>& s) {
   cmd->add_option("--view", s->view,
                   "Preview: direction from the surface toward the camera, x,y,z (default: for scenes, the "
                   "first frame's camera, inside the scene)")
@@ -626,6 +634,18 @@ Command addReconstructCommand(CLI::App& app) {
       ->check(numberIn(0.0, 1e6, true));
   cmd->add_flag("--json", s->json, "Print the summary as JSON (no progress line)");
   cmd->add_flag("-q,--quiet", s->quiet, "Print nothing but errors (and skip measuring the fit to the scans, which only the summary shows)");
+}
+
+}  // namespace
+
+Command addReconstructCommand(CLI::App& app) {
+  auto s = std::make_shared<ReconstructSettings>();
+  CLI::App* cmd = app.add_subcommand(
+      "reconstruct", "Reconstruct a surface from registered range scans (the MAP level-set method of Whitaker 1998)");
+  addReconstructInputsAndOutputs(cmd, s);
+  addReconstructMethodOptions(cmd, s);
+  addReconstructScanOptions(cmd, s);
+  addReconstructRunOptions(cmd, s);
   cmd->footer(
       "Examples:\n"
       "  levelfuse reconstruct bunny/bun.conf -o bunny.vdb --mesh bunny.ply --preview bunny.png\n"

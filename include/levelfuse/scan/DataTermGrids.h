@@ -56,6 +56,8 @@ namespace levelfuse {
 
 namespace detail {
 class UsableSpans;
+struct BatchTerms;    // DataTermGrids.cc
+struct BatchTargets;  // DataTermGrids.cc
 }  // namespace detail
 
 /// The sums of a data term at a point over the readings whose windows reach
@@ -140,6 +142,9 @@ class DataTermGrids {
   /// their order (`spans`: the map's usable readings).
   void integrateLeaves(const RangeMap& map, const detail::UsableSpans& spans, const openvdb::Coord* leaves,
                        std::size_t count);
+  /// The leaves of the grids that the terms of `batch`, one map's at the leaf
+  /// nodes [leaves, leaves + count), go into: made, serially (tree topology).
+  detail::BatchTargets touchTargetLeaves(const detail::BatchTerms& batch, const openvdb::Coord* leaves);
 
   std::array<Bin, kSightBins> mBins;
   openvdb::Int32Grid::Ptr mBinMask;  ///< per voxel, bit b set where bin b holds terms

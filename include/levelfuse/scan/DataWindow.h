@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace levelfuse {
@@ -11,6 +12,15 @@ enum class WindowKind {
   kGaussian,  ///< exp(-D^2 / (2 eps^2)), as in the paper's results, cut at `reach` eps
   kBinary,    ///< 1 for -eps <= D < eps: a reading reaches eps in front of and behind itself
 };
+
+/// The names of the window kinds, in the order of WindowKind: "gaussian", "binary".
+const std::vector<std::string>& windowKindNames();
+/// A window kind's name (windowKindNames).
+const std::string& windowKindName(WindowKind kind);
+/// The window kind of a name of windowKindNames. Throws std::invalid_argument
+/// listing those names for any other ("window must be 'gaussian' or 'binary',
+/// not 'box'").
+WindowKind windowKindFromName(const std::string& name);
 
 /// w(D) of Eqs. 8-9 for a reading at signed distance D (world units) along
 /// its line of sight. The Gaussian is tabulated in (D / eps)^2 up to its cut

@@ -353,6 +353,10 @@ class RangeMap {
   bool usableCellSpan(int i, int j, float& lo, float& hi) const;
   /// Pixel coordinates of a point in the map's frame (may lie outside the map).
   openvdb::math::Vec2d project(const openvdb::Vec3d& p) const;
+  /// Whether project() answers for a point in the map's frame: false behind
+  /// a camera's pinhole (z not positive) and on a spherical scanner's axis
+  /// (x = y = 0: no azimuth), true along parallel rays.
+  bool canProject(const openvdb::Vec3d& p) const;
 
   Kind kind() const { return mKind; }
   int width() const { return mWidth; }
@@ -558,6 +562,12 @@ inline openvdb::math::Vec2d RangeMap::project(const openvdb::Vec3d& p) const {
   if (mKind == Kind::kPinhole)
     return {mPinhole.fx * p.x() / p.z() + mPinhole.cx, mPinhole.fy * p.y() / p.z() + mPinhole.cy};
   return sphericalPixel(mSpherical, mAzimuthPeriod, p);
+}
+
+inline bool RangeMap::canProject(const openvdb::Vec3d& p) const {
+  if (mKind == Kind::kPinhole) return p.z() > 0.0;
+  if (mKind == Kind::kSpherical) return p.x() * p.x() + p.y() * p.y() > 0.0;
+  return true;
 }
 
 inline double RangeMap::bilinearReading(std::size_t at, double fu, double fv) const {
