@@ -124,6 +124,10 @@ Reconstructor::Reconstructor(const Fusion& fusion, const ReconstructionOptions& 
 
 
 
+void Reconstructor::requireMapsAccumulationMemory(int level) const {
+  requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, level);
+}
+
 LinearBand Reconstructor::initialBand() const {
   // Structures thinner than a voxel of a coarse grid are noise against it; the
   // finest grid keeps all it resolves (ForceField.h, LinearBand).
@@ -148,7 +152,7 @@ SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fu
   const LinearBand band = initialBand();
   const RangeMapSequence carving = carvingScans(carvedWith);
   if (fusion) return fusion->linearSolutionField(0, band, mOptions.engine, interrupter, carving);
-  requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, 0);
+  requireMapsAccumulationMemory(0);
   const ForceFieldOptions f = forceOptions(0);
   return linearSolutionField(ForceField(mMaps, f).accumulate(voxelSize(0), interrupter), carving,
                              f.dataWindow().reach(), band, mOptions.engine, interrupter);
@@ -179,7 +183,7 @@ openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interru
   if (mFusion)
     return mFusion->linearSolutionField(*mOptions.levels - 1, LinearBand::kZeroCrossings, mOptions.engine, interrupter)
         .toLevelSet(3.0, mOptions.name);
-  requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, *mOptions.levels - 1);
+  requireMapsAccumulationMemory(*mOptions.levels - 1);
   const ForceField force(mMaps, forceOptions(*mOptions.levels - 1));
   return force.linearSolution(*mOptions.voxelSize, 3.0, mOptions.name, interrupter);
 }
@@ -216,7 +220,7 @@ DataTermGrids Reconstructor::dataTermGrids(int level, const Interrupter& interru
   if (mFusion)
     throw std::invalid_argument("Reconstructor::dataTermGrids: the scans were integrated into a fusion: ask it "
                                 "(Fusion::dataTerm)");
-  requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, level);
+  requireMapsAccumulationMemory(level);
   const ForceFieldOptions f = forceOptions(level);
   DataTermGrids data(voxelSize(level), f.dataWindow(), f.positionVariance, f.grainSize);
   for (const RangeMap& map : *mMaps) {

@@ -11,9 +11,7 @@ std::atomic<bool> gCancelled{false};
 const char* gPhase = "starting";
 PhaseClock gClock;
 extern "C" void onSignal(int) { gCancelled.store(true); }
-}  // namespace
 
-namespace {
 /// Makes `signal` a cancellation request, unless the process began with it
 /// ignored: a command that a non-interactive shell runs in the background
 /// starts with SIGINT ignored, and keeps ignoring it from its first moment to

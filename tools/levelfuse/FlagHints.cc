@@ -1,5 +1,6 @@
 #include "FlagHints.h"
 
+#include <string>
 #include <utility>
 
 namespace levelfuse::cli {
@@ -18,11 +19,9 @@ const std::pair<const char*, const char*> kHints[] = {
 
 std::string withFlagHints(std::string message) {
   for (const auto& [words, hinted] : kHints) {
-    const std::string from = words;
-    for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + 1)) {
-      message.replace(at, from.size(), hinted);
-      at += std::string(hinted).size() - 1;
-    }
+    const std::string from = words, to = hinted;
+    for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
+      message.replace(at, from.size(), to);
   }
   return message;
 }

@@ -187,6 +187,9 @@ class Reconstructor {
   const openvdb::BBoxd& bounds() const { return mSummary.bounds(); }
 
  private:
+  /// Throws InsufficientMemory if accumulating this reconstructor's maps on
+  /// grid `level` would not fit (requireAccumulationMemory).
+  void requireMapsAccumulationMemory(int level) const;
   /// The maps integrated into a fusion of every grid level (progress reported scan by scan).
   /// On a `team` that shares the data in slabs (recon/SharedData.h), the
   /// fusion holds this process's slab of the data alone.
