@@ -6,6 +6,7 @@
 # does; the converter adds its flags, tools/levelfuse/FlagHints.cc).
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+tools/install-packages.sh python3 grep
 failed=0
 echo "== functions over 80 lines"
 python3 tools/function-lengths.py --limit 80 src include tools || failed=1
