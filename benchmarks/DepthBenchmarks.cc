@@ -114,9 +114,10 @@ TriangleMesh fuseDepthFrames(int frameStride, double voxel, bool linearOnly) {
   io::loadScans(kSequence, load);
   ReconstructionOptions options;
   options.voxelSize = voxel;
+  const ReconstructionSettings settings = resolveReconstructionSettings(options, frames.summary);
   openvdb::FloatGrid::Ptr surface;
   {
-    const ScansReconstruction r = prepareReconstruction(std::move(frames), options);
+    const ScansReconstruction r = prepareReconstruction(std::move(frames), settings);
     surface = linearOnly ? r.reconstructor->linearSolution() : r.reconstructor->run().levelSet;
   }  // the grids and the frames are let go before meshing, as the converter does
   returnFreedMemory();

@@ -43,7 +43,8 @@ std::size_t reconstructFromCpp(double voxelSize) {
   io::loadScans(kBunny, load);
   ReconstructionOptions options;
   options.voxelSize = voxelSize;
-  ScansReconstruction r = prepareReconstruction(std::move(scans), options);
+  const ReconstructionSettings settings = resolveReconstructionSettings(options, scans.summary);
+  ScansReconstruction r = prepareReconstruction(std::move(scans), settings);
   ReconstructionResult result = r.reconstructor->run();
   describeInputs(*result.levelSet, {kBunny}, false, r.reconstructor->summary().aScene());
   r.letTheGridsGo();

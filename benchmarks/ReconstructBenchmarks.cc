@@ -188,12 +188,12 @@ void mapFromPoisson(benchmark::State& state, double voxelSize, double beta) {
   const std::vector<openvdb::Vec3d> points = bunnyPoints();
   const DataFit before = measureDataFit(*start, points);
   // The finest grid's evolution, as Reconstructor::run sets it up.
-  const int finest = *reconstructor.options().levels - 1;
+  const int finest = reconstructor.settings().levels - 1;
   const ForceField force(std::make_shared<const std::vector<RangeMap>>(reconstructor.maps()),
                          reconstructor.forceOptions(finest));
   DataSpeed<ForceField> speed;
   speed.force = DataForce<ForceField>{&force};
-  speed.beta = *reconstructor.options().beta * voxelSize * voxelSize;
+  speed.beta = reconstructor.settings().beta * voxelSize * voxelSize;
   speed.sampling = ForceSampling::kSubcell;
   openvdb::FloatGrid::Ptr evolved;
   for (auto _ : state) {
@@ -202,7 +202,7 @@ void mapFromPoisson(benchmark::State& state, double voxelSize, double beta) {
     evolved = field.toLevelSet(3.0);
   }
   const DataFit after = measureDataFit(*evolved, points);
-  state.counters["beta"] = *reconstructor.options().beta;
+  state.counters["beta"] = reconstructor.settings().beta;
   state.counters["from_fit_mean_mm"] = 1000.0 * before.mean;
   state.counters["from_fit_median_mm"] = 1000.0 * before.median;
   state.counters["from_fit_p90_mm"] = 1000.0 * before.p90;

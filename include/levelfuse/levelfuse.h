@@ -17,6 +17,7 @@
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/core/MadeAhead.h>
 #include <levelfuse/core/Median.h>
+#include <levelfuse/core/MemoryBudget.h>
 #include <levelfuse/core/Parallel.h>
 #include <levelfuse/core/PeakMemory.h>
 #include <levelfuse/core/PhaseClock.h>

@@ -14,7 +14,7 @@
 
 namespace levelfuse::io {
 
-ColourImage readColourPng(const std::string& path) {
+ColourImage readColourPng(const std::string& path, const MemoryBudget& budget) {
   requireInputFile(path);
   std::error_code ec;
   const std::uintmax_t fileBytes = std::filesystem::file_size(path, ec);
@@ -22,8 +22,8 @@ ColourImage readColourPng(const std::string& path) {
   ColourImage image;
   std::vector<std::uint8_t> pixels;
   const std::string problem = detail::readPngPixels(path.c_str(), static_cast<double>(fileBytes),
-                                                    detail::PngPixels::kRgb8, detail::kColourImage, image.width,
-                                                    image.height, pixels);
+                                                    detail::PngPixels::kRgb8, detail::kColourImage, budget,
+                                                    image.width, image.height, pixels);
   if (!problem.empty()) throw InputError(path, problem);
   image.rgb.resize(pixels.size() / 3);
   std::memcpy(image.rgb.data(), pixels.data(), pixels.size());

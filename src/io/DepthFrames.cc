@@ -21,7 +21,8 @@ void checkDepthOptions(const ScanLoadOptions& options, const std::string& source
 RangeMap loadDepthFrame(const std::string& image, const PinholeProjection& intrinsics,
                         const openvdb::math::Mat4d& cameraToWorld, const ScanLoadOptions& options,
                         double conventionScale) {
-  DepthImage depth = readDepthImage(image, options.depthScale > 0.0 ? options.depthScale : conventionScale);
+  DepthImage depth =
+      readDepthImage(image, options.depthScale > 0.0 ? options.depthScale : conventionScale, options.memoryBudget);
   dropReadingsBeyond(depth, options.maxDepth);
   try {
     return depthFrame(std::move(depth), intrinsics, cameraToWorld, options.depthNoise,

@@ -41,19 +41,20 @@ const float kNoReading = std::numeric_limits<float>::quiet_NaN();
 
 using Problem = detail::ImageProblem;
 
-void requireSize(const std::string& path, double width, double height) {
+void requireSize(const std::string& path, double width, double height, const MemoryBudget& budget) {
   Problem problem = "";
-  detail::checkImageSize(width, height, detail::kDepthImage, problem);
+  detail::checkImageSize(width, height, detail::kDepthImage, budget, problem);
   if (problem[0] != 0) throw InputError(path, problem);
 }
 
 /// Reads a 16-bit grayscale PNG of `fileBytes` bytes into `samples` (host byte
 /// order). Returns an error message, empty on success.
-std::string readPng16(const char* path, double fileBytes, int& width, int& height,
+std::string readPng16(const char* path, double fileBytes, const MemoryBudget& budget, int& width, int& height,
                       std::vector<std::uint16_t>& samples) {
   std::vector<std::uint8_t> pixels;
   const std::string problem =
-      detail::readPngPixels(path, fileBytes, detail::PngPixels::kGray16, detail::kDepthImage, width, height, pixels);
+      detail::readPngPixels(path, fileBytes, detail::PngPixels::kGray16, detail::kDepthImage, budget, width, height,
+                            pixels);
   if (!problem.empty()) return problem;
   samples.resize(pixels.size() / 2);
   std::memcpy(samples.data(), pixels.data(), pixels.size());
@@ -82,14 +83,14 @@ void requireMetres(const std::string& path, const DepthImage& image) {
 /// Before OpenEXR is given the file (it allocates what the header declares):
 /// the header read with bounded reads, its image's size checked as every
 /// reader's is, and its pixels held against what the file can hold.
-void requireExrFits(const std::string& path) {
+void requireExrFits(const std::string& path, const MemoryBudget& budget) {
   std::error_code ec;
   const std::uintmax_t fileBytes = fs::file_size(path, ec);
   if (ec) throw InputError(path, "cannot be read (" + ec.message() + ")");
   detail::ExrLayout layout;
   const std::string problem = detail::readExrLayout(path, fileBytes, layout);
   if (!problem.empty()) throw InputError(path, problem);
-  requireSize(path, layout.width, layout.height);
+  requireSize(path, layout.width, layout.height, budget);
   const double pixelBytes = layout.width * layout.height * layout.bytesPerPixel;
   if (pixelBytes > detail::exrMaxCompressionRatio(layout.compression) * static_cast<double>(fileBytes)) {
     Problem text = "";
@@ -144,27 +145,28 @@ DepthImage depthImageFromIntegers(int width, int height, const std::uint16_t* sa
   return image;
 }
 
-DepthSamples readDepthPngSamples(const std::string& path) {
+DepthSamples readDepthPngSamples(const std::string& path, const MemoryBudget& budget) {
   requireInputFile(path);
   DepthSamples image;
   std::error_code ec;
   const std::uintmax_t fileBytes = fs::file_size(path, ec);
   if (ec) throw InputError(path, "cannot be read (" + ec.message() + ")");
   const std::string problem =
-      readPng16(path.c_str(), static_cast<double>(fileBytes), image.width, image.height, image.samples);
+      readPng16(path.c_str(), static_cast<double>(fileBytes), budget, image.width, image.height, image.samples);
   if (!problem.empty()) throw InputError(path, problem);
   return image;
 }
 
-DepthImage readDepthPng(const std::string& path, double scale, const std::vector<unsigned> invalid) {
+DepthImage readDepthPng(const std::string& path, double scale, const std::vector<unsigned> invalid,
+                        const MemoryBudget& budget) {
   if (!(scale > 0.0) || !std::isfinite(scale)) throw InputError(path, "the depth scale must be positive");
-  const DepthSamples samples = readDepthPngSamples(path);
+  const DepthSamples samples = readDepthPngSamples(path, budget);
   DepthImage image = depthImageFromIntegers(samples.width, samples.height, samples.samples.data(), scale, invalid);
   requireMetres(path, image);
   return image;
 }
 
-DepthImage readDepthPfm(const std::string& path, bool positiveOnly) {
+DepthImage readDepthPfm(const std::string& path, bool positiveOnly, const MemoryBudget& budget) {
   requireInputFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot be opened for reading");
@@ -175,7 +177,7 @@ DepthImage readDepthPfm(const std::string& path, bool positiveOnly) {
   if (magic != "Pf") throw InputError(path, "not a PFM file (expected the magic 'Pf')");
   if (!(in >> width >> height >> scale) || width != std::floor(width) || height != std::floor(height) || scale == 0.0)
     throw InputError(path, "a malformed PFM header (expected width, height and a non-zero scale)");
-  requireSize(path, width, height);
+  requireSize(path, width, height, budget);
   // The single whitespace after the scale; a header written on Windows ends its lines in CRLF.
   if (in.get() == '\r' && in.peek() == '\n') in.get();
   DepthImage image;
@@ -230,15 +232,15 @@ void writeDepthPfm(OutputSet& outputs, const std::string& path, const DepthImage
   });
 }
 
-DepthImage readDepthExr(const std::string& path) {
+DepthImage readDepthExr(const std::string& path, const MemoryBudget& budget) {
   requireInputFile(path);
-  requireExrFits(path);
+  requireExrFits(path, budget);
 #if defined(LEVELFUSE_HAVE_OPENEXR)
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i window = file.header().dataWindow();
     const double width = window.max.x - window.min.x + 1.0, height = window.max.y - window.min.y + 1.0;
-    requireSize(path, width, height);
+    requireSize(path, width, height, budget);
     const char* channel = nullptr;
     for (const char* name : {"Z", "Y", "R", "depth", "distance"})
       if (file.header().channels().findChannel(name)) {
@@ -272,11 +274,11 @@ DepthImage readDepthExr(const std::string& path) {
 #endif
 }
 
-DepthImage readDepthImage(const std::string& path, double pngScale) {
+DepthImage readDepthImage(const std::string& path, double pngScale, const MemoryBudget& budget) {
   const std::string ext = detail::lowercaseExtension(path);
-  if (ext == ".png") return readDepthPng(path, pngScale);
-  if (ext == ".pfm") return readDepthPfm(path);
-  if (ext == ".exr") return readDepthExr(path);
+  if (ext == ".png") return readDepthPng(path, pngScale, {0u, 65535u}, budget);
+  if (ext == ".pfm") return readDepthPfm(path, true, budget);
+  if (ext == ".exr") return readDepthExr(path, budget);
   throw InputError(path, "unknown depth image type " + quote(ext) + " (expected .png, .pfm or .exr)");
 }
 

@@ -46,7 +46,8 @@ SectionExtent readSectionHeader(E57PagedFile& file, const E57PointRecords& recor
 /// The bytes each field's bytestream holds for all the records, checked
 /// against the section's length and the memory budget.
 std::vector<std::uint64_t> streamBytes(const E57PointRecords& records, const SectionExtent& extent,
-                                       const std::string& path, const std::string& what) {
+                                       const std::string& path, const std::string& what,
+                                       const MemoryBudget& budget) {
   const std::uint64_t sectionBytes = extent.end - extent.firstPacket;
   std::vector<std::uint64_t> bytes;
   std::uint64_t total = 0;
@@ -63,7 +64,7 @@ std::vector<std::uint64_t> streamBytes(const E57PointRecords& records, const Sec
     throw InputError(path, what + " declare " + std::to_string(records.recordCount) + " records of " +
                                std::to_string(total) + " bytes, more than the " + std::to_string(sectionBytes) +
                                " bytes of their section");
-  requireMemory(path, static_cast<double>(total), what, "split the file into smaller scans");
+  requireMemory(budget, path, static_cast<double>(total), what, "split the file into smaller scans");
   return bytes;
 }
 
@@ -82,10 +83,10 @@ std::uint64_t unpackBits(const std::vector<unsigned char>& bytes, std::uint64_t 
 }
 
 E57Bytestreams::E57Bytestreams(E57PagedFile& file, const E57PointRecords& records, const std::string& what,
-                               const Interrupter& interrupter)
+                               const MemoryBudget& budget, const Interrupter& interrupter)
     : mRecords(records) {
   const SectionExtent extent = readSectionHeader(file, records, what);
-  const std::vector<std::uint64_t> wanted = streamBytes(records, extent, file.path(), what);
+  const std::vector<std::uint64_t> wanted = streamBytes(records, extent, file.path(), what, budget);
   mStreams.resize(records.fields.size());
   for (std::size_t i = 0; i < wanted.size(); ++i) mStreams[i].reserve(static_cast<std::size_t>(wanted[i]));
   const auto complete = [&] {

@@ -9,6 +9,7 @@
 #include "E57Xml.h"
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/MemoryBudget.h>
 
 #include <cstdint>
 #include <string>
@@ -22,13 +23,13 @@ class E57Bytestreams {
   /// messages ("the points of scan 1"). `interrupter` is asked before each
   /// packet. Throws InputError naming the file for a section that is not a
   /// compressed vector's or lies beyond the file, records that need more
-  /// bytes than the section holds or more memory than levelfuse may use
+  /// bytes than the section holds or more memory than `budget` allows
   /// (checked before anything is allocated), a packet of an unknown type or
   /// that runs past its section, a data packet with another number of
   /// bytestreams than the fields, and bytestreams that end before the last
   /// record.
   E57Bytestreams(E57PagedFile& file, const E57PointRecords& records, const std::string& what,
-                 const Interrupter& interrupter);
+                 const MemoryBudget& budget, const Interrupter& interrupter);
 
   /// Field `field`'s value in record `record` (a scaled integer scaled).
   double value(std::size_t field, std::uint64_t record) const;

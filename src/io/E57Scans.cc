@@ -133,15 +133,16 @@ E57IndexRange indexSpan(const std::optional<E57IndexRange>& bounds, const Record
 
 class ScanBuilder {
  public:
-  ScanBuilder(const std::string& path, int index, const E57ScanXml& xml, const Interrupter& interrupter)
-      : mPath(path), mWho(describeE57Scan(index, xml.name)), mXml(xml), mInterrupter(interrupter) {}
+  ScanBuilder(const std::string& path, int index, const E57ScanXml& xml, const MemoryBudget& budget,
+              const Interrupter& interrupter)
+      : mPath(path), mWho(describeE57Scan(index, xml.name)), mXml(xml), mBudget(budget), mInterrupter(interrupter) {}
 
   E57Scan build(const E57Bytestreams& streams) const {
     const RecordDecoder decoder(mXml, streams);
     E57Scan scan;
     scan.records = mXml.points.recordCount;
     scan.station.scannerToWorld = mXml.pose;
-    requireMemory(mPath, static_cast<double>(scan.records) * kBytesPerCell,
+    requireMemory(mBudget, mPath, static_cast<double>(scan.records) * kBytesPerCell,
                   "reading the " + std::to_string(scan.records) + " records of " + mWho,
                   "split the scan, or use a machine with more memory");
     if (decoder.places().structured()) placeOnGrid(decoder, scan.station);
@@ -169,7 +170,7 @@ class ScanBuilder {
                                   " per record: its indexBounds or indices are not the scanner's grid");
     if (!(cells <= static_cast<double>(std::numeric_limits<int>::max())))
       throw InputError(mPath, grid + " has more than 2^31 cells");
-    requireMemory(mPath, cells * kBytesPerCell, mWho + "'s grid of " + std::to_string(static_cast<long long>(cells)) + " rays",
+    requireMemory(mBudget, mPath, cells * kBytesPerCell, mWho + "'s grid of " + std::to_string(static_cast<long long>(cells)) + " rays",
                   "split the scan, or use a machine with more memory");
     return cells;
   }
@@ -225,6 +226,7 @@ class ScanBuilder {
   const std::string& mPath;
   std::string mWho;
   const E57ScanXml& mXml;
+  const MemoryBudget& mBudget;
   const Interrupter& mInterrupter;
 };
 
@@ -237,17 +239,18 @@ std::string xmlSection(E57PagedFile& file) {
 
 }  // namespace
 
-void readE57Scans(const std::string& path, const E57ScanTaker& take, const Interrupter& interrupter) {
+void readE57Scans(const std::string& path, const E57ScanTaker& take, const Interrupter& interrupter,
+                  const MemoryBudget& budget) {
   E57PagedFile file(path);
-  requireMemory(path, static_cast<double>(file.header().xmlLogicalLength) * 4.0, "its XML section",
+  requireMemory(budget, path, static_cast<double>(file.header().xmlLogicalLength) * 4.0, "its XML section",
                 "is this the right file?");
   const std::vector<E57ScanXml> scans = parseE57Xml(xmlSection(file), path);
   for (std::size_t i = 0; i < scans.size(); ++i) {
     checkInterrupter(interrupter);
     const int index = static_cast<int>(i + 1);
     const E57Bytestreams streams(file, scans[i].points, "the points of " + describeE57Scan(index, scans[i].name),
-                                 interrupter);
-    E57Scan scan = ScanBuilder(path, index, scans[i], interrupter).build(streams);
+                                 budget, interrupter);
+    E57Scan scan = ScanBuilder(path, index, scans[i], budget, interrupter).build(streams);
     scan.index = index;
     scan.name = scans[i].name;
     take(std::move(scan));
@@ -270,7 +273,7 @@ std::vector<RangeMap> loadE57Scans(const std::string& path, const ScanLoadOption
         const std::string name = scan.name.empty() ? stem + " scan " + std::to_string(scan.index) : scan.name;
         scans.offerAsRead(rangeMapFromE57Scan(scan, options.stationSigma, path, name), options.progress);
       },
-      options.interrupter);
+      options.interrupter, options.memoryBudget);
   return scans.kept();
 }
 

@@ -15,8 +15,9 @@ const char* const kImageTooLargeAdvice = "crop or downsample the image, or use a
 
 }  // namespace
 
-void checkImageSize(double width, double height, const ImageKind& kind, ImageProblem& problem) {
-  const double bytes = width * height * kind.bytesPerPixel, budget = static_cast<double>(memoryBudget());
+void checkImageSize(double width, double height, const ImageKind& kind, const MemoryBudget& memory,
+                    ImageProblem& problem) {
+  const double bytes = width * height * kind.bytesPerPixel, budget = static_cast<double>(memory.bytes());
   const double side = kind.minimumSide;
   if (!(width >= side) || !(height >= side))
     std::snprintf(problem, sizeof(problem), "the image has %.12g x %.12g pixels; %s needs at least %d x %d", width,

@@ -2,6 +2,8 @@
 // makes before it allocates anything (private to the readers).
 #pragma once
 
+#include <levelfuse/core/MemoryBudget.h>
+
 namespace levelfuse::io::detail {
 
 /// A problem with an image, as a message; empty if there is none.
@@ -21,7 +23,8 @@ inline constexpr ImageKind kColourImage{"a colour image", 1, 6.0};
 
 /// Writes into `problem` what is wrong with an image of `width` x `height`
 /// pixels read as `kind`: too small, more than a quarter of a billion pixels,
-/// or more memory than levelfuse may use; leaves it empty if nothing is.
-void checkImageSize(double width, double height, const ImageKind& kind, ImageProblem& problem);
+/// or more memory than `budget` allows; leaves it empty if nothing is.
+void checkImageSize(double width, double height, const ImageKind& kind, const MemoryBudget& budget,
+                    ImageProblem& problem);
 
 }  // namespace levelfuse::io::detail

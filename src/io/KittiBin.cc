@@ -50,11 +50,11 @@ std::vector<unsigned char> wholeFile(const std::string& path, std::uintmax_t byt
 
 }  // namespace
 
-PointCloud readKittiBin(const std::string& path) {
+PointCloud readKittiBin(const std::string& path, const MemoryBudget& budget) {
   requireInputFile(path);
   const std::uintmax_t bytes = sweepBytes(path);
   const std::uintmax_t count = bytes / kPointBytes;
-  requireMemory(path, static_cast<double>(count) * kBytesPerPoint, std::to_string(count) + " points",
+  requireMemory(budget, path, static_cast<double>(count) * kBytesPerPoint, std::to_string(count) + " points",
                 "split the sweep, or use a machine with more memory");
   const std::vector<unsigned char> data = wholeFile(path, bytes);
   PointCloud cloud;

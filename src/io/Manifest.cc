@@ -127,6 +127,7 @@ SphericalProjection sphericalGridOf(const Entry& e, int rows) {
 std::vector<RangeMap> loadPtxEntry(const Entry& e, const ScanLoadOptions& defaults) {
   ScanLoadOptions o;
   o.interrupter = defaults.interrupter;
+  o.memoryBudget = defaults.memoryBudget;
   o.stationSigma = e.positive("sigma", defaults.stationSigma);
   return loadPtxScans(e.path("file"), o);
 }
@@ -135,6 +136,7 @@ std::vector<RangeMap> loadPtxEntry(const Entry& e, const ScanLoadOptions& defaul
 std::vector<RangeMap> loadE57Entry(const Entry& e, const ScanLoadOptions& defaults) {
   ScanLoadOptions o;
   o.interrupter = defaults.interrupter;
+  o.memoryBudget = defaults.memoryBudget;
   o.stationSigma = e.positive("sigma", defaults.stationSigma);
   return loadE57Scans(e.path("file"), o);
 }
@@ -157,12 +159,12 @@ json parseManifest(const std::string& path) {
 
 /// An entry's "colour": a PNG registered pixel for pixel to the one range map
 /// the entry holds (maps[first]).
-void colourEntry(const Entry& e, std::vector<RangeMap>& maps, std::size_t first) {
+void colourEntry(const Entry& e, std::vector<RangeMap>& maps, std::size_t first, const MemoryBudget& budget) {
   if (maps.size() != first + 1)
     e.fail("'colour' is a colour image registered to one range map; this entry holds " +
            std::to_string(maps.size() - first));
   const std::string file = e.path("colour");
-  colourRangeMap(maps[first], readColourPng(file), file);
+  colourRangeMap(maps[first], readColourPng(file, budget), file);
 }
 
 }  // namespace
@@ -191,11 +193,12 @@ void keepWanted(std::vector<RangeMap>& maps, std::size_t first, const std::funct
 std::vector<RangeMap> loadStanfordConfEntry(const Entry& e, const ScanLoadOptions& defaults) {
   StanfordScanOptions stanford = stanfordOptions(e);
   stanford.interrupter = defaults.interrupter;
+  stanford.memoryBudget = defaults.memoryBudget;
   return loadStanfordScans(e.path("file"), stanford);
 }
 
 /// A "stanford-ply" entry's scan: a range grid placed by a translation and a unit quaternion.
-RangeMap loadStanfordPlyEntry(const Entry& e) {
+RangeMap loadStanfordPlyEntry(const Entry& e, const MemoryBudget& budget) {
   StanfordPlacement placement;
   const auto t = e.numbers("translation", 3);
   const auto q = e.numbers("quaternion", 4);
@@ -205,7 +208,7 @@ RangeMap loadStanfordPlyEntry(const Entry& e) {
   placement.translation = openvdb::Vec3d(t[0], t[1], t[2]);
   placement.rotation = openvdb::math::Quatd(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);
   const std::string file = e.path("file");
-  return rangeMapFromScan(readRangeGridPly(file), placement.scanToWorld(), stanfordOptions(e),
+  return rangeMapFromScan(readRangeGridPly(file, budget), placement.scanToWorld(), stanfordOptions(e),
                           fs::path(file).filename().string());
 }
 
@@ -216,9 +219,11 @@ RangeMap loadDepthImageEntry(const Entry& e, const std::string& format, const st
                              const ScanLoadOptions& defaults) {
   const std::string file = e.path("file");
   const double defaultScale = defaults.depthScale > 0.0 ? defaults.depthScale : 0.001;
-  DepthImage image = format == "depth-png" ? readDepthPng(file, e.positive("depth_scale", defaultScale))
-                     : format == "depth-pfm" ? readDepthPfm(file)
-                                             : readDepthExr(file);
+  const MemoryBudget& budget = defaults.memoryBudget;
+  DepthImage image = format == "depth-png"
+                         ? readDepthPng(file, e.positive("depth_scale", defaultScale), {0u, 65535u}, budget)
+                     : format == "depth-pfm" ? readDepthPfm(file, true, budget)
+                                             : readDepthExr(file, budget);
   dropReadingsBeyond(image, e.positive("max_depth", defaults.maxDepth));
   const PinholeProjection intrinsics = intrinsicsOf(e);
   const openvdb::math::Mat4d pose = poseOf(e, path);
@@ -231,9 +236,9 @@ RangeMap loadDepthImageEntry(const Entry& e, const std::string& format, const st
 
 /// An "orthographic-pfm" entry's scan: depths along parallel rays, their
 /// pixel size, origin, pose and noise (`path`: the manifest's).
-RangeMap loadOrthographicEntry(const Entry& e, const std::string& path) {
+RangeMap loadOrthographicEntry(const Entry& e, const std::string& path, const MemoryBudget& budget) {
   const std::string file = e.path("file");
-  DepthImage image = readDepthPfm(file, false);
+  DepthImage image = readDepthPfm(file, false, budget);
   if (!e.has("pixel_size")) e.fail("missing 'pixel_size'");
   OrthographicProjection projection;
   projection.pixelSize = e.positive("pixel_size", 0.0);
@@ -253,9 +258,9 @@ RangeMap loadOrthographicEntry(const Entry& e, const std::string& path) {
 
 /// A "spherical-pfm" entry's scan: ranges on an angular grid, its pose and
 /// noise (`path`: the manifest's).
-RangeMap loadSphericalEntry(const Entry& e, const std::string& path) {
+RangeMap loadSphericalEntry(const Entry& e, const std::string& path, const MemoryBudget& budget) {
   const std::string file = e.path("file");
-  DepthImage image = readDepthPfm(file);
+  DepthImage image = readDepthPfm(file, true, budget);
   if (!e.has("sigma")) e.fail("missing 'sigma'");
   const SphericalProjection grid = sphericalGridOf(e, image.height);
   try {
@@ -273,7 +278,7 @@ void appendEntryScans(const Entry& e, const std::string& format, const std::stri
     for (RangeMap& m : loaded) maps.push_back(std::move(m));
   };
   if (format == "stanford-conf") append(loadStanfordConfEntry(e, defaults));
-  else if (format == "stanford-ply") maps.push_back(loadStanfordPlyEntry(e));
+  else if (format == "stanford-ply") maps.push_back(loadStanfordPlyEntry(e, defaults.memoryBudget));
   else if (format == "depth-png" || format == "depth-pfm" || format == "depth-exr")
     maps.push_back(loadDepthImageEntry(e, format, path, defaults));
   else if (format == "tum") append(loadTumEntry(e, defaults));
@@ -281,8 +286,8 @@ void appendEntryScans(const Entry& e, const std::string& format, const std::stri
   else if (format == "e57") append(loadE57Entry(e, defaults));
   else if (format == "points") maps.push_back(loadPointsEntry(e, defaults));
   else if (format == "kitti-bin") append(loadKittiBinEntry(e, defaults));
-  else if (format == "orthographic-pfm") maps.push_back(loadOrthographicEntry(e, path));
-  else if (format == "spherical-pfm") maps.push_back(loadSphericalEntry(e, path));
+  else if (format == "orthographic-pfm") maps.push_back(loadOrthographicEntry(e, path, defaults.memoryBudget));
+  else if (format == "spherical-pfm") maps.push_back(loadSphericalEntry(e, path, defaults.memoryBudget));
   else
     e.fail("unknown format " + quote(format) +
            " (stanford-conf, stanford-ply, depth-png, depth-pfm, depth-exr, tum, ptx, e57, points, kitti-bin, "
@@ -319,7 +324,7 @@ std::vector<RangeMap> loadManifest(const std::string& path, const ScanLoadOption
     }
     const std::size_t first = maps.size();
     appendEntryScans(e, format, path, defaults, maps);
-    if (e.has("colour")) colourEntry(e, maps, first);
+    if (e.has("colour")) colourEntry(e, maps, first, defaults.memoryBudget);
     if (e.has("misses_are_empty")) setMissesAreEmpty(e, maps, first);
     if (defaults.wanted && !makesOneScan(format)) keepWanted(maps, first, defaults.wanted, asked);
     reportLoaded(defaults.progress, i + 1, root["scans"].size());

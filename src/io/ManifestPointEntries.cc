@@ -125,7 +125,7 @@ RangeMap loadPointsEntry(const Entry& e, const ScanLoadOptions& defaults) {
   const bool inWorld = pointsInWorld(e);
   const std::optional<AngularSteps> steps = stepsOf(e);
   const double sigma = e.positive("sigma", defaults.pointSigma);
-  PointCloud cloud = readPointCloud(file, defaults.interrupter);
+  PointCloud cloud = readPointCloud(file, defaults.interrupter, defaults.memoryBudget);
   const std::vector<Vec3d> sensorPoints =
       inWorld ? pointsInSensorFrame(cloud.points, sensorToWorld) : std::move(cloud.points);
   return rangeMapFromPointCloud(sensorPoints, sensorToWorld, steps, sigma, file, fileName(file), cloud.colours);
@@ -138,7 +138,7 @@ std::vector<RangeMap> loadKittiBinEntry(const Entry& e, const ScanLoadOptions& d
   const Mat4d velodyneToWorld = velodynePoseOf(e);
   const std::optional<AngularSteps> steps = stepsOf(e);
   const double sigma = e.positive("sigma", defaults.pointSigma);
-  return rangeMapsOfSweep(readKittiBin(file).points, velodyneToWorld, steps, sigma, file, fileName(file));
+  return rangeMapsOfSweep(readKittiBin(file, defaults.memoryBudget).points, velodyneToWorld, steps, sigma, file, fileName(file));
 }
 
 }  // namespace levelfuse::io

@@ -77,11 +77,11 @@ std::vector<std::string> split(const std::string& line) {
   return words;
 }
 
-std::string readWholeFile(const std::string& path) {
+std::string readWholeFile(const std::string& path, const MemoryBudget& budget) {
   requireInputFile(path);
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (!ec) requireMemory(path, static_cast<double>(size), "reading the file", kScanTooLargeAdvice);
+  if (!ec) requireMemory(budget, path, static_cast<double>(size), "reading the file", kScanTooLargeAdvice);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot be opened for reading");
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -91,7 +91,8 @@ std::string readWholeFile(const std::string& path) {
 
 class Parser {
  public:
-  Parser(std::string path, std::string bytes) : mPath(std::move(path)), mBytes(std::move(bytes)) {}
+  Parser(std::string path, std::string bytes, const MemoryBudget& budget)
+      : mPath(std::move(path)), mBytes(std::move(bytes)), mBudget(budget) {}
 
   PlyData parse() {
     parseHeader();
@@ -199,7 +200,7 @@ class Parser {
                                : sizeof(double) * static_cast<double>(e.count);
       }
     }
-    requireMemory(mPath, static_cast<double>(mBytes.size()) + valueBytes, "reading its values", kScanTooLargeAdvice);
+    requireMemory(mBudget, mPath, static_cast<double>(mBytes.size()) + valueBytes, "reading its values", kScanTooLargeAdvice);
     for (PlyElement& e : mData.elements) {
       e.values.resize(e.properties.size());
       e.listOffsets.resize(e.properties.size());
@@ -335,6 +336,7 @@ class Parser {
   }
 
   std::string mPath, mBytes;
+  MemoryBudget mBudget;
   std::size_t mPos = 0, mLine = 1;
   PlyData mData;
 };
@@ -359,7 +361,9 @@ std::string PlyData::info(const std::string& key) const {
   return "";
 }
 
-PlyData readPly(const std::string& path) { return Parser(path, readWholeFile(path)).parse(); }
+PlyData readPly(const std::string& path, const MemoryBudget& budget) {
+  return Parser(path, readWholeFile(path, budget), budget).parse();
+}
 
 void writeMeshPly(const std::string& path, const std::vector<float>& xyz, const std::vector<std::uint32_t>& triangles,
                   bool binary, const std::vector<std::uint8_t>& rgb) {

@@ -56,8 +56,8 @@ std::vector<Rgb8> coloursOf(const PlyElement& vertex, const std::string& path) {
 
 }  // namespace
 
-PointCloud readPlyPoints(const std::string& path) {
-  const PlyData ply = readPly(path);
+PointCloud readPlyPoints(const std::string& path, const MemoryBudget& budget) {
+  const PlyData ply = readPly(path, budget);
   const PlyElement* vertex = ply.element("vertex");
   if (!vertex) throw InputError(path, "no 'vertex' element: no points");
   const int px = scalarProperty(*vertex, "x", path), py = scalarProperty(*vertex, "y", path),

@@ -54,8 +54,8 @@ void choosePixels(png_structp png, int depth, int colour, PngPixels as, ImagePro
 }  // namespace
 
 // Plain C inside: no destructors are skipped by libpng's longjmp.
-std::string readPngPixels(const char* path, double fileBytes, PngPixels as, const ImageKind& kind, int& width,
-                          int& height, std::vector<std::uint8_t>& pixels) {
+std::string readPngPixels(const char* path, double fileBytes, PngPixels as, const ImageKind& kind,
+                          const MemoryBudget& budget, int& width, int& height, std::vector<std::uint8_t>& pixels) {
   FILE* file = std::fopen(path, "rb");
   if (!file) return "cannot be opened for reading";
   unsigned char signature[8];
@@ -97,7 +97,7 @@ std::string readPngPixels(const char* path, double fileBytes, PngPixels as, cons
   const int depth = png_get_bit_depth(png, info), colour = png_get_color_type(png, info);
   ImageProblem problem = "";  // no C++ object may live across libpng's longjmp
   choosePixels(png, depth, colour, as, problem);
-  if (problem[0] == 0) checkImageSize(w, h, kind, problem);
+  if (problem[0] == 0) checkImageSize(w, h, kind, budget, problem);
   if (problem[0] == 0 && double(h) * (1.0 + 2.0 * double(w)) > kMaxDeflateRatio * fileBytes)
     std::snprintf(problem, sizeof(problem),
                   "the header declares %u x %u pixels, more than the file's %.0f bytes can hold (truncated?)",

@@ -20,9 +20,9 @@ enum class PngPixels {
 /// bytes a pixel for kGray16, three for kRgb8). Refuses a file that is not a
 /// PNG, is truncated or corrupt, declares more pixels than its bytes can hold
 /// (deflate shrinks at most 1032:1), or whose size is wrong for `kind`
-/// (checkImageSize), before the pixels are allocated. Returns an error
+/// or `budget` (checkImageSize), before the pixels are allocated. Returns an error
 /// message, empty on success. Chunks other than the pixels' are skipped unread.
-std::string readPngPixels(const char* path, double fileBytes, PngPixels as, const ImageKind& kind, int& width,
-                          int& height, std::vector<std::uint8_t>& pixels);
+std::string readPngPixels(const char* path, double fileBytes, PngPixels as, const ImageKind& kind,
+                          const MemoryBudget& budget, int& width, int& height, std::vector<std::uint8_t>& pixels);
 
 }  // namespace levelfuse::io::detail

@@ -44,10 +44,10 @@ void requireGridOfTheCloudsSize(const std::vector<Vec3d>& points, const AngularS
 
 }  // namespace
 
-PointCloud readPointCloud(const std::string& path, const Interrupter& interrupter) {
+PointCloud readPointCloud(const std::string& path, const Interrupter& interrupter, const MemoryBudget& budget) {
   const std::string extension = detail::lowercaseExtension(path);
   if (extension == ".xyz" || extension == ".txt") return readXyzPoints(path, interrupter);
-  if (extension == ".ply") return readPlyPoints(path);
+  if (extension == ".ply") return readPlyPoints(path, budget);
   throw InputError(path, "unknown point file type " + quote(extension) + " (expected .xyz, .txt or .ply)");
 }
 

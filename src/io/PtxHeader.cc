@@ -121,7 +121,7 @@ Mat4d pointTransform(TextLineReader& lines, const PtxHeader& header) {
 }
 
 /// Refuses more points than the rest of the file can hold, before they are allocated, or than memory can.
-void requireRoomForPoints(const TextLineReader& lines, const PtxHeader& header) {
+void requireRoomForPoints(const TextLineReader& lines, const PtxHeader& header, const MemoryBudget& budget) {
   const std::uint64_t count = header.pointCount();
   const std::uint64_t room = (lines.bytesLeft() + 1) / kMinPointLineBytes;  // the last may lack its line break
   if (count > room)
@@ -131,7 +131,7 @@ void requireRoomForPoints(const TextLineReader& lines, const PtxHeader& header) 
                          std::to_string(count) + " points, but the " + std::to_string(lines.bytesLeft()) +
                          " bytes after its header hold at most " + std::to_string(room) +
                          " (a point line takes at least 8 bytes): a wrong count, or a truncated file");
-  requireMemory(lines.path(), static_cast<double>(count) * kBytesPerPoint,
+  requireMemory(budget, lines.path(), static_cast<double>(count) * kBytesPerPoint,
                 "scan " + std::to_string(header.index) + "'s " + std::to_string(count) + " points", kPtxTooLargeAdvice);
 }
 
@@ -144,7 +144,7 @@ std::string describePtxScan(int index, std::int64_t firstLine, std::int64_t last
 
 std::string PtxHeader::describe() const { return describePtxScan(index, firstLine, lastLine()); }
 
-bool readPtxHeader(TextLineReader& lines, const PtxHeader* previous, PtxHeader& header) {
+bool readPtxHeader(TextLineReader& lines, const PtxHeader* previous, const MemoryBudget& budget, PtxHeader& header) {
   if (!skipBlankLines(lines)) return false;
   header = PtxHeader();
   header.index = previous ? previous->index + 1 : 1;
@@ -154,7 +154,7 @@ bool readPtxHeader(TextLineReader& lines, const PtxHeader* previous, PtxHeader& 
   header.rows = static_cast<int>(lines.wholeNumber(0, 1, kMaxCount, "a row count (a whole number from 1 to 2147483647)"));
   header.scannerToWorld = scannerPose(lines, header);
   header.transform = pointTransform(lines, header);
-  requireRoomForPoints(lines, header);
+  requireRoomForPoints(lines, header, budget);
   return true;
 }
 

@@ -4,6 +4,8 @@
 
 #include "TextLineReader.h"
 
+#include <levelfuse/core/MemoryBudget.h>
+
 #include <openvdb/math/Mat4.h>
 
 #include <cstdint>
@@ -42,9 +44,9 @@ std::string describePtxScan(int index, std::int64_t firstLine, std::int64_t last
 /// null) from the next line that is not blank: false if only blank lines are
 /// left. Throws InputError naming the file and line for a header that is
 /// malformed or truncated, axes or a transform that are not rigid, more
-/// points than the rest of the file can hold or than memory can, and for
-/// anything but a scan after `previous` (a point line there: its columns and
-/// rows disagree with its points).
-bool readPtxHeader(TextLineReader& lines, const PtxHeader* previous, PtxHeader& header);
+/// points than the rest of the file can hold or than `budget` allows, and
+/// for anything but a scan after `previous` (a point line there: its columns
+/// and rows disagree with its points).
+bool readPtxHeader(TextLineReader& lines, const PtxHeader* previous, const MemoryBudget& budget, PtxHeader& header);
 
 }  // namespace levelfuse::io

@@ -13,10 +13,11 @@
 
 namespace levelfuse::io {
 
-void readPtxScans(const std::string& path, const PtxScanTaker& take, const Interrupter& interrupter) {
+void readPtxScans(const std::string& path, const PtxScanTaker& take, const Interrupter& interrupter,
+                  const MemoryBudget& budget) {
   TextLineReader lines(path);
   PtxHeader header, previous;
-  for (bool first = true; readPtxHeader(lines, first ? nullptr : &previous, header); first = false) {
+  for (bool first = true; readPtxHeader(lines, first ? nullptr : &previous, budget, header); first = false) {
     checkInterrupter(interrupter);
     take(readPtxPoints(lines, header, interrupter));
     previous = header;
@@ -38,7 +39,7 @@ std::vector<RangeMap> loadPtxScans(const std::string& path, const ScanLoadOption
             rangeMapFromPtxScan(scan, options.stationSigma, path, stem + " scan " + std::to_string(scan.index)),
             options.progress);
       },
-      options.interrupter);
+      options.interrupter, options.memoryBudget);
   return scans.kept();
 }
 

@@ -85,6 +85,7 @@ std::vector<RangeMap> loadScans(const std::string& path, const ScanLoadOptions& 
     stanford.interrupter = options.interrupter;
     stanford.progress = options.progress;
     stanford.wanted = options.wanted;
+    stanford.memoryBudget = options.memoryBudget;
     return handedOverAsWanted(loadStanfordScans(path, stanford), options);
   }
   if (extension == ".json") return handedOverAsWanted(loadManifest(path, options), options);

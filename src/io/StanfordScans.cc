@@ -88,8 +88,8 @@ std::vector<StanfordPlacement> readStanfordConf(const std::string& path) {
   return scans;
 }
 
-RangeGridScan readRangeGridPly(const std::string& path) {
-  const PlyData ply = readPly(path);
+RangeGridScan readRangeGridPly(const std::string& path, const MemoryBudget& budget) {
+  const PlyData ply = readPly(path, budget);
   RangeGridScan scan;
   scan.path = path;
   const PlyElement* vertex = ply.element("vertex");
@@ -274,7 +274,7 @@ std::vector<RangeMap> loadStanfordScans(const std::string& confPath, const Stanf
     checkInterrupter(options.interrupter);
     const StanfordPlacement& s = placements[i];
     if (!options.wanted || options.wanted(i))
-      maps.push_back(rangeMapFromScan(readRangeGridPly(s.path), s.scanToWorld(), options, s.file));
+      maps.push_back(rangeMapFromScan(readRangeGridPly(s.path, options.memoryBudget), s.scanToWorld(), options, s.file));
     reportLoaded(options.progress, i + 1, placements.size());
   }
   return maps;

@@ -100,12 +100,12 @@ std::vector<TumFrame> colourImagesOf(const fs::path& root) {
 /// time, if one lies within `tolerance` seconds (the benchmark's depth images
 /// are registered to its colour camera: pixel for pixel).
 void colourFrame(RangeMap& frame, double time, const std::vector<TumFrame>& images, const fs::path& root,
-                 double tolerance) {
+                 double tolerance, const MemoryBudget& budget) {
   if (images.empty()) return;
   const TumFrame& nearest = nearestInTime(images, time);
   if (!(std::fabs(nearest.time - time) <= tolerance)) return;
   const std::string image = (root / nearest.file).lexically_normal().string();
-  colourRangeMap(frame, readColourPng(image), image);
+  colourRangeMap(frame, readColourPng(image, budget), image);
 }
 
 }  // namespace
@@ -156,7 +156,7 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
                                       " s of the frame's time " + seconds(frame.time, true) + " (the nearest, line " +
                                       std::to_string(pose.line) + ", is " + seconds(gap, false) + " s away)");
         RangeMap map = loadDepthFrame(image, intrinsics, pose.cameraToWorld, options, 1.0 / kTumDepthUnitsPerMetre);
-        colourFrame(map, frame.time, colourImages, root, options.poseTimeTolerance);
+        colourFrame(map, frame.time, colourImages, root, options.poseTimeTolerance, options.memoryBudget);
         return map;
       },
       scans, options);

@@ -103,10 +103,11 @@ void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids, const 
   outputs.commit();
 }
 
-openvdb::GridPtrVecPtr readVdb(const std::string& path, openvdb::MetaMap::Ptr* fileMetadata) {
+openvdb::GridPtrVecPtr readVdb(const std::string& path, openvdb::MetaMap::Ptr* fileMetadata,
+                               const MemoryBudget& budget) {
   openvdb::initialize();
   requireInputFile(path);
-  detail::validateVdbFile(path);
+  detail::validateVdbFile(path, budget);
   openvdb::GridPtrVecPtr grids;
   try {
     openvdb::io::File file(path);

@@ -162,7 +162,7 @@ double skipGrid(VdbByteReader& reader, const GridDescriptor& grid, bool hasGridO
 
 }  // namespace
 
-void validateVdbFile(const std::string& path) {
+void validateVdbFile(const std::string& path, const MemoryBudget& budget) {
   VdbByteReader reader(path);
   const bool hasGridOffsets = skipHeader(reader);
   reader.setContext("the file's metadata");
@@ -181,7 +181,7 @@ void validateVdbFile(const std::string& path) {
     reader.setContext("grid " + quote(grids.back().name) + " (" + ordinal + ")");
     memory += skipGrid(reader, grids.back(), hasGridOffsets);
   }
-  requireMemory(path, memory, "the grids in the file", kGridTooLargeAdvice);
+  requireMemory(budget, path, memory, "the grids in the file", kGridTooLargeAdvice);
 }
 
 }  // namespace levelfuse::io::detail

@@ -44,10 +44,20 @@ DataTermSource dataTermFrom(const std::string& name) {
   throw py::value_error("data_term must be 'auto', 'per_map' or 'grids', not '" + name + "'");
 }
 
+/// The memory_budget keyword: bytes levelfuse may use (the machine's if left out).
+MemoryBudget takeMemoryBudget(py::dict& kwargs) {
+  const std::optional<double> bytes = take<double>(kwargs, "memory_budget");
+  if (!bytes) return MemoryBudget();
+  if (!(*bytes >= 1.0) || !(*bytes < 1.8e19))
+    throw py::value_error("memory_budget must be a number of bytes, at least 1");
+  return MemoryBudget(static_cast<std::uint64_t>(*bytes));
+}
+
 }  // namespace
 
 io::ScanLoadOptions takeLoadOptions(py::dict& kwargs) {
   io::ScanLoadOptions load;
+  load.memoryBudget = takeMemoryBudget(kwargs);
   if (auto toward = take<py::object>(kwargs, "toward_scanner"))
     load.stanford.towardScanner = vec3From(*toward, "toward_scanner");
   if (auto sigma = take<double>(kwargs, "sigma")) load.setSigma(numberFrom(py::float_(*sigma), "sigma", true));
@@ -61,6 +71,7 @@ io::ScanLoadOptions takeLoadOptions(py::dict& kwargs) {
 
 ReconstructionOptions takeReconstructionOptions(py::dict& kwargs) {
   ReconstructionOptions o;
+  o.memoryBudget = takeMemoryBudget(kwargs);
   o.voxelSize = take<double>(kwargs, "voxel_size");
   o.levels = take<int>(kwargs, "levels");
   o.beta = take<double>(kwargs, "beta");

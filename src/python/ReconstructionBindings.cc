@@ -65,7 +65,8 @@ Inputs inputsFrom(const py::handle& scans, io::ScanLoadOptions load, ProgressRel
 py::object reconstruct(const py::handle& scans, const py::object& progress, py::kwargs kw) {
   py::dict kwargs(kw);
   io::ScanLoadOptions load = takeLoadOptions(kwargs);
-  const ReconstructionOptions options = takeReconstructionOptions(kwargs);
+  ReconstructionOptions options = takeReconstructionOptions(kwargs);
+  options.memoryBudget = load.memoryBudget;  // one keyword for the readers and the reconstruction
   RunSettings settings = takeRunSettings(kwargs, {});
   refuseUnknownKeywords(kwargs, "reconstruct");
   Cancellation cancellation;
@@ -73,8 +74,10 @@ py::object reconstruct(const py::handle& scans, const py::object& progress, py::
   Inputs in = inputsFrom(scans, load, relay, cancellation);
   if (settings.inputs.empty()) settings.inputs = in.names;
   Outcome outcome = runReleased(cancellation, &relay, [&] {
+    const ReconstructionSettings resolved = resolveReconstructionSettings(options, in.scans.summary);
     ScansReconstruction r = prepareReconstruction(
-        std::move(in.scans), options, [&](std::size_t done, std::size_t total) { relay.count("integrating", done, total); },
+        std::move(in.scans), resolved,
+        [&](std::size_t done, std::size_t total) { relay.count("integrating", done, total); },
         cancellation.interrupter());
     return runReconstruction(
         *r.reconstructor, r.scans, settings, [&](const ReconstructionProgress& p) { return relay.report(p); },
@@ -99,7 +102,8 @@ objects. Keywords (None or left out: derived from the data, as the converter der
   tolerance=0.05, patience=8, drift=0.025, min_iterations=4, max_iterations=300, name='surface',
   layers=2, max_step_change=0.45, curvature_step_limit=0.25, stiffness_step_limit=0.5, grain_size=4
   linear=False (the linear solution only), fit=True (measure the fit to the scans for the summary),
-  inputs (names for the metadata)
+  inputs (names for the metadata), memory_budget (bytes the readers and the reconstruction may use;
+  the machine's memory by default: what would need more raises levelfuse.InsufficientMemory or InputError)
   and for paths: depth_scale, sigma, toward_scanner, max_depth, frame_stride, pose_time_tolerance.
 progress(dict) is called with the GIL held at each new stage and at most five times a second within one;
 returning False (or raising) stops the work: levelfuse.Cancelled (or the callback's exception) is raised.

@@ -20,7 +20,7 @@ namespace py = pybind11;
 /// What a run made, before Python sees it (built without the GIL).
 struct Outcome {
   ReconstructionResult result;
-  ReconstructionOptions options;  ///< resolved
+  ReconstructionSettings settings;
   bool linear = false;
   std::vector<std::string> inputs;
   std::size_t scans = 0, readings = 0, points = 0;

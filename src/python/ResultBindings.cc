@@ -36,7 +36,7 @@ py::dict summaryOf(const Outcome& o) {
   summary.readings = o.readings;
   summary.linear = o.linear;
   summary.scene = o.scene;
-  summary.options = o.options;
+  summary.settings = o.settings;
   summary.levels = o.result.levels;
   summary.narrowBandVoxels = o.result.levelSet->activeVoxelCount();
   summary.peakEngineBytes = o.result.peakEngineBytes;

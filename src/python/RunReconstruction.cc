@@ -16,7 +16,7 @@ Outcome runReconstruction(const Reconstructor& reconstructor, const RangeMapSequ
   Outcome o;
   o.linear = settings.linear;
   o.inputs = settings.inputs;
-  o.options = reconstructor.options();
+  o.settings = reconstructor.settings();
   o.scans = reconstructor.summary().scans();
   o.readings = reconstructor.summary().readings();
   o.points = reconstructor.summary().points();

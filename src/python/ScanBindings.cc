@@ -286,7 +286,8 @@ void bindScanReaders(py::module_& m) {
         "options: depth_scale (metres per unit of 16-bit depth; 0: the layout's), sigma (the readings' noise, world "
         "units; default: estimated, the depth camera's model, or 2 mm for PTX and E57 scans and point clouds), "
         "toward_scanner (Stanford scans' direction to the scanner), max_depth (metres), frame_stride (every n-th "
-        "frame), pose_time_tolerance (TUM; seconds). progress(dict) is called as scans are read.");
+        "frame), pose_time_tolerance (TUM; seconds), memory_budget (bytes the readers may use; the machine's memory "
+        "by default: a scan that would need more raises InputError). progress(dict) is called as scans are read.");
   m.def("read_depth_png", &readDepthPng, py::arg("path"), "A 16-bit depth PNG's samples, (H, W) uint16, unscaled.");
 }
 

@@ -149,14 +149,14 @@ std::size_t Fusion::dataTermBytes() const {
   return bytes;
 }
 
-std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved,
+std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const ReconstructionSettings& settings,
                                   Fusion::Keep keep, bool deferFinerGrids) {
-  const FusionSettings settings = fusionSettingsOf(resolved);
-  const int checked = deferFinerGrids ? 1 : settings.levels;
-  for (int level = 0; level < checked; ++level) requireAccumulationMemory(costOf, resolved, level);
-  std::unique_ptr<Fusion> fusion = std::make_unique<Fusion>(settings, keep);
+  const FusionSettings grids = fusionSettingsOf(settings);
+  const int checked = deferFinerGrids ? 1 : grids.levels;
+  for (int level = 0; level < checked; ++level) requireAccumulationMemory(costOf, settings, level);
+  std::unique_ptr<Fusion> fusion = std::make_unique<Fusion>(grids, keep);
   if (deferFinerGrids)
-    for (int level = 1; level < settings.levels; ++level) fusion->deferLevel(level);
+    for (int level = 1; level < grids.levels; ++level) fusion->deferLevel(level);
   return fusion;
 }
 

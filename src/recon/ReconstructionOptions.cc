@@ -76,9 +76,18 @@ double resolveBeta(const std::optional<double>& given, double voxelSize, const S
   return beta;
 }
 
-}  // namespace
+/// Throws std::invalid_argument unless the stopping rule's settings are usable.
+void requireStoppingRule(const ReconstructionControls& given) {
+  if (!(given.tolerance > 0.0)) throw std::invalid_argument("reconstruction: the tolerance must be positive");
+  if (given.patience < 1) throw std::invalid_argument("reconstruction: the patience must be at least one iteration");
+  if (!(given.drift > 0.0)) throw std::invalid_argument("reconstruction: the drift tolerance must be positive");
+  if (given.minIterations < 0 || given.maxIterations < std::max(1, given.minIterations))
+    throw std::invalid_argument("reconstruction: iterations must satisfy 0 <= min <= max, max >= 1");
+}
 
-ReconstructionOptions resolveReconstructionOptions(const ReconstructionOptions& options, const ScanSummary& scans) {
+/// What the scans' summary tells the derived settings; throws
+/// std::invalid_argument for scans with no surface to reconstruct.
+ScanFacts factsOf(const ScanSummary& scans) {
   // Counted, not judged by the box: the readings of one frame facing a wall square on may lie in a plane.
   if (scans.scans() == 0) throw std::invalid_argument("reconstruction: no range maps to reconstruct from");
   if (scans.readings() == 0) throw std::invalid_argument("reconstruction: the range maps hold no readings");
@@ -90,32 +99,45 @@ ReconstructionOptions resolveReconstructionOptions(const ReconstructionOptions& 
   facts.sigma = scans.medianSigma();
   facts.extent = bounds.extents()[bounds.maxExtent()];
   facts.scene = scans.aScene();
-  ReconstructionOptions o = options;
-  o.voxelSize = resolveVoxelSize(options.voxelSize, facts);
-  o.levels = resolveLevels(options.levels, *o.voxelSize, facts);
-  o.epsilon = resolveEpsilon(options.epsilon, facts);
-  o.beta = resolveBeta(options.beta, *o.voxelSize, facts);
-  if (o.dataTerm == DataTermSource::kAuto)
-    o.dataTerm = scans.scans() > kGridsFromScans ? DataTermSource::kGrids : DataTermSource::kPerMap;
-  if (!(o.tolerance > 0.0)) throw std::invalid_argument("reconstruction: the tolerance must be positive");
-  if (o.patience < 1) throw std::invalid_argument("reconstruction: the patience must be at least one iteration");
-  if (!(o.drift > 0.0)) throw std::invalid_argument("reconstruction: the drift tolerance must be positive");
-  if (o.minIterations < 0 || o.maxIterations < std::max(1, o.minIterations))
-    throw std::invalid_argument("reconstruction: iterations must satisfy 0 <= min <= max, max >= 1");
-  return o;
+  return facts;
 }
 
-FusionSettings fusionSettingsOf(const ReconstructionOptions& resolved) {
-  if (!resolved.voxelSize || !resolved.levels || !resolved.epsilon)
-    throw std::invalid_argument("fusionSettingsOf: the options' voxel size, levels and epsilon must be resolved "
-                                "(resolveReconstructionOptions)");
-  FusionSettings settings;
-  settings.voxelSize = *resolved.voxelSize;
-  settings.levels = *resolved.levels;
-  settings.epsilon = *resolved.epsilon;
-  settings.window = resolved.window;
-  settings.grainSize = resolved.engine.grainSize;
+}  // namespace
+
+ReconstructionSettings resolveReconstructionSettings(const ReconstructionOptions& given, const ScanSummary& scans) {
+  const ScanFacts facts = factsOf(scans);
+  ReconstructionSettings settings;
+  static_cast<ReconstructionControls&>(settings) = given;
+  settings.voxelSize = resolveVoxelSize(given.voxelSize, facts);
+  settings.levels = resolveLevels(given.levels, settings.voxelSize, facts);
+  settings.epsilon = resolveEpsilon(given.epsilon, facts);
+  settings.beta = resolveBeta(given.beta, settings.voxelSize, facts);
+  settings.dataTerm = given.dataTerm;
+  if (settings.dataTerm == DataTermSource::kAuto)
+    settings.dataTerm = scans.scans() > kGridsFromScans ? DataTermSource::kGrids : DataTermSource::kPerMap;
+  requireStoppingRule(settings);
   return settings;
+}
+
+ReconstructionOptions optionsOf(const ReconstructionSettings& settings) {
+  ReconstructionOptions options;
+  static_cast<ReconstructionControls&>(options) = settings;
+  options.voxelSize = settings.voxelSize;
+  options.levels = settings.levels;
+  options.beta = settings.beta;
+  options.epsilon = settings.epsilon;
+  options.dataTerm = settings.dataTerm;
+  return options;
+}
+
+FusionSettings fusionSettingsOf(const ReconstructionSettings& settings) {
+  FusionSettings grids;
+  grids.voxelSize = settings.voxelSize;
+  grids.levels = settings.levels;
+  grids.epsilon = settings.epsilon;
+  grids.window = settings.window;
+  grids.grainSize = settings.engine.grainSize;
+  return grids;
 }
 
 }  // namespace levelfuse

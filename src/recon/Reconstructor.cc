@@ -87,19 +87,16 @@ double largestLocalDrift(const detail::EvolvingField& field, const openvdb::Floa
   return drift.empty() ? 0.0 : *std::max_element(drift.begin(), drift.end());
 }
 
-}  // namespace
-
-Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options)
-    : mMaps(std::make_shared<const std::vector<RangeMap>>(std::move(maps))), mOptions(options) {
-  if (mMaps->empty()) throw std::invalid_argument("reconstruction: no range maps to reconstruct from");
-  mSummary = ScanSummary(*mMaps);
-  mOptions = resolveReconstructionOptions(options, mSummary);
+/// Throws std::invalid_argument for a fusion that holds no range maps yet.
+void requireFusedMaps(const Fusion& fusion) {
+  if (fusion.scanCount() == 0) throw std::invalid_argument("reconstruction: the fusion holds no range maps yet");
 }
 
-Reconstructor::Reconstructor(const Fusion& fusion, const ReconstructionOptions& options)
-    : mMaps(std::make_shared<const std::vector<RangeMap>>()), mFusion(&fusion), mOptions(options),
-      mSummary(fusion.summary()) {
-  if (fusion.scanCount() == 0) throw std::invalid_argument("reconstruction: the fusion holds no range maps yet");
+/// The settings of a reconstruction from `fusion`'s grids: the voxel size,
+/// levels, window and epsilon are the fusion's (given ones must agree), the
+/// data term its grids, the rest resolved from `options` and its summary.
+ReconstructionSettings settingsOnFusion(const Fusion& fusion, const ReconstructionOptions& options) {
+  requireFusedMaps(fusion);
   const FusionSettings& fused = fusion.settings();
   const auto agree = [](const auto& given, const auto& fusions, const char* what) {
     if (given && *given != fusions)
@@ -117,21 +114,51 @@ Reconstructor::Reconstructor(const Fusion& fusion, const ReconstructionOptions& 
   o.epsilon = fused.epsilon;
   o.window = fused.window;
   o.dataTerm = DataTermSource::kGrids;
-  mOptions = resolveReconstructionOptions(o, mSummary);
+  return resolveReconstructionSettings(o, fusion.summary());
 }
 
+/// Throws std::invalid_argument unless `settings` are those of `fusion`'s grids.
+void requireFusionSettings(const Fusion& fusion, const ReconstructionSettings& settings) {
+  const FusionSettings& fused = fusion.settings();
+  if (settings.voxelSize != fused.voxelSize || settings.levels != fused.levels || settings.epsilon != fused.epsilon ||
+      settings.window != fused.window || settings.dataTerm != DataTermSource::kGrids)
+    throw std::invalid_argument("reconstruction: the settings' grids are not the fusion's: take them from the "
+                                "settings the fusion was made with (fusionSettingsOf)");
+}
 
+}  // namespace
 
+Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options)
+    : mMaps(std::make_shared<const std::vector<RangeMap>>(std::move(maps))) {
+  if (mMaps->empty()) throw std::invalid_argument("reconstruction: no range maps to reconstruct from");
+  mSummary = ScanSummary(*mMaps);
+  mSettings = resolveReconstructionSettings(options, mSummary);
+}
 
+Reconstructor::Reconstructor(std::vector<RangeMap> maps, const ReconstructionSettings& settings)
+    : mMaps(std::make_shared<const std::vector<RangeMap>>(std::move(maps))), mSettings(settings) {
+  if (mMaps->empty()) throw std::invalid_argument("reconstruction: no range maps to reconstruct from");
+  mSummary = ScanSummary(*mMaps);
+}
+
+Reconstructor::Reconstructor(const Fusion& fusion, const ReconstructionOptions& options)
+    : Reconstructor(fusion, settingsOnFusion(fusion, options)) {}
+
+Reconstructor::Reconstructor(const Fusion& fusion, const ReconstructionSettings& settings)
+    : mMaps(std::make_shared<const std::vector<RangeMap>>()), mFusion(&fusion), mSettings(settings),
+      mSummary(fusion.summary()) {
+  requireFusedMaps(fusion);
+  requireFusionSettings(fusion, settings);
+}
 
 void Reconstructor::requireMapsAccumulationMemory(int level) const {
-  requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mOptions, level);
+  requireAccumulationMemory(accumulationCostOf(rangeMapsOf(*mMaps)), mSettings, level);
 }
 
 LinearBand Reconstructor::initialBand() const {
   // Structures thinner than a voxel of a coarse grid are noise against it; the
   // finest grid keeps all it resolves (ForceField.h, LinearBand).
-  return *mOptions.levels > 1 ? LinearBand::kRebuilt : LinearBand::kZeroCrossings;
+  return mSettings.levels > 1 ? LinearBand::kRebuilt : LinearBand::kZeroCrossings;
 }
 
 RangeMapSequence Reconstructor::carvingScans(const std::function<void(std::size_t)>& carvedWith) const {
@@ -148,25 +175,25 @@ RangeMapSequence Reconstructor::carvingScans(const std::function<void(std::size_
 
 SparseField Reconstructor::initialModel(const Interrupter& interrupter, const Fusion* fusion,
                                         const std::function<void(std::size_t)>& carvedWith) const {
-  requireCoarsestGridMemory(mOptions, bounds());
+  requireCoarsestGridMemory(mSettings, bounds());
   const LinearBand band = initialBand();
   const RangeMapSequence carving = carvingScans(carvedWith);
-  if (fusion) return fusion->linearSolutionField(0, band, mOptions.engine, interrupter, carving);
+  if (fusion) return fusion->linearSolutionField(0, band, mSettings.engine, interrupter, carving);
   requireMapsAccumulationMemory(0);
   const ForceFieldOptions f = forceOptions(0);
   return linearSolutionField(ForceField(mMaps, f).accumulate(voxelSize(0), interrupter), carving,
-                             f.dataWindow().reach(), band, mOptions.engine, interrupter);
+                             f.dataWindow().reach(), band, mSettings.engine, interrupter);
 }
 
 SlabField Reconstructor::initialSlab(const Interrupter& interrupter, const Fusion& fusion,
                                      const std::function<void(std::size_t)>& carvedWith, const SlabTeam& team) const {
-  requireCoarsestGridMemory(mOptions, bounds());
+  requireCoarsestGridMemory(mSettings, bounds());
   // This process's slab of the data: the team agrees on the whole data's box.
   const SlabBounds data = *fusion.dataSlab();
   const DataTermGrids& grids = fusion.dataTerm(0);
   return linearSolutionSlabField(AccumulatedField{grids.gGrid(), grids.weightGrid(), 0}, carvingScans(carvedWith),
                                  grids.window().reach(), initialBand(), slabOfTheData(data, team), ownSlabOf(data),
-                                 mOptions.engine, interrupter);
+                                 mSettings.engine, interrupter);
 }
 
 
@@ -178,22 +205,22 @@ void Reconstructor::requireWholeData(const char* what) const {
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::linearSolution(const Interrupter& interrupter) const {
-  if (*mOptions.levels > 1) requireFinestGridMemory(mOptions, initialModel(interrupter, mFusion).stats().activeSetVoxels);
-  else requireCoarsestGridMemory(mOptions, bounds());
+  if (mSettings.levels > 1) requireFinestGridMemory(mSettings, initialModel(interrupter, mFusion).stats().activeSetVoxels);
+  else requireCoarsestGridMemory(mSettings, bounds());
   if (mFusion)
-    return mFusion->linearSolutionField(*mOptions.levels - 1, LinearBand::kZeroCrossings, mOptions.engine, interrupter)
-        .toLevelSet(3.0, mOptions.name);
-  requireMapsAccumulationMemory(*mOptions.levels - 1);
-  const ForceField force(mMaps, forceOptions(*mOptions.levels - 1));
-  return force.linearSolution(*mOptions.voxelSize, 3.0, mOptions.name, interrupter);
+    return mFusion->linearSolutionField(mSettings.levels - 1, LinearBand::kZeroCrossings, mSettings.engine, interrupter)
+        .toLevelSet(3.0, mSettings.name);
+  requireMapsAccumulationMemory(mSettings.levels - 1);
+  const ForceField force(mMaps, forceOptions(mSettings.levels - 1));
+  return force.linearSolution(mSettings.voxelSize, 3.0, mSettings.name, interrupter);
 }
 
 openvdb::FloatGrid::Ptr Reconstructor::surfaceWeight(const openvdb::FloatGrid& levelSet,
                                                      const Interrupter& interrupter) const {
   requireWholeData("surfaceWeight");
-  const int finest = *mOptions.levels - 1;
+  const int finest = mSettings.levels - 1;
   if (mFusion) return levelfuse::surfaceWeight(levelSet, mFusion->dataTerm(finest), interrupter);
-  if (mOptions.dataTerm == DataTermSource::kGrids)
+  if (mSettings.dataTerm == DataTermSource::kGrids)
     return levelfuse::surfaceWeight(levelSet, dataTermGrids(finest, interrupter), interrupter);
   return levelfuse::surfaceWeight(levelSet, ForceField(mMaps, forceOptions(finest)), interrupter);
 }
@@ -201,7 +228,7 @@ openvdb::FloatGrid::Ptr Reconstructor::surfaceWeight(const openvdb::FloatGrid& l
 openvdb::Vec3fGrid::Ptr Reconstructor::surfaceColour(const openvdb::FloatGrid& levelSet,
                                                      const Interrupter& interrupter) const {
   if (mSummary.colouredScans() == 0) return nullptr;
-  const ForceFieldOptions f = forceOptions(*mOptions.levels - 1);
+  const ForceFieldOptions f = forceOptions(mSettings.levels - 1);
   const RangeMapSequence maps = mFusion ? mFusion->scans() : rangeMapsOf(*mMaps);
   openvdb::Vec3fGrid::Ptr colour =
       levelfuse::surfaceColour(levelSet, maps, f.dataWindow(), f.positionVariance, interrupter);
@@ -209,10 +236,10 @@ openvdb::Vec3fGrid::Ptr Reconstructor::surfaceColour(const openvdb::FloatGrid& l
 }
 
 
-double Reconstructor::voxelSize(int level) const { return fusionSettingsOf(mOptions).levelVoxelSize(level); }
+double Reconstructor::voxelSize(int level) const { return fusionSettingsOf(mSettings).levelVoxelSize(level); }
 
 ForceFieldOptions Reconstructor::forceOptions(int level) const {
-  return fusionSettingsOf(mOptions).levelForceOptions(level);
+  return fusionSettingsOf(mSettings).levelForceOptions(level);
 }
 
 DataTermGrids Reconstructor::dataTermGrids(int level, const Interrupter& interrupter,
@@ -236,15 +263,15 @@ LevelReport Reconstructor::evolveLevel(detail::EvolvingField& field, const Field
                                        const std::function<void()>& report) const {
   DataSpeed<Field> speed;
   speed.force = DataForce<Field>{&data};
-  const double finest = *mOptions.voxelSize;
-  speed.beta = *mOptions.beta * finest * finest;  // beta in voxels of the finest grid
+  const double finest = mSettings.voxelSize;
+  speed.beta = mSettings.beta * finest * finest;  // beta in voxels of the finest grid
   speed.sampling = ForceSampling::kSubcell;      // Eqs. 34-36
-  if (speed.beta == 0.0) speed.force.limit = forceLimitWithoutPrior(h, *mOptions.epsilon);
+  if (speed.beta == 0.0) speed.force.limit = forceLimitWithoutPrior(h, mSettings.epsilon);
   LevelReport done;
   double slowest = std::numeric_limits<double>::infinity();
   int lastProgress = 0, snapshotIteration = 0;
   openvdb::FloatTree::Ptr snapshot = driftSnapshot(field, data);
-  for (int iteration = 1; iteration <= mOptions.maxIterations; ++iteration) {
+  for (int iteration = 1; iteration <= mSettings.maxIterations; ++iteration) {
     const StepResult step = field.step(speed);
     done.simulatedTime += step.dt;
     state.iteration = iteration;
@@ -254,8 +281,8 @@ LevelReport Reconstructor::evolveLevel(detail::EvolvingField& field, const Field
     state.speed = step.dt > 0.0 ? step.rmsChangeNotAtRest / step.dt / h : 0.0;
     done.iterations = iteration;
     report();
-    if (iteration < mOptions.minIterations) continue;
-    if (state.speed < mOptions.tolerance || step.dt <= 0.0) {
+    if (iteration < mSettings.minIterations) continue;
+    if (state.speed < mSettings.tolerance || step.dt <= 0.0) {
       done.converged = true;
       break;
     }
@@ -269,13 +296,13 @@ LevelReport Reconstructor::evolveLevel(detail::EvolvingField& field, const Field
       slowest = state.speed;
       lastProgress = iteration;
     }
-    if (iteration - snapshotIteration >= mOptions.patience) {
+    if (iteration - snapshotIteration >= mSettings.patience) {
       state.drift = field.largest(largestLocalDrift(field, *snapshot, data)) / h /
                     static_cast<double>(iteration - snapshotIteration);
       snapshot.reset();  // one copy at a time
       snapshot = driftSnapshot(field, data);
       snapshotIteration = iteration;
-      if (iteration - lastProgress >= mOptions.patience && state.drift < mOptions.drift) {
+      if (iteration - lastProgress >= mSettings.patience && state.drift < mSettings.drift) {
         done.settled = true;
         break;
       }
@@ -288,8 +315,8 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
                                         const SlabTeam* team) const {
   const auto start = Clock::now();
   ReconstructionProgress state;
-  state.levels = *mOptions.levels;
-  state.maxIterations = mOptions.maxIterations;
+  state.levels = mSettings.levels;
+  state.maxIterations = mSettings.maxIterations;
   const std::function<void()> report = [&] {
     state.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (progress && !progress(state)) throw ReconstructionCancelled();
@@ -304,7 +331,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
   PhaseClock clock;
   std::unique_ptr<Fusion> fused;
   const Fusion* fusion = mFusion;
-  if (!fusion && mOptions.dataTerm == DataTermSource::kGrids) {
+  if (!fusion && mSettings.dataTerm == DataTermSource::kGrids) {
     clock.enter("integrating");
     fused = fuseScans(state, report, interrupter, team);
     fusion = fused.get();
@@ -326,17 +353,17 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
     if (fusion && fusion->dataSlab()) {
       // Made of this process's slab of the data alone: the team counts the whole.
       detail::EvolvingField slab(initialSlab(interrupter, *fusion, carvedWith, *team), *team);
-      requireFinestGridMemory(mOptions, slab.stats().activeSetVoxels, team);
+      requireFinestGridMemory(mSettings, slab.stats().activeSetVoxels, team);
       return slab;
     }
     SparseField initial = initialModel(interrupter, fusion, carvedWith);
-    requireFinestGridMemory(mOptions, initial.stats().activeSetVoxels, team);
+    requireFinestGridMemory(mSettings, initial.stats().activeSetVoxels, team);
     if (team && team->size() > 1) return detail::EvolvingField(initial, *team);
     return detail::EvolvingField(std::move(initial));
   }();
   // 2-3. Each grid evolved, then refined for the next.
   int iterations = 0;
-  for (int level = 0; level < *mOptions.levels; ++level) {
+  for (int level = 0; level < mSettings.levels; ++level) {
     result.levels.push_back(reconstructLevel(level, field, fusion, state, report, interrupter, result, clock));
     iterations += result.levels.back().iterations;
     result.peakEngineBytes = std::max(result.peakEngineBytes, result.levels.back().engineBytes);
@@ -345,7 +372,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
     describeRun(*result.levelSet, iterations);
     clock.enter("colour");
     result.colour = surfaceColour(*result.levelSet, interrupter);
-    if (mOptions.keepPieces) field.keepOwnPiece(result.levelSet, result.weight, result.colour);
+    if (mSettings.keepPieces) field.keepOwnPiece(result.levelSet, result.weight, result.colour);
   }
   clock.stop();
   result.phases = clock.phases();
@@ -357,7 +384,7 @@ ReconstructionResult Reconstructor::run(const ProgressCallback& progress, const 
 
 std::unique_ptr<Fusion> Reconstructor::fuseScans(ReconstructionProgress& state, const std::function<void()>& report,
                                                  const Interrupter& interrupter, const SlabTeam* team) const {
-  std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostWithin(rangeMapsOf(*mMaps)), rangeMapsOf(*mMaps), mOptions,
+  std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostWithin(rangeMapsOf(*mMaps)), rangeMapsOf(*mMaps), mSettings,
                                                Fusion::Keep::kNothing, team, interrupter);
   state.stage = ReconstructionProgress::Stage::kIntegrating;
   state.scan = 0;
@@ -386,11 +413,11 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
     clock.enter("resampling");
     state.stage = ReconstructionProgress::Stage::kResampling;
     report();
-    field.refine(mOptions.engine);
+    field.refine(mSettings.engine);
   }
   // 2. Evolve under the data term and the prior until the surface settles.
   // On the finest grid, the surface's weight is taken while its data term is at hand.
-  const bool finestGrid = level + 1 == *mOptions.levels;
+  const bool finestGrid = level + 1 == mSettings.levels;
   const auto evolveAndWeigh = [&](const auto& data) {
     clock.enter("evolution");
     state.stage = ReconstructionProgress::Stage::kEvolving;
@@ -399,9 +426,9 @@ LevelReport Reconstructor::reconstructLevel(int level, detail::EvolvingField& fi
       clock.enter("surface weight");
       // Pieces stay their slab's level set, ghosts and all, until the colour is made (run).
       detail::EvolvingField::Surface surface = field.release(
-          mOptions.name,
+          mSettings.name,
           [&](const openvdb::FloatGrid& levelSet) { return levelfuse::surfaceWeight(levelSet, data, interrupter); },
-          mOptions.keepPieces);
+          mSettings.keepPieces);
       result.levelSet = std::move(surface.levelSet);
       result.weight = std::move(surface.weight);
     }
@@ -440,7 +467,7 @@ std::unique_ptr<DataTermGrids> Reconstructor::dataTermOfSlab(int level, const de
   const auto [xMin, xMax] = worldRangeOf(data, voxelSize(level));
   const AccumulationCostWithin costWithin = accumulationCostWithin(scans ? scans : fusion.scans());
   requireAccumulationMemory(
-      [&, xMin = xMin, xMax = xMax](double h, double reach) { return costWithin(h, reach, xMin, xMax); }, mOptions,
+      [&, xMin = xMin, xMax = xMax](double h, double reach) { return costWithin(h, reach, xMin, xMax); }, mSettings,
       level);
   state.stage = ReconstructionProgress::Stage::kIntegrating;
   report();
@@ -451,14 +478,14 @@ std::unique_ptr<DataTermGrids> Reconstructor::dataTermOfSlab(int level, const de
 
 void Reconstructor::describeRun(openvdb::FloatGrid& out, int iterations) const {
   out.insertMeta("levelfuse_version", openvdb::StringMetadata(version()));
-  out.insertMeta("levelfuse_voxel_size", openvdb::DoubleMetadata(*mOptions.voxelSize));
-  out.insertMeta("levelfuse_levels", openvdb::Int32Metadata(*mOptions.levels));
-  out.insertMeta("levelfuse_beta", openvdb::DoubleMetadata(*mOptions.beta));
-  out.insertMeta("levelfuse_epsilon", openvdb::DoubleMetadata(*mOptions.epsilon));
-  out.insertMeta("levelfuse_window", openvdb::StringMetadata(windowKindName(mOptions.window)));
+  out.insertMeta("levelfuse_voxel_size", openvdb::DoubleMetadata(mSettings.voxelSize));
+  out.insertMeta("levelfuse_levels", openvdb::Int32Metadata(mSettings.levels));
+  out.insertMeta("levelfuse_beta", openvdb::DoubleMetadata(mSettings.beta));
+  out.insertMeta("levelfuse_epsilon", openvdb::DoubleMetadata(mSettings.epsilon));
+  out.insertMeta("levelfuse_window", openvdb::StringMetadata(windowKindName(mSettings.window)));
   out.insertMeta("levelfuse_data_term",
-                 openvdb::StringMetadata(mOptions.dataTerm == DataTermSource::kGrids ? "grids" : "maps"));
-  out.insertMeta("levelfuse_tolerance", openvdb::DoubleMetadata(mOptions.tolerance));
+                 openvdb::StringMetadata(mSettings.dataTerm == DataTermSource::kGrids ? "grids" : "maps"));
+  out.insertMeta("levelfuse_tolerance", openvdb::DoubleMetadata(mSettings.tolerance));
   out.insertMeta("levelfuse_iterations", openvdb::Int32Metadata(iterations));
   out.insertMeta("levelfuse_scans", openvdb::Int32Metadata(static_cast<int>(mSummary.scans())));
 }

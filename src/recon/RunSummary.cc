@@ -83,11 +83,11 @@ std::string runSummaryJson(const RunSummary& s) {
                    {"readings", s.readings},
                    {"method", s.linear ? "linear" : "evolution"},
                    {"scene", s.scene},
-                   {"voxel_size", s.options.voxelSize.value_or(0.0)},
-                   {"levels", s.options.levels.value_or(0)},
-                   {"beta", s.options.beta.value_or(0.0)},
-                   {"epsilon", s.options.epsilon.value_or(0.0)},
-                   {"engine", engineJson(s.options.engine)},
+                   {"voxel_size", s.settings.voxelSize},
+                   {"levels", s.settings.levels},
+                   {"beta", s.settings.beta},
+                   {"epsilon", s.settings.epsilon},
+                   {"engine", engineJson(s.settings.engine)},
                    {"grids", gridsJson(s.levels)},
                    {"narrow_band_voxels", s.narrowBandVoxels},
                    {"peak_engine_bytes", s.peakEngineBytes},
@@ -105,7 +105,7 @@ std::string runSummaryJson(const RunSummary& s) {
     j["truth"] = {{"shape", s.truth->shape},
                   {"rms_error", s.truth->rms},
                   {"measured_on", s.truth->whereSeen ? "the surface seen" : "the whole surface"},
-                  {"rms_error_voxels", s.truth->rms / s.options.voxelSize.value_or(1.0)}};
+                  {"rms_error_voxels", s.truth->rms / s.settings.voxelSize}};
   return j.dump(2);
 }
 

@@ -23,15 +23,14 @@ void ScansReconstruction::letTheGridsGo() {
   scans = kept.unpacked();
 }
 
-ScansReconstruction prepareReconstruction(PackedScans scans, const ReconstructionOptions& given,
+ScansReconstruction prepareReconstruction(PackedScans scans, const ReconstructionSettings& settings,
                                           const std::function<void(std::size_t, std::size_t)>& integrated,
                                           const Interrupter& interrupter, const SlabTeam* team,
                                           const SharedDataSlab* cut) {
   ScansReconstruction r;
-  const ReconstructionOptions resolved = resolveReconstructionOptions(given, scans.summary);
-  if (resolved.dataTerm == DataTermSource::kGrids) {
-    r.fusion = fusePackedScans(std::move(scans), resolved, integrated, interrupter, team, cut);
-    r.reconstructor = std::make_unique<Reconstructor>(*r.fusion, resolved);
+  if (settings.dataTerm == DataTermSource::kGrids) {
+    r.fusion = fusePackedScans(std::move(scans), settings, integrated, interrupter, team, cut);
+    r.reconstructor = std::make_unique<Reconstructor>(*r.fusion, settings);
     r.scans = r.fusion->scans();
     return r;
   }
@@ -39,7 +38,7 @@ ScansReconstruction prepareReconstruction(PackedScans scans, const Reconstructio
   maps.reserve(scans.maps.size());
   for (const PackedRangeMap& p : scans.maps) maps.push_back(p.unpack());
   scans = PackedScans();
-  r.reconstructor = std::make_unique<Reconstructor>(std::move(maps), resolved);
+  r.reconstructor = std::make_unique<Reconstructor>(std::move(maps), settings);
   r.scans = rangeMapsOf(r.reconstructor->maps());
   return r;
 }

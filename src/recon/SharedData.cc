@@ -23,16 +23,16 @@ SlabBounds ownSlabOf(const SlabBounds& data) {
   return own;
 }
 
-bool sharesDataInSlabs(const ReconstructionOptions& resolved, const SlabTeam* team) {
-  return team && team->size() > 1 && resolved.dataTerm == DataTermSource::kGrids && resolved.levels == 1;
+bool sharesDataInSlabs(const ReconstructionSettings& settings, const SlabTeam* team) {
+  return team && team->size() > 1 && settings.dataTerm == DataTermSource::kGrids && settings.levels == 1;
 }
 
-bool defersFinerGrids(const ReconstructionOptions& resolved, const SlabTeam* team) {
-  return team && team->size() > 1 && resolved.dataTerm == DataTermSource::kGrids && *resolved.levels > 1;
+bool defersFinerGrids(const ReconstructionSettings& settings, const SlabTeam* team) {
+  return team && team->size() > 1 && settings.dataTerm == DataTermSource::kGrids && settings.levels > 1;
 }
 
-ReachedLeaves reachedLeavesOf(const ReconstructionOptions& resolved) {
-  const FusionSettings grids = fusionSettingsOf(resolved);
+ReachedLeaves reachedLeavesOf(const ReconstructionSettings& settings) {
+  const FusionSettings grids = fusionSettingsOf(settings);
   const int finest = grids.levels - 1;
   return ReachedLeaves(grids.levelVoxelSize(finest), grids.levelForceOptions(finest).dataWindow().reach());
 }
@@ -43,9 +43,9 @@ std::vector<SharedDataSlab> sharedDataSlabs(const ReachedLeaves& reached, int pr
   return slabs;
 }
 
-SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const ReconstructionOptions& resolved,
+SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const ReconstructionSettings& settings,
                               const SlabTeam& team) {
-  ReachedLeaves reached = reachedLeavesOf(resolved);
+  ReachedLeaves reached = reachedLeavesOf(settings);
   maps([&](const RangeMap& map) { reached.add(map); });
   return sharedDataSlabs(reached, team.size()).at(static_cast<std::size_t>(team.rank()));
 }
@@ -57,23 +57,23 @@ std::pair<double, double> worldRangeOf(const SlabBounds& slab, double voxelSize)
 }
 
 std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostWithin& costWithin, const RangeMapSequence& maps,
-                                     const ReconstructionOptions& resolved, Fusion::Keep keep, const SlabTeam* team,
+                                     const ReconstructionSettings& settings, Fusion::Keep keep, const SlabTeam* team,
                                      const Interrupter& interrupter, const SharedDataSlab* cut) {
-  if (!sharesDataInSlabs(resolved, team))
-    return fusionFor(overAllOfX(costWithin), resolved, keep, defersFinerGrids(resolved, team));
+  if (!sharesDataInSlabs(settings, team))
+    return fusionFor(overAllOfX(costWithin), settings, keep, defersFinerGrids(settings, team));
   const RangeMapSequence asked = [&](const RangeMapVisitor& visit) {
     maps([&](const RangeMap& map) {
       checkInterrupter(interrupter);
       visit(map);
     });
   };
-  const SharedDataSlab slab = cut ? *cut : sharedDataSlab(asked, resolved, *team);
+  const SharedDataSlab slab = cut ? *cut : sharedDataSlab(asked, settings, *team);
   // The leaves' lists and the grids grow with the data within the slab.
-  const auto [xMin, xMax] = worldRangeOf(slab.data, *resolved.voxelSize);
+  const auto [xMin, xMax] = worldRangeOf(slab.data, settings.voxelSize);
   const AccumulationCostOf slabCost = [&, xMin = xMin, xMax = xMax](double voxelSize, double reach) {
     return costWithin(voxelSize, reach, xMin, xMax);
   };
-  std::unique_ptr<Fusion> fusion = fusionFor(slabCost, resolved, keep);
+  std::unique_ptr<Fusion> fusion = fusionFor(slabCost, settings, keep);
   fusion->restrictToSlab(slab.data);
   return fusion;
 }
@@ -93,11 +93,11 @@ SlabOfTheData slabOfTheData(const SlabBounds& data, const SlabTeam& team) {
   return SlabOfTheData{data, [&team](const openvdb::CoordBBox& own) { return teamBox(own, team); }};
 }
 
-std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
+std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionSettings& settings,
                                         const std::function<void(std::size_t, std::size_t)>& integrated,
                                         const Interrupter& interrupter, const SlabTeam* team,
                                         const SharedDataSlab* cut) {
-  std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostWithin(scans), scans.unpacked(), resolved,
+  std::unique_ptr<Fusion> fusion = fusionOnTeam(accumulationCostWithin(scans), scans.unpacked(), settings,
                                                 Fusion::Keep::kPacked, team, interrupter, cut);
   fusion->integrate(std::move(scans.maps), integrated, interrupter);
   fusion->adoptSummary(std::move(scans.summary));

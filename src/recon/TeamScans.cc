@@ -92,24 +92,24 @@ openvdb::BBoxd carvingBoxOf(const SlabBounds& data, const openvdb::CoordBBox& da
 }
 
 TeamScanPlan planTeamScans(const PackedScans& held, const std::vector<std::size_t>& numbers, std::size_t scanCount,
-                           const ReconstructionOptions& resolved, bool needsEvery, const SlabTeam& team,
+                           const ReconstructionSettings& settings, bool needsEvery, const SlabTeam& team,
                            const Interrupter& interrupter) {
   if (numbers.size() != held.maps.size())
     throw std::invalid_argument("planTeamScans: " + std::to_string(held.maps.size()) + " scans held but " +
                                 std::to_string(numbers.size()) + " numbered");
   TeamScanPlan plan;
-  if (!sharesDataInSlabs(resolved, &team)) {
+  if (!sharesDataInSlabs(settings, &team)) {
     for (std::size_t scan = 0; scan < scanCount; ++scan) plan.needed.push_back(scan);
     return plan;
   }
   // Where the windows of the scans held reach, every process's together.
-  ReachedLeaves reached = reachedLeavesOf(resolved);
+  ReachedLeaves reached = reachedLeavesOf(settings);
   std::vector<ReachedLeaves::Span> spans;
   held.unpacked()([&](const RangeMap& map) {
     checkInterrupter(interrupter);
     spans.push_back(reached.add(map));
   });
-  ReachedLeaves whole = reachedLeavesOf(resolved);
+  ReachedLeaves whole = reachedLeavesOf(settings);
   std::vector<bool> needsEveryScan;
   {
     std::vector<PackedLeaves> toEach(static_cast<std::size_t>(team.size()), packReached(reached, needsEvery));
@@ -118,7 +118,7 @@ TeamScanPlan planTeamScans(const PackedScans& held, const std::vector<std::size_
   // Every process's slab, and which of the scans held each needs.
   const std::vector<SharedDataSlab> slabs = sharedDataSlabs(whole, team.size());
   const openvdb::CoordBBox dataVoxels = whole.voxelBox();
-  const double voxelSize = *resolved.voxelSize;  // of the one grid
+  const double voxelSize = settings.voxelSize;  // of the one grid
   std::vector<PackedLeaves> toEach(slabs.size());
   for (std::size_t process = 0; process < slabs.size(); ++process) {
     const SlabBounds& data = slabs[process].data;
@@ -162,14 +162,15 @@ PackedScans inNumberOrder(ScansByNumber scans, const ScanSummary& whole, std::ve
 
 }  // namespace
 
-NumberedScans readTeamScans(const NumberedScanReader& read, const ReconstructionOptions& given, bool needsEvery,
-                            const SlabTeam& team, std::optional<SharedDataSlab>& slab,
-                            const Interrupter& interrupter) {
+TeamShare readTeamScans(const NumberedScanReader& read, const ReconstructionOptions& given, bool needsEvery,
+                        const SlabTeam& team, const Interrupter& interrupter) {
   NumberedScans first = read([&](std::size_t scan) { return readFirstBy(scan, team.rank(), team.size()); });
   const ScanSummary whole = teamSummary(first.scans.summary, team);
-  const TeamScanPlan plan = planTeamScans(first.scans, first.numbers, first.scanCount,
-                                          resolveReconstructionOptions(given, whole), needsEvery, team, interrupter);
-  slab = plan.slab;
+  TeamShare share;
+  share.settings = resolveReconstructionSettings(given, whole);
+  const TeamScanPlan plan =
+      planTeamScans(first.scans, first.numbers, first.scanCount, share.settings, needsEvery, team, interrupter);
+  share.slab = plan.slab;
   const auto isNeeded = [&](std::size_t scan) {
     return std::binary_search(plan.needed.begin(), plan.needed.end(), scan);
   };
@@ -180,12 +181,12 @@ NumberedScans readTeamScans(const NumberedScanReader& read, const Reconstruction
     return isNeeded(scan) && !std::binary_search(first.numbers.begin(), first.numbers.end(), scan);
   });
   moveScansNeeded(rest, isNeeded, needed);
-  NumberedScans held;
+  NumberedScans& held = share.held;
   held.scans = inNumberOrder(std::move(needed), whole, held.numbers);
   if (!needsEvery) held.scans.letSamplesGo();
   held.scanCount = first.scanCount;
   held.firstScan = std::move(first.firstScan);  // scan 0, which the first process reads first
-  return held;
+  return share;
 }
 
 }  // namespace levelfuse

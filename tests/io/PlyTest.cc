@@ -2,7 +2,6 @@
 
 #include "support/Files.h"
 #include "support/InputErrors.h"
-#include "support/MemoryBudgetScope.h"
 
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/Ply.h>
@@ -162,16 +161,11 @@ TEST(Ply, RefusesFilesBeyondTheMemoryBudget) {
   const std::string path = dir.path("a.ply");
   writeText(path, std::string(kHeader) + "0 0 0\n1.5 -2 3e-3\n4 5 6\n1 0\n0\n1 2\n1 1\n");
   const auto bytes = std::filesystem::file_size(path);
-  {
-    test::MemoryBudgetScope budget(bytes - 1);
-    expectError(path, "reading the file needs about " + std::to_string(bytes) + " bytes of memory, more than the " +
-                          std::to_string(bytes - 1) + " bytes levelfuse may use: split the scan into smaller files");
-  }
-  {
-    // The file fits, its values as doubles do not.
-    test::MemoryBudgetScope budget(bytes + 100);
-    expectError(path, "reading its values needs about");
-  }
+  test::expectInputError([&] { readPly(path, MemoryBudget(bytes - 1)); }, path,
+                         "reading the file needs about " + std::to_string(bytes) + " bytes of memory, more than the " +
+                             std::to_string(bytes - 1) + " bytes levelfuse may use: split the scan into smaller files");
+  // The file fits, its values as doubles do not.
+  test::expectInputError([&] { readPly(path, MemoryBudget(bytes + 100)); }, path, "reading its values needs about");
   EXPECT_EQ(readPly(path).element("vertex")->count, 3u);
 }
 

@@ -74,7 +74,7 @@ TEST(SharedReconstruction, DepthFramesGiveOneProcesssSurfaceWithEachRankHoldingI
   options.voxelSize = 0.02;
   options.dataTerm = DataTermSource::kGrids;
   const Reconstructor reconstructor(roomFrames().reconstruction, options);
-  ASSERT_EQ(*reconstructor.options().levels, 1);
+  ASSERT_EQ(reconstructor.settings().levels, 1);
   expectSharedRunIsOneProcesssRun(reconstructor);
 }
 
@@ -126,15 +126,15 @@ TEST(SharedReconstruction, RanksThatReadTheFramesTheirSlabNeedsGiveOneProcesssPi
       first.push_back(n);
     }
   const ScanSummary whole = teamSummary(read.summary, team);
-  const TeamScanPlan plan =
-      planTeamScans(read, first, frames.size(), resolveReconstructionOptions(options, whole), false, team);
+  const ReconstructionSettings settings = resolveReconstructionSettings(options, whole);
+  const TeamScanPlan plan = planTeamScans(read, first, frames.size(), settings, false, team);
   ASSERT_TRUE(plan.slab);
   PackedScans needed;
   for (std::size_t n : plan.needed) needed.add(RangeMap(frames[n]));
   needed.summary = whole;
   EXPECT_LT(needed.maps.size(), frames.size() * 3 / 4) << "rank " << team.rank() << " holds most frames";
   EXPECT_EQ(team.total(needed.maps.size() > 0 ? 1 : 0), static_cast<std::uint64_t>(team.size()));
-  ScansReconstruction made = prepareReconstruction(std::move(needed), options, {}, {}, &team, &*plan.slab);
+  ScansReconstruction made = prepareReconstruction(std::move(needed), settings, {}, {}, &team, &*plan.slab);
   const ReconstructionResult mine = made.reconstructor->run({}, {}, &team);
   ASSERT_TRUE(mine.levelSet) << "rank " << team.rank();
   const openvdb::FloatGrid::Ptr clipped = test::clippedToSlab(*alone.levelSet, plan.slab->own);

@@ -55,8 +55,8 @@ TEST(Figure13, TorusErrorAgainstBeta) {
   const double sigma = scene.noiseSigma;
   ReconstructionOptions options;
   const Reconstructor defaults(scene.maps, options);
-  const ForceField finest(scene.maps, defaults.forceOptions(*defaults.options().levels - 1));
-  const double linear = rmsError(*finest.linearSolution(*defaults.options().voxelSize), *scene.truth) / sigma;
+  const ForceField finest(scene.maps, defaults.forceOptions(defaults.settings().levels - 1));
+  const double linear = rmsError(*finest.linearSolution(defaults.settings().voxelSize), *scene.truth) / sigma;
   std::printf("| beta (finest voxels) | rms error / noise sigma | iterations |\n| --- | --- | --- |\n");
   std::printf("| linear solution | %.3f | |\n", linear);
   double best = 1e9, atZero = 0.0, atLargest = 0.0, atDefault = 0.0;
@@ -74,7 +74,7 @@ TEST(Figure13, TorusErrorAgainstBeta) {
   {
     const ReconstructionResult result = defaults.run();
     atDefault = rmsError(*result.levelSet, *scene.truth) / sigma;
-    std::printf("| default, %.2f | %.3f | |\n", *defaults.options().beta, atDefault);
+    std::printf("| default, %.2f | %.3f | |\n", defaults.settings().beta, atDefault);
   }
   EXPECT_LT(best, 0.25 * linear);   // the prior clearly beats the linear solution
   EXPECT_LT(best, 0.1);             // a tenth of the noise

@@ -241,8 +241,27 @@ def test_every_documented_keyword_has_its_effect_checked():
     doc = levelfuse.reconstruct.__doc__
     block = doc[doc.index("Keywords"):doc.index("and for paths")].split("\n", 1)[1]
     documented = set(re.findall(r"\b([a-z_]+)(?==|,|\n| \()", block))
-    checked = {case.values[0] for case in KEYWORD_EFFECTS}
+    checked = {case.values[0] for case in KEYWORD_EFFECTS} | {"memory_budget"}
     assert documented == checked
+
+
+def test_memory_budget_refuses_what_would_not_fit():
+    maps = sphere_scans()
+    levelfuse.reconstruct(maps, voxel_size=0.1, fit=False, memory_budget=2**30)
+    with pytest.raises(levelfuse.InsufficientMemory, match="more than the 64 KiB levelfuse may use"):
+        levelfuse.reconstruct(maps, voxel_size=0.1, fit=False, memory_budget=65536)
+    with pytest.raises(TypeError, match="memory_budget"):
+        levelfuse.reconstruct(maps, memory_budget="a lot")
+    with pytest.raises(ValueError, match="memory_budget"):
+        levelfuse.reconstruct(maps, memory_budget=0)
+
+
+def test_the_readers_take_the_memory_budget():
+    frames = shared("7scenes")
+    with pytest.raises(levelfuse.InputError, match="more than the 9.77 KiB levelfuse may use"):
+        levelfuse.load_scans(str(frames), memory_budget=10000)
+    with pytest.raises(levelfuse.InputError, match="more than the 9.77 KiB levelfuse may use"):
+        levelfuse.reconstruct(str(frames), memory_budget=10000)
 
 
 def test_keywords_refuse_what_they_cannot_take():

@@ -27,8 +27,8 @@ Reconstructor roomReconstructor(const RoomFrames& frames) {
 
 TEST(DepthFrames, DefaultToOneGridWithoutThePrior) {
   const Reconstructor r = roomReconstructor(roomFrames());
-  EXPECT_EQ(r.options().levels, 1);
-  EXPECT_EQ(r.options().beta, 0.0);
+  EXPECT_EQ(r.settings().levels, 1);
+  EXPECT_EQ(r.settings().beta, 0.0);
 }
 
 TEST(DepthFrames, TheEvolutionEndsNoFartherFromHeldOutFramesThanTheLinearSolution) {

@@ -29,9 +29,9 @@ void expectSameGrid(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) {
 /// A fusion on a 4 cm grid with the batch reconstructor's settings for these frames.
 FusionSettings settingsFor(const Reconstructor& batch) {
   FusionSettings settings;
-  settings.voxelSize = *batch.options().voxelSize;
-  settings.levels = *batch.options().levels;
-  settings.epsilon = *batch.options().epsilon;
+  settings.voxelSize = batch.settings().voxelSize;
+  settings.levels = batch.settings().levels;
+  settings.epsilon = batch.settings().epsilon;
   return settings;
 }
 
@@ -55,8 +55,8 @@ TEST(Fusion, FrameByFrameGivesWhatTheFramesTogetherGive) {
     EXPECT_EQ(fusion.scanCount(), frames.reconstruction.size());
     ReconstructionOptions derived;  // the rest derived from the fusion's summary, as from the frames
     const Reconstructor streamed(fusion, derived);
-    EXPECT_EQ(streamed.options().beta, batch.options().beta);
-    EXPECT_EQ(streamed.options().dataTerm, DataTermSource::kGrids);
+    EXPECT_EQ(streamed.settings().beta, batch.settings().beta);
+    EXPECT_EQ(streamed.settings().dataTerm, DataTermSource::kGrids);
     EXPECT_TRUE(streamed.maps().empty());
     const ReconstructionResult expected = batch.run();
     const ReconstructionResult got = reconstruct(fusion);

@@ -1,6 +1,5 @@
 // The reconstruction pipeline on synthetic scans with known answers.
 
-#include "support/MemoryBudgetScope.h"
 #include "support/TestSupport.h"
 
 #include <levelfuse/geometry/Shapes.h>
@@ -8,6 +7,7 @@
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
+#include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/ScansReconstruction.h>
 #include <levelfuse/recon/SurfaceWeight.h>
@@ -52,20 +52,71 @@ ReconstructionOptions smallOptions() {
 
 TEST(Reconstructor, ResolvesItsDefaultsFromTheData) {
   const Reconstructor r(noisySphere(0.01));
-  const ReconstructionOptions& o = r.options();
-  ASSERT_TRUE(o.voxelSize && o.epsilon && o.beta && o.levels);  // every derived setting resolved
-  EXPECT_NEAR(*o.voxelSize, 0.02, 1e-9);           // the views' ray spacing, 2.4 / 120
-  EXPECT_NEAR(*o.epsilon, 0.01, 1e-9);             // sigma
-  EXPECT_NEAR(*o.beta, 0.5, 1e-9);                 // sigma is half a voxel: the floor
-  EXPECT_EQ(*o.levels, 2);                         // 100 voxels across: the coarsest grid about 64
-  EXPECT_NEAR(r.voxelSize(0), 2.0 * *o.voxelSize, 1e-12);
-  EXPECT_NEAR(r.voxelSize(1), *o.voxelSize, 1e-12);
+  const ReconstructionSettings& o = r.settings();
+  EXPECT_NEAR(o.voxelSize, 0.02, 1e-9);  // the views' ray spacing, 2.4 / 120
+  EXPECT_NEAR(o.epsilon, 0.01, 1e-9);    // sigma
+  EXPECT_NEAR(o.beta, 0.5, 1e-9);        // sigma is half a voxel: the floor
+  EXPECT_EQ(o.levels, 2);                // 100 voxels across: the coarsest grid about 64
+  EXPECT_NEAR(r.voxelSize(0), 2.0 * o.voxelSize, 1e-12);
+  EXPECT_NEAR(r.voxelSize(1), o.voxelSize, 1e-12);
   EXPECT_GT(r.bounds().extents().x(), 1.9);
   EXPECT_THROW(Reconstructor(std::vector<RangeMap>{}), std::invalid_argument);
   ReconstructionOptions bad;
   bad.voxelSize = 1e-9;
   EXPECT_THROW(Reconstructor(noisySphere(0.01), bad), std::invalid_argument);  // 10^9 voxels across
-  EXPECT_NEAR(*Reconstructor(noisySphere(0.08)).options().beta, 4.0, 1e-9);  // sigma / voxel
+  EXPECT_NEAR(Reconstructor(noisySphere(0.08)).settings().beta, 4.0, 1e-9);  // sigma / voxel
+}
+
+TEST(Reconstructor, RunsWithSettingsResolvedOnceAsItWouldResolveThem) {
+  ReconstructionOptions given = smallOptions();
+  given.tolerance = 0.1;
+  given.name = "ball";
+  given.memoryBudget = MemoryBudget(1u << 30);
+  const std::vector<RangeMap> maps = noisySphere(0.01);
+  const ReconstructionSettings settings = resolveReconstructionSettings(given, ScanSummary(maps));
+  EXPECT_EQ(settings.voxelSize, 0.04);
+  EXPECT_EQ(settings.levels, 2);
+  EXPECT_NEAR(settings.epsilon, 0.01, 1e-9);  // derived: sigma
+  EXPECT_EQ(settings.dataTerm, DataTermSource::kPerMap);  // derived: six maps
+  EXPECT_EQ(settings.tolerance, 0.1);
+  EXPECT_EQ(settings.name, "ball");
+  EXPECT_EQ(settings.memoryBudget.bytes(), 1u << 30);
+  // Resolving the settings as options gives them back.
+  const ReconstructionSettings again = resolveReconstructionSettings(optionsOf(settings), ScanSummary(maps));
+  EXPECT_EQ(again.beta, settings.beta);
+  EXPECT_EQ(again.epsilon, settings.epsilon);
+  EXPECT_EQ(again.dataTerm, settings.dataTerm);
+  // A reconstructor given the settings runs as one given the options.
+  const Reconstructor fromSettings(noisySphere(0.01), settings), fromOptions(noisySphere(0.01), given);
+  EXPECT_EQ(fromSettings.settings().beta, fromOptions.settings().beta);
+  ReconstructionSettings fewIterations = settings;
+  fewIterations.maxIterations = 2;
+  given.maxIterations = 2;
+  given.minIterations = 2;
+  fewIterations.minIterations = 2;
+  const ReconstructionResult a = Reconstructor(noisySphere(0.01), fewIterations).run();
+  const ReconstructionResult b = Reconstructor(noisySphere(0.01), given).run();
+  std::string why;
+  EXPECT_TRUE(test::identical(*a.levelSet, *b.levelSet, &why)) << why;
+}
+
+TEST(Reconstructor, OnAFusionTakesOnlyTheFusionsGrids) {
+  const std::vector<RangeMap> maps = noisySphere(0.01);
+  ReconstructionOptions given = smallOptions();
+  given.dataTerm = DataTermSource::kGrids;
+  const ReconstructionSettings settings = resolveReconstructionSettings(given, ScanSummary(maps));
+  Fusion fusion(fusionSettingsOf(settings));
+  for (const RangeMap& map : maps) fusion.integrate(map);
+  EXPECT_NO_THROW(Reconstructor(fusion, settings));
+  for (const auto& spoil : std::vector<std::function<void(ReconstructionSettings&)>>{
+           [](ReconstructionSettings& s) { s.voxelSize *= 2.0; }, [](ReconstructionSettings& s) { s.levels = 1; },
+           [](ReconstructionSettings& s) { s.epsilon *= 2.0; },
+           [](ReconstructionSettings& s) { s.window = WindowKind::kBinary; },
+           [](ReconstructionSettings& s) { s.dataTerm = DataTermSource::kPerMap; }}) {
+    ReconstructionSettings other = settings;
+    spoil(other);
+    EXPECT_THROW(Reconstructor(fusion, other), std::invalid_argument);
+  }
 }
 
 TEST(Reconstructor, KeepsWhatItIsGivenAndRefusesWhatCannotBeUsed) {
@@ -75,7 +126,7 @@ TEST(Reconstructor, KeepsWhatItIsGivenAndRefusesWhatCannotBeUsed) {
   given.epsilon = 0.03;
   given.beta = 0.0;  // the prior off, not derived
   const Reconstructor r(noisySphere(0.01), given);
-  const ReconstructionOptions& o = r.options();
+  const ReconstructionSettings& o = r.settings();
   EXPECT_EQ(o.voxelSize, 0.05);
   EXPECT_EQ(o.levels, 3);
   EXPECT_EQ(o.epsilon, 0.03);
@@ -184,15 +235,15 @@ TEST(Reconstructor, TheRoomFromThreeTripods) {
 }
 
 TEST(Reconstructor, ChoosesTheDataTermByTheNumberOfScans) {
-  EXPECT_EQ(Reconstructor(noisySphere(0.01)).options().dataTerm, DataTermSource::kPerMap);
+  EXPECT_EQ(Reconstructor(noisySphere(0.01)).settings().dataTerm, DataTermSource::kPerMap);
   std::vector<RangeMap> many;
   for (int copy = 0; copy <= static_cast<int>(kGridsFromScans) / 6; ++copy)
     for (RangeMap& m : noisySphere(0.01, static_cast<std::uint64_t>(1 + 6 * copy))) many.push_back(std::move(m));
   ASSERT_GT(many.size(), kGridsFromScans);
-  EXPECT_EQ(Reconstructor(many).options().dataTerm, DataTermSource::kGrids);
+  EXPECT_EQ(Reconstructor(many).settings().dataTerm, DataTermSource::kGrids);
   ReconstructionOptions chosen;
   chosen.dataTerm = DataTermSource::kGrids;
-  EXPECT_EQ(Reconstructor(noisySphere(0.01), chosen).options().dataTerm, DataTermSource::kGrids);
+  EXPECT_EQ(Reconstructor(noisySphere(0.01), chosen).settings().dataTerm, DataTermSource::kGrids);
 }
 
 TEST(Reconstructor, GridsAndPerMapTermsReachTheSameSurface) {
@@ -232,7 +283,7 @@ TEST(Reconstructor, TakesReadingsThatLieInOnePlane) {
                                                openvdb::math::Mat4d::identity(), 0.0015, "wall")};
   const Reconstructor wall(maps);
   EXPECT_DOUBLE_EQ(wall.bounds().extents().z(), 0.0);
-  EXPECT_GT(*wall.options().voxelSize, 0.0);
+  EXPECT_GT(wall.settings().voxelSize, 0.0);
   maps = {RangeMap::pinhole(2, 2, {1.0f, NAN, NAN, NAN}, PinholeProjection{30.0, 30.0, 0.0, 0.0},
                             openvdb::math::Mat4d::identity(), 0.0015, "point")};
   try {
@@ -246,8 +297,8 @@ TEST(Reconstructor, TakesReadingsThatLieInOnePlane) {
 TEST(Reconstructor, RefusesAVoxelSizeThatWouldNotFitInMemory) {
   ReconstructionOptions options;
   options.voxelSize = 0.005;  // 400 voxels across: about 0.5 million on the surface, some 200 MiB
+  options.memoryBudget = MemoryBudget(64u << 20);
   {
-    test::MemoryBudgetScope budget(64u << 20);
     const Reconstructor tooFine(noisySphere(0.01), options);
     try {
       tooFine.run();
@@ -273,7 +324,7 @@ TEST(Reconstructor, RefusesAVoxelSizeThatWouldNotFitInMemory) {
   options = ReconstructionOptions();
   options.voxelSize = 0.002;
   options.levels = 1;
-  test::MemoryBudgetScope budget(1u << 20);
+  options.memoryBudget = MemoryBudget(1u << 20);
   const Reconstructor oneFineGrid(noisySphere(0.01), options);
   for (const bool linear : {false, true}) {
     try {

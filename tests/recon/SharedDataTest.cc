@@ -152,7 +152,7 @@ TEST(SharedData, CuttingTheSlabsStopsWhenAsked) {
   ReconstructionOptions options;
   options.voxelSize = 0.02;
   options.dataTerm = DataTermSource::kGrids;
-  const ReconstructionOptions resolved = resolveReconstructionOptions(options, ScanSummary(frames));
+  const ReconstructionSettings resolved = resolveReconstructionSettings(options, ScanSummary(frames));
   std::vector<int> asked(2, 0);
   EXPECT_THROW(test::runOnThreadTeam(2,
                                      [&](const SlabTeam& team) {

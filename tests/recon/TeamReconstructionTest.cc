@@ -4,7 +4,6 @@
 // too; tests/mpi runs it on the ranks of an MPI job.
 
 #include "RoomFrames.h"
-#include "support/MemoryBudgetScope.h"
 #include "support/NoisyTorus.h"
 #include "support/TestSupport.h"
 #include "support/ThreadTeam.h"
@@ -109,7 +108,7 @@ TEST(TeamReconstruction, RanksThatEachHoldTheirSlabOfTheDataGiveOneProcesssSurfa
   // process's, bit for bit, with the cuts of 2, 3 and 4 ranks (at 1 cm, the
   // next test).
   const Reconstructor reconstructor(roomFrames().reconstruction, roomOptions(0.02));
-  ASSERT_EQ(*reconstructor.options().levels, 1);
+  ASSERT_EQ(reconstructor.settings().levels, 1);
   const ReconstructionResult alone = reconstructor.run();
   EXPECT_GT(alone.levels.back().iterations, 2);
   for (const int ranks : {2, 3, 4}) {
@@ -162,7 +161,7 @@ TEST(TeamReconstruction, RanksThatHoldTheirSlabOfTheDataKeepPiecesOfOneProcesssS
 /// from their summary, their fusion and its run.
 struct FusedByOneProcess {
   PackedScans packed;
-  ReconstructionOptions resolved;
+  ReconstructionSettings resolved;
   std::unique_ptr<Fusion> whole;
   ReconstructionResult alone;
 };
@@ -170,7 +169,7 @@ struct FusedByOneProcess {
 FusedByOneProcess fusedByOneProcess(std::vector<RangeMap> maps, const ReconstructionOptions& options) {
   FusedByOneProcess one;
   for (RangeMap& map : maps) one.packed.add(std::move(map));
-  one.resolved = resolveReconstructionOptions(options, one.packed.summary);
+  one.resolved = resolveReconstructionSettings(options, one.packed.summary);
   one.whole = fusePackedScans(one.packed, one.resolved);
   one.alone = Reconstructor(*one.whole, options).run();
   return one;
@@ -355,16 +354,13 @@ TEST(TeamReconstruction, EachRankAsksForItsShareOfTheFinestGridsMemory) {
   ReconstructionOptions options;
   options.voxelSize = 0.02;
   options.levels = 3;
-  const Reconstructor reconstructor(test::noisyTorusScans(), options);
-  double whole = 0.0;
+  options.memoryBudget = MemoryBudget(2 * 1024 * 1024);  // above the initial model's needs
+  const Reconstructor tight(test::noisyTorusScans(), options);
+  const double whole = neededBytes([&] { tight.run(); });
   std::vector<double> shares(4);
-  {
-    const test::MemoryBudgetScope tiny(2 * 1024 * 1024);  // above the initial model's needs
-    whole = neededBytes([&] { reconstructor.run(); });
-    test::runOnThreadTeam(4, [&](const SlabTeam& team) {
-      shares[static_cast<std::size_t>(team.rank())] = neededBytes([&] { reconstructor.run({}, {}, &team); });
-    });
-  }
+  test::runOnThreadTeam(4, [&](const SlabTeam& team) {
+    shares[static_cast<std::size_t>(team.rank())] = neededBytes([&] { tight.run({}, {}, &team); });
+  });
   ASSERT_GT(whole, 1e6) << "one process's refusal names the finest grid's memory";
   EXPECT_NEAR(shares[0] / whole, kOutputBytesPerActiveVoxel / kPeakBytesPerActiveVoxel, 0.01);
   for (std::size_t r = 1; r < 4; ++r) EXPECT_NEAR(shares[r] / whole, kSlabShareMargin / 4.0, 0.01) << "rank " << r;
@@ -373,16 +369,14 @@ TEST(TeamReconstruction, EachRankAsksForItsShareOfTheFinestGridsMemory) {
   piecesOptions.keepPieces = true;
   const Reconstructor inPieces(test::noisyTorusScans(), piecesOptions);
   double firstsPiece = 0.0;
-  {
-    const test::MemoryBudgetScope tiny(2 * 1024 * 1024);
-    test::runOnThreadTeam(4, [&](const SlabTeam& team) {
-      const double needed = neededBytes([&] { inPieces.run({}, {}, &team); });
-      if (team.rank() == 0) firstsPiece = needed;
-    });
-  }
+  test::runOnThreadTeam(4, [&](const SlabTeam& team) {
+    const double needed = neededBytes([&] { inPieces.run({}, {}, &team); });
+    if (team.rank() == 0) firstsPiece = needed;
+  });
   EXPECT_NEAR(firstsPiece / whole, kSlabShareMargin / 4.0, 0.01);
   // Within a budget of 70% of the whole, one process refuses and the team runs.
-  const test::MemoryBudgetScope most(static_cast<std::uint64_t>(0.7 * whole));
+  options.memoryBudget = MemoryBudget(static_cast<std::uint64_t>(0.7 * whole));
+  const Reconstructor reconstructor(test::noisyTorusScans(), options);
   EXPECT_THROW(reconstructor.run(), InsufficientMemory);
   std::vector<bool> made(4);
   test::runOnThreadTeam(4, [&](const SlabTeam& team) {

@@ -95,7 +95,7 @@ TeamRun streetOnTeam(const std::vector<RangeMap>& frames, const ReconstructionOp
     const std::vector<std::size_t> first = readFirst(frames, team);
     const PackedScans read = scansNumbered(frames, first);
     const ScanSummary whole = teamSummary(read.summary, team);
-    const ReconstructionOptions resolved = resolveReconstructionOptions(options, whole);
+    const ReconstructionSettings resolved = resolveReconstructionSettings(options, whole);
     const TeamScanPlan plan =
         planTeamScans(read, first, frames.size(), resolved, firstNeedsEvery && r == 0, team);
     ASSERT_TRUE(plan.slab);
@@ -103,7 +103,7 @@ TeamRun streetOnTeam(const std::vector<RangeMap>& frames, const ReconstructionOp
     run.held[r] = plan.needed;
     PackedScans needed = scansNumbered(frames, plan.needed);
     needed.summary = whole;
-    ScansReconstruction made = prepareReconstruction(std::move(needed), options, {}, {}, &team, &*plan.slab);
+    ScansReconstruction made = prepareReconstruction(std::move(needed), resolved, {}, {}, &team, &*plan.slab);
     EXPECT_EQ(made.reconstructor->summary().scans(), frames.size()) << "the team's scans are counted";
     run.results[r] = made.reconstructor->run({}, {}, &team);
   });
@@ -128,8 +128,9 @@ TEST(TeamScans, ProcessesThatHoldTheFramesTheirSlabNeedsGiveOneProcesssSurface) 
   const ReconstructionOptions options = streetOptions();
   PackedScans all;
   for (const RangeMap& frame : frames) all.add(RangeMap(frame));
-  const ScansReconstruction alone = prepareReconstruction(std::move(all), options);
-  ASSERT_EQ(*alone.reconstructor->options().levels, 1);
+  const ReconstructionSettings settings = resolveReconstructionSettings(options, all.summary);
+  const ScansReconstruction alone = prepareReconstruction(std::move(all), settings);
+  ASSERT_EQ(alone.reconstructor->settings().levels, 1);
   const ReconstructionResult aloneResult = alone.reconstructor->run();
   constexpr int kProcesses = 4;
   const TeamRun run = streetOnTeam(frames, options, kProcesses, /*firstNeedsEvery=*/true);
@@ -138,7 +139,7 @@ TEST(TeamScans, ProcessesThatHoldTheFramesTheirSlabNeedsGiveOneProcesssSurface) 
   expectFramesHeldInPart(run, frames.size(), 0.6, 1);
   // The slabs are those of one process holding every frame.
   test::runOnThreadTeam(kProcesses, [&](const SlabTeam& team) {
-    const SharedDataSlab cut = sharedDataSlab(rangeMapsOf(frames), resolveReconstructionOptions(options, ScanSummary(frames)), team);
+    const SharedDataSlab cut = sharedDataSlab(rangeMapsOf(frames), resolveReconstructionSettings(options, ScanSummary(frames)), team);
     const SharedDataSlab& planned = run.slabs[static_cast<std::size_t>(team.rank())];
     EXPECT_EQ(cut.own.begin, planned.own.begin);
     EXPECT_EQ(cut.own.end, planned.own.end);
@@ -189,7 +190,7 @@ TEST(TeamScans, ATeamThatDoesNotShareTheDataNeedsEveryScan) {
     const PackedScans read = scansNumbered(frames, first);
     const ScanSummary whole = teamSummary(read.summary, team);
     const TeamScanPlan plan =
-        planTeamScans(read, first, frames.size(), resolveReconstructionOptions(options, whole), false, team);
+        planTeamScans(read, first, frames.size(), resolveReconstructionSettings(options, whole), false, team);
     EXPECT_FALSE(plan.slab);
     EXPECT_EQ(plan.needed.size(), frames.size());
   });

@@ -9,7 +9,6 @@
 
 #include <levelfuse/io/InputFile.h>
 #include <levelfuse/io/Manifest.h>
-#include <levelfuse/io/MemoryBudget.h>
 #include <levelfuse/io/MeshFile.h>
 #include <levelfuse/io/Preview.h>
 #include <levelfuse/io/Scans.h>
@@ -89,7 +88,8 @@ void checkPiecesSettings(ReconstructSettings& s) {
 /// Every option and output, checked before the work starts and before anything is written.
 void checkSettings(ReconstructSettings& s) {
   // The budget of the readers and of the reconstruction.
-  if (s.maxMemoryGiB > 0.0) io::setMemoryBudget(static_cast<std::uint64_t>(s.maxMemoryGiB * 1073741824.0));
+  if (s.maxMemoryGiB > 0.0)
+    s.options.memoryBudget = MemoryBudget(static_cast<std::uint64_t>(s.maxMemoryGiB * 1073741824.0));
   if (s.output.empty() && s.mesh.empty() && s.preview.empty())
     throw std::invalid_argument("nothing to write: give -o result.vdb, --mesh result.ply or --preview result.png");
   if (s.pieces) checkPiecesSettings(s);
@@ -120,6 +120,9 @@ std::vector<std::string> jobOutputs(const ReconstructSettings& s) {
 /// The scans of the inputs this process holds, and the truth a synthetic manifest records.
 struct Inputs : NumberedScans {
   std::optional<shapes::AnalyticShape> truth;
+  /// Resolved from every rank's scans where the ranks read them in parts
+  /// (loadTeamInputs); else from these scans once they are read (prepare).
+  std::optional<ReconstructionSettings> settings;
 };
 
 /// Reads the scans of the inputs that `wanted` picks by their number among
@@ -127,6 +130,7 @@ struct Inputs : NumberedScans {
 Inputs loadInputs(const ReconstructSettings& s, ProgressBar& bar, const std::function<bool(std::size_t)>& wanted = {}) {
   enterPhase("loading");
   io::ScanLoadOptions load;
+  load.memoryBudget = s.options.memoryBudget;
   if (!s.towardScanner.empty()) load.stanford.towardScanner = parseVec3(s.towardScanner);
   if (s.sigma > 0.0) load.setSigma(s.sigma);
   load.depthScale = s.depthScale;
@@ -163,10 +167,10 @@ Inputs loadInputs(const ReconstructSettings& s, ProgressBar& bar, const std::fun
   return in;
 }
 
-/// The scans of the inputs this rank of an MPI `team` needs (readTeamScans):
-/// every scan at the rank that measures and writes the whole surface (the
-/// fit and the colour read them all). `cut` is set to this rank's slab of the
-/// data where the ranks share it.
+/// The scans of the inputs this rank of an MPI `team` needs (readTeamScans),
+/// and the settings resolved from all of them: every scan at the rank that
+/// measures and writes the whole surface (the fit and the colour read them
+/// all). `cut` is set to this rank's slab of the data where the ranks share it.
 Inputs loadTeamInputs(const ReconstructSettings& s, ProgressBar& bar, const SlabTeam& team,
                       std::optional<SharedDataSlab>& cut) {
   std::optional<shapes::AnalyticShape> truth;
@@ -176,24 +180,38 @@ Inputs loadTeamInputs(const ReconstructSettings& s, ProgressBar& bar, const Slab
     return static_cast<NumberedScans>(std::move(part));
   };
   const bool measuresTheSurface = leadsTheJob() && !s.pieces;
-  Inputs in;
+  TeamShare share;
   try {
-    static_cast<NumberedScans&>(in) =
-        readTeamScans(read, s.options, measuresTheSurface, team, cut, cancellationInterrupter());
+    share = readTeamScans(read, s.options, measuresTheSurface, team, cancellationInterrupter());
   } catch (const std::invalid_argument& e) {
     throw ofTheInputs(s, e);
   }
+  Inputs in;
+  static_cast<NumberedScans&>(in) = std::move(share.held);
   in.truth = std::move(truth);
+  in.settings = share.settings;
+  cut = share.slab;
   return in;
 }
 
-ScansReconstruction prepare(Inputs& in, const ReconstructSettings& s, ProgressBar& bar, const SharedDataSlab* cut) {
+/// The settings of the run, resolved once: from every rank's scans where the
+/// ranks read them in parts, else from the scans read.
+ReconstructionSettings settingsOf(const Inputs& in, const ReconstructSettings& s) {
+  if (in.settings) return *in.settings;
   try {
-    if (resolveReconstructionOptions(s.options, in.scans.summary).dataTerm == DataTermSource::kGrids)
-      enterPhase("integrating");
+    return resolveReconstructionSettings(s.options, in.scans.summary);
+  } catch (const std::invalid_argument& e) {
+    throw ofTheInputs(s, e);
+  }
+}
+
+ScansReconstruction prepare(Inputs& in, const ReconstructionSettings& settings, const ReconstructSettings& s,
+                            ProgressBar& bar, const SharedDataSlab* cut) {
+  try {
+    if (settings.dataTerm == DataTermSource::kGrids) enterPhase("integrating");
     // Under mpirun the ranks share the evolution, and each may integrate its slab of the data alone.
     return prepareReconstruction(
-        std::move(in.scans), s.options, [&](std::size_t done, std::size_t total) { bar.integrating(done, total); },
+        std::move(in.scans), settings, [&](std::size_t done, std::size_t total) { bar.integrating(done, total); },
         cancellationInterrupter(), s.linear ? nullptr : jobTeam(), cut);
   } catch (const std::invalid_argument& e) {
     throw ofTheInputs(s, e);
@@ -348,7 +366,7 @@ RunSummary runSummary(const ReconstructSettings& s, const Reconstructor& reconst
   summary.readings = m.readings;
   summary.linear = s.linear;
   summary.scene = reconstructor.summary().aScene();
-  summary.options = reconstructor.options();
+  summary.settings = reconstructor.settings();
   summary.levels = result.levels;
   summary.peakEngineBytes = result.peakEngineBytes;
   summary.fit = m.fit;
@@ -419,13 +437,13 @@ void printRanks(const RunSummary& r) {
 }
 
 void printText(const RunSummary& r) {
-  const ReconstructionOptions& o = r.options;
+  const ReconstructionSettings& o = r.settings;
   std::cout << "levelfuse reconstruct: " << r.scans << " scans, " << withCommas(r.points) << " points"
             << (r.points != r.readings ? " (" + withCommas(r.readings) + " readings of their range maps)"
                                        : std::string())
             << " (" << joined(r.inputs) << ")\n"
-            << "  voxel " << length(*o.voxelSize) << ", " << *o.levels << (*o.levels == 1 ? " grid" : " grids")
-            << ", beta " << fixed(*o.beta) << " voxels, window " << length(*o.epsilon) << "\n";
+            << "  voxel " << length(o.voxelSize) << ", " << o.levels << (o.levels == 1 ? " grid" : " grids")
+            << ", beta " << fixed(o.beta) << " voxels, window " << length(o.epsilon) << "\n";
   if (r.linear) std::cout << "  the linear solution (zero set of g), no evolution\n";
   for (const LevelReport& l : r.levels)
     std::cout << "  grid " << length(l.voxelSize) << ": " << l.iterations << " iterations ("
@@ -439,7 +457,7 @@ void printText(const RunSummary& r) {
   printFit(r);
   if (r.truth)
     std::cout << "  error against the true " << r.truth->shape << (r.truth->whereSeen ? " where seen" : "")
-              << ": rms " << length(r.truth->rms) << " (" << fixed(r.truth->rms / *o.voxelSize, 3) << " voxel)\n";
+              << ": rms " << length(r.truth->rms) << " (" << fixed(r.truth->rms / o.voxelSize, 3) << " voxel)\n";
   printTimes(r);
   printWritten(r);
 }
@@ -513,7 +531,7 @@ int runReconstruct(ReconstructSettings s) {
   std::optional<SharedDataSlab> cut;
   Inputs inputs = team ? loadTeamInputs(s, bar, *team, cut) : loadInputs(s, bar);
   const std::size_t scansHeld = inputs.scans.maps.size();
-  ScansReconstruction made = prepare(inputs, s, bar, cut ? &*cut : nullptr);
+  ScansReconstruction made = prepare(inputs, settingsOf(inputs, s), s, bar, cut ? &*cut : nullptr);
   const Reconstructor& reconstructor = *made.reconstructor;
   const Presentation shown = presentationOf(reconstructor, s);
   if (s.linear && !leadsTheJob()) return kExitSuccess;  // the linear solution is not shared

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <levelfuse/io/AtomicWrite.h>
+#include <levelfuse/core/MemoryBudget.h>
 #include <levelfuse/scan/Colour.h>
 #include <levelfuse/scan/RangeMap.h>
 
@@ -18,8 +19,9 @@ struct ColourImage {
 };
 
 /// Reads a PNG as 8-bit red, green and blue (grey, palette, 16-bit and alpha
-/// images are converted). Throws InputError naming the file and the problem.
-ColourImage readColourPng(const std::string& path);
+/// images are converted). Throws InputError naming the file and the problem,
+/// also for an image that would need more memory than `budget` allows.
+ColourImage readColourPng(const std::string& path, const MemoryBudget& budget = {});
 
 /// Writes an 8-bit RGB PNG, as one of a run's outputs (AtomicWrite.h).
 void writeColourPng(OutputSet& outputs, const std::string& path, const ColourImage& image);

@@ -6,6 +6,7 @@
 // matrix, poses as a 4x4 camera-to-world matrix, both as plain text.
 #pragma once
 
+#include <levelfuse/core/MemoryBudget.h>
 #include <levelfuse/io/AtomicWrite.h>
 #include <levelfuse/scan/RangeMap.h>
 
@@ -35,17 +36,18 @@ struct DepthSamples {
 DepthImage depthImageFromIntegers(int width, int height, const std::uint16_t* samples, double scale,
                                   const std::vector<unsigned>& invalid = {0, 65535});
 /// The samples of a 16-bit grayscale PNG, unscaled; other bit depths and
-/// colour types are refused (InputError).
-DepthSamples readDepthPngSamples(const std::string& path);
+/// colour types are refused (InputError), and so is every image reader's
+/// image that would need more memory than `budget` allows.
+DepthSamples readDepthPngSamples(const std::string& path, const MemoryBudget& budget = {});
 /// A 16-bit grayscale PNG; `scale` converts its integers to metres; the values
 /// in `invalid` (0 and 65535 by default) mean no reading. Other bit depths and
 /// colour types are refused.
 DepthImage readDepthPng(const std::string& path, double scale = 0.001,
-                        const std::vector<unsigned> invalid = {0u, 65535u});
+                        const std::vector<unsigned> invalid = {0u, 65535u}, const MemoryBudget& budget = {});
 /// A single-channel float PFM ("Pf") in metres; non-finite values mean no
 /// reading, and so do non-positive ones unless `positiveOnly` is false (range
 /// maps of parallel rays may hold negative readings).
-DepthImage readDepthPfm(const std::string& path, bool positiveOnly = true);
+DepthImage readDepthPfm(const std::string& path, bool positiveOnly = true, const MemoryBudget& budget = {});
 /// Writes `image` as a little-endian single-channel PFM (NaN where there is no
 /// reading), atomically.
 void writeDepthPfm(const std::string& path, const DepthImage& image);
@@ -53,9 +55,9 @@ void writeDepthPfm(const std::string& path, const DepthImage& image);
 void writeDepthPfm(OutputSet& outputs, const std::string& path, const DepthImage& image);
 /// A float EXR with a Z, Y, R or depth channel, in metres (if levelfuse was
 /// built with OpenEXR; otherwise InputError says so).
-DepthImage readDepthExr(const std::string& path);
+DepthImage readDepthExr(const std::string& path, const MemoryBudget& budget = {});
 /// Any of the above, by file extension (.png, .pfm, .exr).
-DepthImage readDepthImage(const std::string& path, double pngScale = 0.001);
+DepthImage readDepthImage(const std::string& path, double pngScale = 0.001, const MemoryBudget& budget = {});
 
 /// Drops the readings deeper than `maxDepth` (metres along the optical axis):
 /// far readings of depth cameras are the noisiest.

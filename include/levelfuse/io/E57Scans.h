@@ -29,6 +29,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/MemoryBudget.h>
 #include <levelfuse/io/ScanLoadOptions.h>
 #include <levelfuse/io/StationGrid.h>
 #include <levelfuse/scan/RangeMap.h>
@@ -59,8 +60,10 @@ using E57ScanTaker = std::function<void(E57Scan&&)>;
 /// Reads the E57 file at `path` strictly (see above), handing each 3D scan
 /// to `take` as soon as it is read: one scan is held at a time.
 /// `interrupter` is asked before each data packet and every 65536 records.
-/// Throws InputError naming the file.
-void readE57Scans(const std::string& path, const E57ScanTaker& take, const Interrupter& interrupter = {});
+/// Throws InputError naming the file, also for a scan that would need more
+/// memory than `budget` allows.
+void readE57Scans(const std::string& path, const E57ScanTaker& take, const Interrupter& interrupter = {},
+                  const MemoryBudget& budget = {});
 
 /// The scan as a spherical range map of noise `sigma`, named `name`: a
 /// structured scan's grid as a station (rangeMapFromStationGrid), other

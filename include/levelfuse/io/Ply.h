@@ -8,6 +8,7 @@
 #pragma once
 
 #include <levelfuse/io/AtomicWrite.h>
+#include <levelfuse/core/MemoryBudget.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -54,8 +55,9 @@ struct PlyData {
   std::string info(const std::string& key) const;
 };
 
-/// Reads a PLY file; throws InputError naming the file and the problem.
-PlyData readPly(const std::string& path);
+/// Reads a PLY file; throws InputError naming the file and the problem, also
+/// for a file that would need more memory than `budget` allows.
+PlyData readPly(const std::string& path, const MemoryBudget& budget = {});
 
 /// Writes a triangle mesh (float vertices, int triangles) as binary
 /// PLY in the machine's byte order, little-endian on x86-64 and arm64 (or

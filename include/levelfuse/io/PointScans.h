@@ -40,6 +40,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/MemoryBudget.h>
 #include <levelfuse/scan/Colour.h>
 #include <levelfuse/scan/RangeMap.h>
 #include <levelfuse/scan/SphericalScan.h>
@@ -63,12 +64,15 @@ struct PointCloud {
 
 /// An XYZ text file (see above); `interrupter` is asked every 65536 lines.
 PointCloud readXyzPoints(const std::string& path, const Interrupter& interrupter = {});
-/// The vertices of a PLY file (see above).
-PointCloud readPlyPoints(const std::string& path);
-/// A KITTI velodyne `.bin` sweep (see above), read whole at once.
-PointCloud readKittiBin(const std::string& path);
+/// The vertices of a PLY file (see above), refused if they would need more
+/// memory than `budget` allows.
+PointCloud readPlyPoints(const std::string& path, const MemoryBudget& budget = {});
+/// A KITTI velodyne `.bin` sweep (see above), read whole at once; refused if
+/// it would need more memory than `budget` allows.
+PointCloud readKittiBin(const std::string& path, const MemoryBudget& budget = {});
 /// An XYZ or PLY file by its extension (`.xyz`, `.txt`, `.ply`, any case).
-PointCloud readPointCloud(const std::string& path, const Interrupter& interrupter = {});
+PointCloud readPointCloud(const std::string& path, const Interrupter& interrupter = {},
+                          const MemoryBudget& budget = {});
 
 /// The `Tr:` line of a KITTI odometry `calib.txt`: velodyne to camera 0, in
 /// OpenVDB's row-vector layout.

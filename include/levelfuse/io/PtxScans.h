@@ -32,6 +32,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/MemoryBudget.h>
 #include <levelfuse/io/PtxScan.h>
 #include <levelfuse/io/ScanLoadOptions.h>
 #include <levelfuse/io/StationGrid.h>
@@ -56,8 +57,10 @@ using PtxScanTaker = std::function<void(PtxScan&&)>;
 /// Reads the PTX file at `path` strictly (see above), handing each scan to
 /// `take` as soon as it is read: one scan is held at a time. `interrupter` is
 /// asked before each scan and every 65536 points (Interrupted). Throws
-/// InputError naming the file and line.
-void readPtxScans(const std::string& path, const PtxScanTaker& take, const Interrupter& interrupter = {});
+/// InputError naming the file and line, also for a scan that would need more
+/// memory than `budget` allows.
+void readPtxScans(const std::string& path, const PtxScanTaker& take, const Interrupter& interrupter = {},
+                  const MemoryBudget& budget = {});
 
 /// The scan as a spherical range map (rangeMapFromStationGrid), a message
 /// naming `path` and the scan's lines.

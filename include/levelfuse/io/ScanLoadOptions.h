@@ -5,6 +5,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/MemoryBudget.h>
 #include <levelfuse/io/LoadProgress.h>
 #include <levelfuse/io/StanfordScans.h>
 #include <levelfuse/scan/RangeMap.h>
@@ -65,6 +66,9 @@ struct ScanLoadOptions {
   /// read holding one frame at a time (Stanford and manifest scans, a few,
   /// are handed over once all are read).
   ScanTaker take;
+  /// The memory the readers may allocate: each refuses, before it allocates,
+  /// a scan that would need more (InputError). The machine's by default.
+  MemoryBudget memoryBudget;
 };
 
 }  // namespace levelfuse::io

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
+#include <levelfuse/core/MemoryBudget.h>
 #include <levelfuse/scan/RangeMap.h>
 #include <levelfuse/io/LoadProgress.h>
 
@@ -57,7 +58,7 @@ struct RangeGridScan {
 
 /// Reads a range-grid PLY strictly: vertex coordinates finite, range_grid of
 /// num_rows * num_cols entries, each empty or one index in range.
-RangeGridScan readRangeGridPly(const std::string& path);
+RangeGridScan readRangeGridPly(const std::string& path, const MemoryBudget& budget = {});
 
 struct StanfordScanOptions {
   /// Asked before each scan is read: a long load can be stopped (Interrupted).
@@ -67,6 +68,9 @@ struct StanfordScanOptions {
   std::function<bool(std::size_t)> wanted;
   /// Told after each scan of a .conf file is read.
   LoadProgress progress;
+  /// The memory the reader may allocate: a scan that would need more is
+  /// refused (InputError). The machine's by default.
+  MemoryBudget memoryBudget;
   /// Direction from the points toward the scanner, in the scan frame (the
   /// bunny's scanner is on the +z side; the dragon's is tilted about 27 degrees
   /// toward +x: (0.46, 0.04, 0.89)).

@@ -1,6 +1,7 @@
 // levelfuse: reading and writing .vdb files.
 #pragma once
 
+#include <levelfuse/core/MemoryBudget.h>
 #include <levelfuse/io/AtomicWrite.h>
 
 #include <openvdb/openvdb.h>
@@ -19,7 +20,10 @@ void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids,
 void writeVdb(OutputSet& outputs, const std::string& path, const openvdb::GridCPtrVec& grids,
               const openvdb::MetaMap& fileMetadata = openvdb::MetaMap());
 
-/// Reads every grid of a .vdb file; InputError names the file and the problem.
-openvdb::GridPtrVecPtr readVdb(const std::string& path, openvdb::MetaMap::Ptr* fileMetadata = nullptr);
+/// Reads every grid of a .vdb file; InputError names the file and the
+/// problem, also for grids that would need more memory than `budget` allows
+/// (checked before OpenVDB reads them).
+openvdb::GridPtrVecPtr readVdb(const std::string& path, openvdb::MetaMap::Ptr* fileMetadata = nullptr,
+                               const MemoryBudget& budget = {});
 
 }  // namespace levelfuse::io

@@ -140,12 +140,12 @@ class Fusion {
   std::vector<bool> mDeferred;  ///< per level: integrated later, within a slab (deferLevel)
 };
 
-/// An empty fusion of the resolved options' grids (fusionSettingsOf), once
+/// An empty fusion of the settings' grids (fusionSettingsOf), once
 /// requireAccumulationMemory has found that the data term of the scans whose
 /// cost `costOf` finds fits on every grid (InsufficientMemory if not); with
 /// `deferFinerGrids`, every grid but the coarsest deferred (Fusion::deferLevel)
 /// and not checked.
-std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved,
+std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const ReconstructionSettings& settings,
                                   Fusion::Keep keep, bool deferFinerGrids = false);
 
 

@@ -1,5 +1,5 @@
 // levelfuse: the memory a reconstruction will need, estimated before it
-// allocates, against the memory budget (io/MemoryBudget.h): every estimate
+// allocates, against the settings' memory budget (core/MemoryBudget.h): every estimate
 // and its check, each saying what would fit when it does not.
 #pragma once
 
@@ -16,10 +16,9 @@ namespace levelfuse {
 
 class SlabTeam;
 
-/// Thrown when a stage would need more memory than io::memoryBudget() (the
-/// machine's physical memory or the process's limit, or what
-/// io::setMemoryBudget() set), before it allocates; the message says what
-/// would fit.
+/// Thrown when a stage would need more memory than the settings' memory
+/// budget (ReconstructionControls::memoryBudget), before it allocates; the
+/// message says what would fit.
 class InsufficientMemory : public std::runtime_error {
  public:
   explicit InsufficientMemory(const std::string& what) : std::runtime_error(what) {}
@@ -43,18 +42,18 @@ inline constexpr double kSlabShareMargin = 1.15;
 inline constexpr double kOutputBytesPerActiveVoxel = 300.0;
 
 /// Throws InsufficientMemory if accumulating the data term of the maps whose
-/// cost `costOf` finds on grid `level` of the resolved options would not fit,
+/// cost `costOf` finds on grid `level` of the settings would not fit,
 /// saying which voxel size would: asked before integrating
 /// (Reconstructor::run, and whoever fuses maps read one at a time).
-void requireAccumulationMemory(const AccumulationCostOf& costOf, const ReconstructionOptions& resolved, int level);
-/// Throws InsufficientMemory if the coarsest grid of the resolved options
+void requireAccumulationMemory(const AccumulationCostOf& costOf, const ReconstructionSettings& settings, int level);
+/// Throws InsufficientMemory if the coarsest grid of the settings
 /// cannot classify every leaf-sized block of the data's box `bounds` (the
 /// linear solution's first pass).
-void requireCoarsestGridMemory(const ReconstructionOptions& resolved, const openvdb::BBoxd& bounds);
+void requireCoarsestGridMemory(const ReconstructionSettings& settings, const openvdb::BBoxd& bounds);
 /// Throws InsufficientMemory if the finest grid of a surface with this many
 /// active voxels on the coarsest grid would not fit: the whole of it, or
 /// this process's share on a `team`.
-void requireFinestGridMemory(const ReconstructionOptions& resolved, std::size_t coarsestActiveVoxels,
+void requireFinestGridMemory(const ReconstructionSettings& settings, std::size_t coarsestActiveVoxels,
                              const SlabTeam* team = nullptr);
 
 }  // namespace levelfuse

@@ -117,11 +117,16 @@ class EvolvingField;
 
 class Reconstructor {
  public:
-  /// Resolves the options' defaults from the data; throws std::invalid_argument
-  /// for no range maps or unusable options, with a hint. When the data term
-  /// comes from grids, run() integrates the maps into a Fusion of every grid
-  /// level at once.
+  /// Resolves the options' defaults from the data
+  /// (resolveReconstructionSettings); throws std::invalid_argument for no
+  /// range maps or unusable options, with a hint. When the data term comes
+  /// from grids, run() integrates the maps into a Fusion of every grid level
+  /// at once.
   Reconstructor(std::vector<RangeMap> maps, const ReconstructionOptions& options = {});
+  /// Runs with `settings` resolved before (resolveReconstructionSettings), as
+  /// a team's processes do with the settings of all their scans
+  /// (readTeamScans). Throws std::invalid_argument for no range maps.
+  Reconstructor(std::vector<RangeMap> maps, const ReconstructionSettings& settings);
   /// Reconstructs from the maps `fusion` integrated (the fusion must outlive
   /// the reconstructor): the derived settings come from the fusion's summary
   /// of its maps, the voxel size, levels, window and epsilon are the
@@ -129,6 +134,9 @@ class Reconstructor {
   /// Throws std::invalid_argument before any map, for settings that disagree
   /// with the fusion's, or for a data term from the maps (kPerMap).
   explicit Reconstructor(const Fusion& fusion, const ReconstructionOptions& options = {});
+  /// The same with `settings` resolved before: those the fusion was made
+  /// with (fusionSettingsOf), or std::invalid_argument.
+  Reconstructor(const Fusion& fusion, const ReconstructionSettings& settings);
 
   /// Runs the pipeline. Throws ReconstructionCancelled if `progress` returns
   /// false, Interrupted if `interrupter` stops the initial model (the linear
@@ -167,8 +175,8 @@ class Reconstructor {
   /// `interrupter` stops it.
   openvdb::Vec3fGrid::Ptr surfaceColour(const openvdb::FloatGrid& levelSet, const Interrupter& interrupter = {}) const;
 
-  /// The options with every derived setting resolved (all four set).
-  const ReconstructionOptions& options() const { return mOptions; }
+  /// Every setting, resolved.
+  const ReconstructionSettings& settings() const { return mSettings; }
   /// Voxel size of grid `level` (0 is the coarsest).
   double voxelSize(int level) const;
   /// The data term's settings on grid `level`.
@@ -234,7 +242,7 @@ class Reconstructor {
 
   std::shared_ptr<const std::vector<RangeMap>> mMaps;
   const Fusion* mFusion = nullptr;  ///< the data term's source, if it was built on one
-  ReconstructionOptions mOptions;
+  ReconstructionSettings mSettings;
   ScanSummary mSummary;
 };
 

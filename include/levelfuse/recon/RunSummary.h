@@ -42,7 +42,7 @@ struct RunSummary {
   std::size_t readings = 0;  ///< of the range maps made of them
   bool linear = false;       ///< the linear solution alone, no evolution
   bool scene = false;        ///< scans of a scene (ScanSummary::aScene)
-  ReconstructionOptions options;  ///< resolved: every setting set
+  ReconstructionSettings settings;
   std::vector<LevelReport> levels;
   std::size_t narrowBandVoxels = 0;
   std::size_t peakEngineBytes = 0;

@@ -34,22 +34,22 @@ struct ScansReconstruction {
   /// (before the fit and the mesh, which would otherwise hold them at their
   /// peak), and their memory handed back (returnFreedMemory); its scans stay
   /// for the fit. The reconstructor is asked nothing more that needs the
-  /// fusion: its options and summary are its own.
+  /// fusion: its settings and summary are its own.
   void letTheGridsGo();
 };
 
-/// `scans` made ready to reconstruct with `given` options (their derived
-/// settings resolved from the scans' summary). With a data term from grids
+/// `scans` made ready to reconstruct with `settings` (resolved from the
+/// scans' summary: resolveReconstructionSettings). With a data term from grids
 /// the scans are integrated here, `integrated` told after each how many of how
-/// many are in. Throws std::invalid_argument for unusable options,
-/// InsufficientMemory for grids that would not fit, Interrupted if
-/// `interrupter` stops the integration. For a `team` that will share the
-/// reconstruction (Reconstructor::run), the fusion holds this process's slab
-/// of the data alone where the team shares the data in slabs
-/// (recon/SharedData.h): the slab `cut` if it is given. `scans` may be a
-/// part of the team's scans, their summary the whole team's (a team's
-/// process reading the scans its slab needs: recon/TeamScans.h).
-ScansReconstruction prepareReconstruction(PackedScans scans, const ReconstructionOptions& given,
+/// many are in. Throws InsufficientMemory for grids that would not fit,
+/// Interrupted if `interrupter` stops the integration. For a `team` that will
+/// share the reconstruction (Reconstructor::run), the fusion holds this
+/// process's slab of the data alone where the team shares the data in slabs
+/// (recon/SharedData.h): the slab `cut` if it is given. `scans` may be a part
+/// of the team's scans, their summary the whole team's and `settings` those
+/// of the whole (a team's process reading the scans its slab needs:
+/// recon/TeamScans.h).
+ScansReconstruction prepareReconstruction(PackedScans scans, const ReconstructionSettings& settings,
                                           const std::function<void(std::size_t, std::size_t)>& integrated = {},
                                           const Interrupter& interrupter = {}, const SlabTeam* team = nullptr,
                                           const SharedDataSlab* cut = nullptr);

@@ -43,19 +43,19 @@ SlabBounds dataSlabOf(const SlabBounds& own);
 /// The slab whose data are `data` (the inverse of dataSlabOf).
 SlabBounds ownSlabOf(const SlabBounds& data);
 
-/// Whether a run with the `resolved` options on `team` shares its data term
+/// Whether a run with the `settings` on `team` shares its data term
 /// in slabs: a team of more than one process, the data term from grids, one
 /// grid. (Coarse-to-fine runs cut each finer grid afresh as it comes, and
 /// keep the whole data term on every process.)
-bool sharesDataInSlabs(const ReconstructionOptions& resolved, const SlabTeam* team);
+bool sharesDataInSlabs(const ReconstructionSettings& settings, const SlabTeam* team);
 
-/// Whether a run with the `resolved` options on `team` integrates the data
+/// Whether a run with the `settings` on `team` integrates the data
 /// term of each grid but the coarsest within each process's slab of that
 /// grid, once the grid is cut (Fusion::deferLevel): a team of more than one
 /// process, the data term from grids, coarse to fine. (The coarsest grid's
 /// data, whole on every process, make the initial model: a quarter of the
 /// next grid's or less.)
-bool defersFinerGrids(const ReconstructionOptions& resolved, const SlabTeam* team);
+bool defersFinerGrids(const ReconstructionSettings& settings, const SlabTeam* team);
 
 /// This process's part of the data of a team that shares them in slabs.
 struct SharedDataSlab {
@@ -72,20 +72,20 @@ struct SharedDataSlab {
 std::vector<SharedDataSlab> sharedDataSlabs(const ReachedLeaves& reached, int processes);
 
 /// This process's part of `team`'s data (sharedDataSlabs), the leaves
-/// reached found from `maps` on the grid of the `resolved` options: alike on
+/// reached found from `maps` on the grid of the `settings`: alike on
 /// every process that visits the same maps.
-SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const ReconstructionOptions& resolved,
+SharedDataSlab sharedDataSlab(const RangeMapSequence& maps, const ReconstructionSettings& settings,
                               const SlabTeam& team);
 
-/// The leaf nodes the windows reach on the grid of the `resolved` options, to
+/// The leaf nodes the windows reach on the grid of the `settings`, to
 /// be added to (ReachedLeaves): the grid's finest voxel size and the window's reach.
-ReachedLeaves reachedLeavesOf(const ReconstructionOptions& resolved);
+ReachedLeaves reachedLeavesOf(const ReconstructionSettings& settings);
 
 /// The world x range of the voxels of `slab` (centred on multiples of
 /// `voxelSize`), from -HUGE_VAL to HUGE_VAL where it is unbounded.
 std::pair<double, double> worldRangeOf(const SlabBounds& slab, double voxelSize);
 
-/// An empty fusion of the `resolved` options' grids for the maps whose cost
+/// An empty fusion of the `settings`' grids for the maps whose cost
 /// `costWithin` finds (fusionFor), keeping `keep` of them: on a `team` that
 /// shares the data in slabs (sharesDataInSlabs), of this process's slab of
 /// the data (Fusion::restrictToSlab), whose memory is checked for the data
@@ -94,7 +94,7 @@ std::pair<double, double> worldRangeOf(const SlabBounds& slab, double voxelSize)
 /// planTeamScans), else found from `maps` (sharedDataSlab), which are then
 /// visited once, with `interrupter` asked before each (Interrupted).
 std::unique_ptr<Fusion> fusionOnTeam(const AccumulationCostWithin& costWithin, const RangeMapSequence& maps,
-                                     const ReconstructionOptions& resolved, Fusion::Keep keep, const SlabTeam* team,
+                                     const ReconstructionSettings& settings, Fusion::Keep keep, const SlabTeam* team,
                                      const Interrupter& interrupter = {}, const SharedDataSlab* cut = nullptr);
 
 /// The box of every process's box `own` (an empty box for none), on every process.
@@ -113,7 +113,7 @@ SlabOfTheData slabOfTheData(const SlabBounds& data, const SlabTeam& team);
 /// only the team's run() reconstructs from it: the slab `cut` when it is
 /// given (planTeamScans), found from `scans` otherwise. The fusion's summary
 /// is `scans`' (adoptSummary): the team's, where this process holds a part.
-std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionOptions& resolved,
+std::unique_ptr<Fusion> fusePackedScans(PackedScans scans, const ReconstructionSettings& settings,
                                         const std::function<void(std::size_t, std::size_t)>& integrated = {},
                                         const Interrupter& interrupter = {}, const SlabTeam* team = nullptr,
                                         const SharedDataSlab* cut = nullptr);

@@ -47,7 +47,7 @@ struct TeamScanPlan {
 };
 
 /// What this process of `team` needs of the team's `scanCount` scans, for a
-/// reconstruction with the `resolved` options (those of teamSummary): every
+/// reconstruction with the `settings` (those of teamSummary): every
 /// scan unless the team shares the data in slabs (sharesDataInSlabs); then
 /// the scans whose windows reach its slab of the data or whose lines of sight
 /// may see the blocks carving decides there (RangeMap::mayBeSeenIn), or every
@@ -57,7 +57,7 @@ struct TeamScanPlan {
 /// calls it, with its own part; the slabs are those sharedDataSlab cuts from
 /// all the scans.
 TeamScanPlan planTeamScans(const PackedScans& held, const std::vector<std::size_t>& numbers, std::size_t scanCount,
-                           const ReconstructionOptions& resolved, bool needsEvery, const SlabTeam& team,
+                           const ReconstructionSettings& settings, bool needsEvery, const SlabTeam& team,
                            const Interrupter& interrupter = {});
 
 /// The world box in which carving decides blocks for the slab of the data
@@ -78,17 +78,24 @@ struct NumberedScans {
 /// Reads the scans of a run's inputs that `wanted` picks by their number.
 using NumberedScanReader = std::function<NumberedScans(const std::function<bool(std::size_t)>& wanted)>;
 
+/// What readTeamScans gives each process of a team.
+struct TeamShare {
+  NumberedScans held;  ///< the scans it needs, in the order of their numbers
+  /// Resolved from every process's scans (teamSummary): alike everywhere.
+  ReconstructionSettings settings;
+  /// Its slab of the data, where the team shares the data in slabs.
+  std::optional<SharedDataSlab> slab;
+};
+
 /// The scans this process of `team` needs of a run's inputs, read with
 /// `read`: the processes read the scans in turn (readFirstBy), agree on the
-/// settings from all of them (teamSummary, resolveReconstructionOptions of
+/// settings from all of them (teamSummary, resolveReconstructionSettings of
 /// `given`), plan which each needs (planTeamScans; every scan if
 /// `needsEvery`), let go of those read first that they do not need, and read
 /// those they lack. The scans come in the order of their numbers, with the
 /// whole team's summary; their samples are let go unless `needsEvery` (only
-/// the fit reads them). `slab` is set to this process's slab of the data where
-/// the team shares it. Throws std::invalid_argument for unusable settings.
-NumberedScans readTeamScans(const NumberedScanReader& read, const ReconstructionOptions& given, bool needsEvery,
-                            const SlabTeam& team, std::optional<SharedDataSlab>& slab,
-                            const Interrupter& interrupter = {});
+/// the fit reads them). Throws std::invalid_argument for unusable settings.
+TeamShare readTeamScans(const NumberedScanReader& read, const ReconstructionOptions& given, bool needsEvery,
+                        const SlabTeam& team, const Interrupter& interrupter = {});
 
 }  // namespace levelfuse

@@ -58,7 +58,7 @@ class PackedRangeMap {
 void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisitor& visit);
 
 /// Scans held packed as they are read, with what a reconstruction's derived
-/// settings are taken from (resolveReconstructionOptions): a folder of depth
+/// settings are taken from (resolveReconstructionSettings): a folder of depth
 /// frames read with io::ScanLoadOptions::take into these holds one frame
 /// unpacked at a time.
 struct PackedScans {
