@@ -201,8 +201,9 @@ ForceField::Terms ForceField::facingTerms(const Vec3d& x, const Vec3d& normal) c
     if (sight.x() != 0.0 || sight.y() != 0.0 || sight.z() != 0.0) {
       // Parallel rays: the facing check (Eq. 37) before any lookup.
       if (!(sight.dot(normal) < 0.0)) continue;
-      RangeMap::LocalSample s;
-      if (!(*mMaps)[j].sampleLocal((*mMaps)[j].worldToMap().transform(x), reach, s)) continue;
+      const RangeMap& map = (*mMaps)[j];
+      RangeMap::LocalSample s;  // along the map's parallel rays, its kind known
+      if (!map.sampleLocal(map.projection().parallelRays(), map.worldToMap().transform(x), reach, s)) continue;
       const double w = mWindow(s.D);
       if (w == 0.0) continue;
       const double weight = detail::readingWeight(w, s, mOptions.positionVariance);  // Eq. 38
