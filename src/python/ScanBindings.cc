@@ -172,8 +172,8 @@ RangeMap orthographicMapFrom(const py::handle& readings, double pixelSize, const
 /// A spherical map's row elevations in degrees where its rows are spaced unevenly.
 std::vector<double> rowElevationsInDegrees(const RangeMap& r) {
   std::vector<double> degrees;
-  if (r.kind() == RangeMap::Kind::kSpherical)
-    for (const double elevation : r.sphericalProjection().rowElevations) degrees.push_back(elevation / kRadians);
+  // Empty but for a spherical map's uneven rows.
+  for (const double elevation : r.sphericalProjection().rowElevations) degrees.push_back(elevation / kRadians);
   return degrees;
 }
 

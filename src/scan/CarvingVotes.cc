@@ -21,12 +21,12 @@ using LeafT = openvdb::FloatTree::LeafNodeType;
 
 }  // namespace
 
-int sightVote(RangeMap::Sight sight, RangeMap::Kind kind) {
+int sightVote(RangeMap::Sight sight, bool raysFromOneCentre) {
   switch (sight) {
     case RangeMap::Sight::kBehind:
       return 1;  // behind and speaking: 2 - 1
     case RangeMap::Sight::kOutside:
-      return kind == RangeMap::Kind::kOrthographic ? -1 : 0;  // parallel rays speak for every point
+      return raysFromOneCentre ? 0 : -1;  // parallel rays speak for every point
     case RangeMap::Sight::kUnknown:
     case RangeMap::Sight::kEmpty:
       break;
@@ -43,7 +43,7 @@ void PointVotes::add(const RangeMap& map, double margin) {
       if (mEmpty[i]) continue;
       const RangeMap::Sight s = map.sight(mPoint(i), margin);
       if (s == RangeMap::Sight::kEmpty) mEmpty[i] = 1;
-      else mBalance[i] += sightVote(s, map.kind());
+      else mBalance[i] += sightVote(s, map.raysFromOneCentre());
     }
   });
 }
@@ -79,7 +79,7 @@ void BlockVotes::addToBlock(Block& block, const RangeMap& map, double margin) co
     return;
   }
   if (whole) {
-    block.uniform += sightVote(*whole, map.kind());
+    block.uniform += sightVote(*whole, map.raysFromOneCentre());
     return;
   }
   if (block.voxels.empty()) block.voxels.assign(block.asked.countOn(), 0);
@@ -122,7 +122,7 @@ void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, con
   for (std::size_t i = 0; i < count; ++i) {
     const openvdb::Index o = open[i];
     if (sight[i] == RangeMap::Sight::kEmpty) block.voxelEmpty.setOn(o);
-    else block.voxels[block.rank(o)] += sightVote(sight[i], map.kind());
+    else block.voxels[block.rank(o)] += sightVote(sight[i], map.raysFromOneCentre());
   }
 }
 

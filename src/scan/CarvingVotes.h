@@ -33,7 +33,9 @@ namespace levelfuse::detail {
 
 /// How one map's sight of a point changes its balance 2 behind - speaking;
 /// kEmpty is told apart (the point is outside whatever the others say).
-int sightVote(RangeMap::Sight sight, RangeMap::Kind kind);
+/// Parallel rays (`raysFromOneCentre` false) speak for every point, also
+/// those outside their map.
+int sightVote(RangeMap::Sight sight, bool raysFromOneCentre);
 
 /// The votes on single points, `point(i)` the i-th of `count` (world units).
 class PointVotes {

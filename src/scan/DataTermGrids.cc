@@ -100,7 +100,7 @@ typename GridT::Ptr emptyGrid(double voxelSize, const char* name) {
 /// sight from a camera or a scanner's centre are the directions of the
 /// voxels, which lie in the cone of the leaf's corner voxels.
 int commonBinOfLeaf(const RangeMap& map, const Vec3d& base, const Vec3d step[3]) {
-  if (map.kind() == RangeMap::Kind::kOrthographic || map.hasRayDirections()) return -1;
+  if (!map.raysFromOneCentre() || map.hasRayDirections()) return -1;
   constexpr double last = kLeafNodeWidth - 1;
   Vec3d corners[8];
   for (int c = 0; c < 8; ++c) {
@@ -135,16 +135,19 @@ class LeafTermsOfMap {
         mStep{mToMap.transform3x3(Vec3d(mH, 0, 0)), mToMap.transform3x3(Vec3d(0, mH, 0)),
               mToMap.transform3x3(Vec3d(0, 0, mH))},
         // Parallel rays: one line of sight, one bin.
-        mParallel(map.kind() == RangeMap::Kind::kOrthographic && !map.hasRayDirections()),
+        mParallel(!map.raysFromOneCentre() && !map.hasRayDirections()),
         mParallelBin(sightBin(mToWorld.transform3x3(Vec3d(0, 0, 1)))) {}
 
-  /// The terms of leaf l of the batch (at `leaves[l]`) into `batch`; `s` is
-  /// scratch. Inlined into the loop over a task's leaves, as is the map's
-  /// interpolation into it: the hot loop of integration.
+  /// The terms of leaf l of the batch (at `leaves[l]`) into `batch`, along
+  /// the map's own rays (its projection's visit); `s` is scratch. Inlined
+  /// into the loop over a task's leaves, as is the map's interpolation into
+  /// it: the hot loop of integration.
+  template <typename Rays>
 #if defined(__GNUC__)
   __attribute__((always_inline))
 #endif
-  void evaluate(const Coord* leaves, std::size_t l, RangeMap::LocalSample& s, BatchTerms& batch) const {
+  void evaluate(const Rays& rays, const Coord* leaves, std::size_t l, RangeMap::LocalSample& s,
+                BatchTerms& batch) const {
     if (!detail::leafMayBeReached(mSpans, leaves[l], mH, mReach)) return;
     const std::uint8_t cubes = detail::leafCubesMayBeReached(mSpans, leaves[l], mH, mReach);
     if (cubes == 0) return;
@@ -165,7 +168,7 @@ class LeafTermsOfMap {
         for (int k = 0; k < kLeafNodeWidth; ++k, q += mStep[2]) {
           if (!(cubes & (1 << (cubeRow | (k >> 2))))) continue;
           ++evaluations;
-          if (!mMap.sampleLocal(q, mReach, s)) continue;
+          if (!mMap.sampleLocal(rays, q, mReach, s)) continue;
           const double w = mWindow(s.D);
           if (w == 0.0) continue;
           const double weight = detail::readingWeight(w, s, mPositionVariance);  // Eq. 38
@@ -273,7 +276,10 @@ void DataTermGrids::integrateLeaves(const RangeMap& map, const detail::UsableSpa
   BatchTerms batch(count);
   parallelFor(count, mGrainSize, [&](std::size_t begin, std::size_t end) {
     RangeMap::LocalSample s;
-    for (std::size_t l = begin; l < end; ++l) termsOfMap.evaluate(leaves, l, s, batch);
+    // The map's kind of rays told apart once per task, not at every voxel.
+    map.projection().visit([&](const auto& rays) {
+      for (std::size_t l = begin; l < end; ++l) termsOfMap.evaluate(rays, leaves, l, s, batch);
+    });
   });
   // 2. The leaves that receive terms, created serially (tree topology).
   const BatchTargets targets = touchTargetLeaves(batch, leaves);

@@ -73,19 +73,22 @@ std::size_t addLeafTerms(const detail::UsableSpans& spans, const Coord& origin, 
   const Vec3d step[3] = {toMap.transform3x3(Vec3d(voxelSize, 0, 0)), toMap.transform3x3(Vec3d(0, voxelSize, 0)),
                          toMap.transform3x3(Vec3d(0, 0, voxelSize))};
   RangeMap::LocalSample sample;
-  for (int i = 0; i < leafDim; ++i)
-    for (int j = 0; j < leafDim; ++j) {
-      Vec3d q = base + step[0] * i + step[1] * j;
-      const std::size_t row = static_cast<std::size_t>((i << 6) | (j << 3));
-      for (int k = 0; k < leafDim; ++k, q += step[2]) {
-        if (!m.sampleLocal(q, reach, sample)) continue;
-        const double w = window(sample.D);
-        if (w == 0.0) continue;
-        const double weight = detail::readingWeight(w, sample, positionVariance);  // Eq. 38
-        gSum[row + k] += weight * sample.D;  // Eq. 17
-        wSum[row + k] += weight;
+  // The map's kind of rays told apart once per leaf, not at every voxel.
+  m.projection().visit([&](const auto& rays) {
+    for (int i = 0; i < leafDim; ++i)
+      for (int j = 0; j < leafDim; ++j) {
+        Vec3d q = base + step[0] * i + step[1] * j;
+        const std::size_t row = static_cast<std::size_t>((i << 6) | (j << 3));
+        for (int k = 0; k < leafDim; ++k, q += step[2]) {
+          if (!m.sampleLocal(rays, q, reach, sample)) continue;
+          const double w = window(sample.D);
+          if (w == 0.0) continue;
+          const double weight = detail::readingWeight(w, sample, positionVariance);  // Eq. 38
+          gSum[row + k] += weight * sample.D;  // Eq. 17
+          wSum[row + k] += weight;
+        }
       }
-    }
+  });
   return LeafT::SIZE;
 }
 
@@ -156,7 +159,7 @@ ForceField::ForceField(std::shared_ptr<const std::vector<RangeMap>> maps, const 
     openvdb::BBoxd box = m.readingBounds();
     box.expand(reach);
     mReach.push_back(box);
-    const bool parallel = m.kind() == RangeMap::Kind::kOrthographic && !m.hasRayDirections();
+    const bool parallel = !m.raysFromOneCentre() && !m.hasRayDirections();
     mParallelSight.push_back(parallel ? m.mapToWorld().transform3x3(Vec3d(0, 0, 1)) : Vec3d(0.0));
   }
 }
@@ -198,8 +201,9 @@ ForceField::Terms ForceField::facingTerms(const Vec3d& x, const Vec3d& normal) c
     if (sight.x() != 0.0 || sight.y() != 0.0 || sight.z() != 0.0) {
       // Parallel rays: the facing check (Eq. 37) before any lookup.
       if (!(sight.dot(normal) < 0.0)) continue;
-      RangeMap::LocalSample s;
-      if (!(*mMaps)[j].sampleLocal((*mMaps)[j].worldToMap().transform(x), reach, s)) continue;
+      const RangeMap& map = (*mMaps)[j];
+      RangeMap::LocalSample s;  // along the map's parallel rays, its kind known
+      if (!map.sampleLocal(map.projection().parallelRays(), map.worldToMap().transform(x), reach, s)) continue;
       const double w = mWindow(s.D);
       if (w == 0.0) continue;
       const double weight = detail::readingWeight(w, s, mOptions.positionVariance);  // Eq. 38

@@ -18,15 +18,6 @@ namespace {
 using openvdb::Coord;
 using openvdb::Vec3d;
 
-/// How far the rays of a spherical map's tile of du columns and rows v0 to
-/// v1, out to `range`, reach beyond the box of their corners: the arcs
-/// between the corners bulge by at most range (1 - cos(the tile's diagonal angle)).
-double sphericalBulge(const RangeMap& m, double du, double v0, double v1, double range) {
-  const SphericalProjection& p = m.sphericalProjection();
-  const double diagonal = std::hypot(du * p.azimuthStep, elevationOfRow(p, v1) - elevationOfRow(p, v0));
-  return range * (1.0 - std::cos(diagonal)) + 1e-9 * range;
-}
-
 constexpr int kTile = 4;
 
 /// The rows of tiles of a map.
@@ -62,14 +53,13 @@ void forEachTileBoxOfRows(const RangeMap& m, double reach, int first, int last, 
             nearest = std::min(nearest, lo);
             farthest = std::max(farthest, hi);
           }
-      double front = nearest - reach;
-      if (m.kind() == RangeMap::Kind::kPinhole) front = std::max(front, 1e-6 * farthest);
-      if (m.kind() == RangeMap::Kind::kSpherical) front = std::max(front, 0.0);
+      const MapProjection& projection = m.projection();
+      const double front = projection.nearestReading(nearest - reach, farthest);
       openvdb::BBoxd box;
       for (int c = 0; c < 8; ++c)
         box.expand(m.pointAt(c & 1 ? bu1 : bu0, c & 2 ? bv1 : bv0, c & 4 ? farthest + reach : front));
-      if (m.kind() == RangeMap::Kind::kSpherical)
-        box.expand(sphericalBulge(m, bu1 - bu0, bv0, bv1, farthest + reach));
+      if (!projection.keepsLinesStraight())
+        box.expand(projection.sphericalRays().tileBulge(bu1 - bu0, bv0, bv1, farthest + reach));
       visit(box);
     }
 }
@@ -184,7 +174,7 @@ CubeFootprint cubeFootprint(const RangeMap& m, const Coord& origin, double voxel
   const openvdb::math::Mat4d& toMap = m.worldToMap();
   const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
   const double span = voxelSize * (dim - 1);
-  if (m.kind() == RangeMap::Kind::kSpherical)
+  if (!m.projection().keepsLinesStraight())
     return sphericalFootprint(m, base + toMap.transform3x3(Vec3d(0.5 * span)), 0.5 * std::sqrt(3.0) * span);
   CubeFootprint f;
   for (int c = 0; c < 8; ++c) {

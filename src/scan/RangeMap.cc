@@ -46,7 +46,8 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
   mValidCount = 0;
   mLargestReading = 0.0;
   for (float& r : readings) {
-    if (!std::isfinite(r) || (mKind != Kind::kOrthographic && r <= 0.0f)) {
+    // Depths and ranges (rays from one centre) are positive; parallel rays' z may be anything.
+    if (!std::isfinite(r) || (mProjection.raysFromOneCentre() && r <= 0.0f)) {
       r = nan;
     } else {
       ++mValidCount;
@@ -54,7 +55,7 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
     }
   }
   mReadings = std::move(readings);
-  if (mKind == Kind::kSpherical) mMedianReading = medianReading();
+  if (isStation()) mMedianReading = medianReading();
   mSigma = sigma;
   mBlocksX = (mWidth + kBlock - 1) / kBlock;
   mBlocksY = (mHeight + kBlock - 1) / kBlock;
@@ -118,7 +119,8 @@ void RangeMap::findUsableCells() {
       mUsableCell.set(index(i, j), spansNoDiscontinuity(i, j, r, kJumpNoise * sigma));
     }
   }
-  mLargestStep = std::max(mJumpFactor, kSteepSlopeSpacings) * mOrtho.pixelSize + kJumpNoise * largestSigma;
+  mLargestStep = std::max(mJumpFactor, kSteepSlopeSpacings) * mProjection.orthographic().pixelSize +
+                 kJumpNoise * largestSigma;
 }
 
 bool RangeMap::cellReadings(int i, int j, double (&r)[4]) const {
@@ -129,12 +131,6 @@ bool RangeMap::cellReadings(int i, int j, double (&r)[4]) const {
   for (int c = 0; c < 4; ++c) r[c] = readings[c];
   return readings[0] == readings[0] && readings[1] == readings[1] && readings[2] == readings[2] &&
          readings[3] == readings[3];
-}
-
-double RangeMap::raySpacingAt(double reading) const {
-  if (mKind == Kind::kOrthographic) return mOrtho.pixelSize;
-  if (mKind == Kind::kPinhole) return reading / std::min(mPinhole.fx, mPinhole.fy);
-  return reading * mAngularStep;
 }
 
 namespace {
@@ -149,7 +145,7 @@ double changeAlongRows(const double (&r)[4]) { return std::max(std::fabs(r[2] - 
 bool RangeMap::spansNoDiscontinuity(int i, int j, const double (&r)[4], double noise) const {
   const double lo = std::min(std::min(r[0], r[1]), std::min(r[2], r[3]));
   const double hi = std::max(std::max(r[0], r[1]), std::max(r[2], r[3]));
-  const double spacing = raySpacingAt(hi);
+  const double spacing = mProjection.raySpacingAt(hi);
   if (hi - lo <= mJumpFactor * spacing + noise) return true;
   // Steeper than the factor allows: a surface seen at grazing incidence, if
   // it changes as gradually as the cells beside it.
@@ -179,24 +175,14 @@ void RangeMap::setDiscontinuityFactor(double factor) {
 
 RangeMap RangeMap::orthographic(int width, int height, std::vector<float> readings, const OrthographicProjection& p,
                                 const openvdb::math::Mat4d& mapToWorld, double sigma, std::string name) {
-  RangeMap m(Kind::kOrthographic, width, height, std::move(name));
   if (!(p.pixelSize > 0.0) || !std::isfinite(p.pixelSize) || !std::isfinite(p.origin.x()) ||
       !std::isfinite(p.origin.y()))
-    throw std::invalid_argument("range map '" + m.mName + "': the pixel size must be positive and finite");
-  m.mOrtho = p;
-  m.mInversePixel = 1.0 / p.pixelSize;
-  m.mRayDensity = m.mInversePixel * m.mInversePixel;
+    throw std::invalid_argument("range map '" + name + "': the pixel size must be positive and finite");
+  RangeMap m(MapProjection(p), width, height, std::move(name));
+  const double inversePixel = m.mProjection.parallelRays().inversePixel();
+  m.mRayDensity = inversePixel * inversePixel;
   m.finish(std::move(readings), mapToWorld, sigma);
   return m;
-}
-
-void requireRowElevations(const std::vector<double>& rows, const std::string& who) {
-  if (rows.size() < 2)
-    throw std::invalid_argument(who + ": " + std::to_string(rows.size()) + " row elevation(s); uneven rows need two or more");
-  for (std::size_t r = 0; r < rows.size(); ++r)
-    if (!std::isfinite(rows[r]) || (r > 0 && !(rows[r] > rows[r - 1])))
-      throw std::invalid_argument(who + ": the row elevations must be finite and strictly increasing (row " +
-                                  std::to_string(r) + ")");
 }
 
 namespace {
@@ -216,8 +202,7 @@ void takeRowElevations(SphericalProjection& p, int height, const std::string& wh
 }  // namespace
 
 RangeMap RangeMap::sphericalWithoutReadings(int width, int height, SphericalProjection p, std::string name) {
-  RangeMap m(Kind::kSpherical, width, height, std::move(name));
-  const std::string who = "range map '" + m.mName + "'";
+  const std::string who = "range map '" + name + "'";
   if (!p.rowElevations.empty()) takeRowElevations(p, height, who);
   if (!std::isfinite(p.azimuthStart) || !std::isfinite(p.elevationStart) || !std::isfinite(p.azimuthStep) ||
       !std::isfinite(p.elevationStep) || p.azimuthStep == 0.0 || p.elevationStep == 0.0)
@@ -230,10 +215,7 @@ RangeMap RangeMap::sphericalWithoutReadings(int width, int height, SphericalProj
   // A closed turn repeats its first column after its last: one step more than a turn.
   if ((width - 1) * std::fabs(p.azimuthStep) > 2.0 * M_PI * (1.0 + 1e-9))
     throw std::invalid_argument(who + ": its " + std::to_string(width) + " columns span more than a turn");
-  m.mAzimuthPeriod = 2.0 * M_PI / std::fabs(p.azimuthStep);
-  m.mAngularStep = std::max(std::fabs(p.azimuthStep), largestRowStep(p));
-  m.mSpherical = std::move(p);
-  return m;
+  return RangeMap(MapProjection(std::move(p)), width, height, std::move(name));
 }
 
 RangeMap RangeMap::spherical(int width, int height, std::vector<float> ranges, const SphericalProjection& p,
@@ -262,10 +244,9 @@ RangeMap RangeMap::finished(RangeMap m, std::vector<float> readings, const openv
 }
 
 RangeMap RangeMap::pinholeWithoutReadings(int width, int height, const PinholeProjection& p, std::string name) {
-  RangeMap m(Kind::kPinhole, width, height, std::move(name));
   if (!(p.fx > 0.0) || !(p.fy > 0.0) || !std::isfinite(p.fx) || !std::isfinite(p.fy) || !std::isfinite(p.cx) ||
       !std::isfinite(p.cy))
-    throw std::invalid_argument("range map '" + m.mName + "': focal lengths must be positive and finite");
+    throw std::invalid_argument("range map '" + name + "': focal lengths must be positive and finite");
   // The lines of sight of a pinhole fan out within a half-space: focal lengths
   // so short that the image spans nearly 180 degrees (a thousandth of a pixel)
   // are not a camera's, and would send its readings' windows out for ever.
@@ -278,10 +259,9 @@ RangeMap RangeMap::pinholeWithoutReadings(int width, int height, const PinholePr
                   "focal lengths of %.3g x %.3g pixels give a %d x %d image a field of view of %.6g degrees, more "
                   "than the %.0f of a pinhole camera (focal lengths are in pixels, a Kinect's about 585)",
                   p.fx, p.fy, width, height, degrees, kWidestPinholeView);
-    throw std::invalid_argument("range map '" + m.mName + "': " + text);
+    throw std::invalid_argument("range map '" + name + "': " + text);
   }
-  m.mPinhole = p;
-  return m;
+  return RangeMap(MapProjection(p), width, height, std::move(name));
 }
 
 RangeMap RangeMap::pinhole(int width, int height, std::vector<float> depths, const PinholeProjection& p,
@@ -340,7 +320,7 @@ bool RangeMap::extendableCorner(int u, int v) const {
 
 double RangeMap::edgeExtensionReach(double reading) const {
   // Half a pixel along each direction at the steepest slope.
-  return mKind == Kind::kSpherical ? kSteepestEdgeSlope * raySpacingAt(reading) : 0.0;
+  return isStation() ? kSteepestEdgeSlope * mProjection.raySpacingAt(reading) : 0.0;
 }
 
 bool RangeMap::usableCellSpan(int i, int j, float& lo, float& hi) const {
@@ -362,7 +342,7 @@ bool RangeMap::usableCellSpan(int i, int j, float& lo, float& hi) const {
 }
 
 bool RangeMap::edgeReadings(int i, int j, float& lo, float& hi) const {
-  if (mKind != Kind::kSpherical || mUsableCell[index(i, j)]) return false;
+  if (!isStation() || mUsableCell[index(i, j)]) return false;
   lo = std::numeric_limits<float>::max();
   hi = -lo;
   for (int c = 0; c < 4; ++c) {
@@ -391,7 +371,7 @@ bool RangeMap::extendEdge(int i, int j, double& fu, double& fv, double& r, doubl
   });
   // Near a convex object's limb the ranges fall away without bound: the half
   // pixel beyond the last ray follows the surface no steeper than this.
-  const double steepest = kSteepestEdgeSlope * raySpacingAt(reading);
+  const double steepest = kSteepestEdgeSlope * mProjection.raySpacingAt(reading);
   ru = std::clamp(slopeU / cells, -steepest, steepest);
   rv = std::clamp(slopeV / cells, -steepest, steepest);
   r = reading + ru * (fu - cornerU) + rv * (fv - cornerV);
@@ -443,7 +423,7 @@ float RangeMap::depthNoiseSigma(float reading) const {
 }
 
 void RangeMap::setSamples(std::vector<openvdb::Vec3d> worldPoints, double raySpacing) {
-  if (mKind != Kind::kOrthographic)
+  if (raysFromOneCentre())
     throw std::invalid_argument("range map '" + mName + "': only an orthographic map is resampled from samples");
   if (!(raySpacing > 0.0) || !std::isfinite(raySpacing))
     throw std::invalid_argument("range map '" + mName + "': the samples' ray spacing must be positive");
@@ -493,29 +473,30 @@ RangeMap::Sight RangeMap::sight(const Vec3d& x, double margin) const {
 }
 
 void RangeMap::sights(const Vec3d* x, std::size_t count, double margin, Sight* out) const {
-  if (mKind != Kind::kPinhole) {
-    for (std::size_t i = 0; i < count; ++i) out[i] = sight(x[i], margin);
-    return;
-  }
-  // A camera's projections, a batch at a time, as sight() works them out.
-  constexpr std::size_t kBatch = 64;
-  double u[kBatch], v[kBatch], z[kBatch];
-  for (std::size_t first = 0; first < count; first += kBatch) {
-    const std::size_t n = std::min(kBatch, count - first);
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3d p = mWorldToMap.transform(x[first + i]);
-      const openvdb::math::Vec2d uv = project(p);
-      z[i] = p.z();
-      u[i] = uv.x();
-      v[i] = uv.y();
+  mProjection.visit([&](const auto& rays) {
+    // The projections of a batch of points first, as sight() works them out,
+    // then their readings.
+    constexpr std::size_t kBatch = 64;
+    double u[kBatch], v[kBatch], along[kBatch];
+    bool seen[kBatch];
+    for (std::size_t first = 0; first < count; first += kBatch) {
+      const std::size_t n = std::min(kBatch, count - first);
+      for (std::size_t i = 0; i < n; ++i) {
+        const Vec3d p = mWorldToMap.transform(x[first + i]);
+        const openvdb::math::Vec2d uv = rays.pixelOf(p);
+        seen[i] = rays.canProject(p);
+        u[i] = uv.x();
+        v[i] = uv.y();
+        along[i] = rays.readingOf(p);
+      }
+      for (std::size_t i = 0; i < n; ++i)
+        out[first + i] = seen[i] ? sightAtPixel(u[i], v[i], along[i], margin) : Sight::kOutside;
     }
-    for (std::size_t i = 0; i < n; ++i)
-      out[first + i] = z[i] > 0.0 ? sightAtPixel(u[i], v[i], z[i], margin) : Sight::kOutside;
-  }
+  });
 }
 
 bool RangeMap::mayBeSeenIn(const openvdb::BBoxd& box) const {
-  if (mKind == Kind::kSpherical) return true;
+  if (!mProjection.keepsLinesStraight()) return true;
   // A camera's projection of a box wholly in front of it is the hull of its
   // corners' projections (parallel rays': always); sightAtPixel sees the
   // pixels' span [0, width - 1] x [0, height - 1].
@@ -604,53 +585,21 @@ bool RangeMap::sample(const openvdb::Vec3d& x, RangeSample& out) const {
 
 openvdb::Vec3d RangeMap::readingPoint(int u, int v) const { return pointAt(u, v, mReadings[index(u, v)]); }
 
-double RangeMap::columnTerm(double u) const {
-  return mKind == Kind::kPinhole ? (u - mPinhole.cx) / mPinhole.fx : mOrtho.origin.x() + u * mOrtho.pixelSize;
-}
-
-double RangeMap::rowTerm(double v) const {
-  return mKind == Kind::kPinhole ? (v - mPinhole.cy) / mPinhole.fy : mOrtho.origin.y() + v * mOrtho.pixelSize;
-}
-
-openvdb::Vec3d RangeMap::planarPoint(double column, double row, double r) const {
-  return mKind == Kind::kPinhole ? Vec3d(column * r, row * r, r) : Vec3d(column, row, r);
-}
-
 openvdb::Vec3d RangeMap::pointAt(double u, double v, double r) const {
-  if (mKind == Kind::kSpherical) return mMapToWorld.transform(sphericalDirection(mSpherical, u, v) * r);
-  return mMapToWorld.transform(planarPoint(columnTerm(u), rowTerm(v), r));
+  return mMapToWorld.transform(mProjection.pointAt(u, v, r));
 }
 
-double elevationOfRow(const SphericalProjection& p, double v) {
-  const std::vector<double>& rows = p.rowElevations;
-  if (rows.empty()) return p.elevationStart + v * p.elevationStep;
-  const std::size_t below = static_cast<std::size_t>(std::clamp(std::floor(v), 0.0, static_cast<double>(rows.size() - 2)));
-  return rows[below] + (v - static_cast<double>(below)) * (rows[below + 1] - rows[below]);
-}
-
-double largestRowStep(const SphericalProjection& p) {
-  const std::vector<double>& rows = p.rowElevations;
-  double largest = std::fabs(p.elevationStep);
-  for (std::size_t r = 1; r < rows.size(); ++r) largest = std::max(largest, rows[r] - rows[r - 1]);
-  return largest;
-}
-
-openvdb::Vec3d sphericalDirection(const SphericalProjection& p, double u, double v) {
-  const double azimuth = p.azimuthStart + u * p.azimuthStep;
-  const double elevation = elevationOfRow(p, v);
-  return Vec3d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
-}
-
-bool RangeMap::ofAScene() const { return mKind != Kind::kOrthographic; }
+bool RangeMap::ofAScene() const { return raysFromOneCentre(); }
 
 openvdb::Vec3d RangeMap::scannerPosition() const {
-  if (mKind != Kind::kOrthographic) return mMapToWorld.transform(Vec3d(0.0));
+  if (raysFromOneCentre()) return mMapToWorld.transform(Vec3d(0.0));
+  const OrthographicProjection& lattice = mProjection.orthographic();
   double zmin = std::numeric_limits<double>::max();
   for (float r : mReadings)
     if (r == r) zmin = std::min(zmin, static_cast<double>(r));
-  const double extent = std::max(mWidth, mHeight) * mOrtho.pixelSize;
-  const Vec3d centre(mOrtho.origin.x() + 0.5 * (mWidth - 1) * mOrtho.pixelSize,
-                     mOrtho.origin.y() + 0.5 * (mHeight - 1) * mOrtho.pixelSize,
+  const double extent = std::max(mWidth, mHeight) * lattice.pixelSize;
+  const Vec3d centre(lattice.origin.x() + 0.5 * (mWidth - 1) * lattice.pixelSize,
+                     lattice.origin.y() + 0.5 * (mHeight - 1) * lattice.pixelSize,
                      (zmin == std::numeric_limits<double>::max() ? 0.0 : zmin) - 10.0 * extent);
   return mMapToWorld.transform(centre);
 }
@@ -667,34 +616,26 @@ double RangeMap::medianReading() const {
 }
 
 double RangeMap::typicalRaySpacing() const {
-  if (mKind != Kind::kSpherical) return maxRaySpacing();
-  return mMedianReading * std::sqrt(std::fabs(mSpherical.azimuthStep) * std::fabs(mSpherical.elevationStep));
+  if (!isStation()) return maxRaySpacing();
+  const SphericalProjection& grid = mProjection.spherical();
+  return mMedianReading * std::sqrt(std::fabs(grid.azimuthStep) * std::fabs(grid.elevationStep));
 }
 
 double RangeMap::maxRaySpacing() const {
-  if (mKind == Kind::kOrthographic) return 1.0 / std::sqrt(mRayDensity);
-  if (mKind == Kind::kPinhole) return mLargestReading / std::min(mPinhole.fx, mPinhole.fy);
-  return mLargestReading * mAngularStep;
+  // Parallel rays: the scanner's spacing, where the map was resampled from its samples.
+  if (!raysFromOneCentre()) return 1.0 / std::sqrt(mRayDensity);
+  return mProjection.raySpacingAt(mLargestReading);
 }
 
 openvdb::BBoxd RangeMap::boundsOfReadings() const {
   openvdb::BBoxd box;
-  if (mKind == Kind::kSpherical) {
-    for (int v = 0; v < mHeight; ++v)
+  mProjection.visit([&](const auto& rays) {
+    for (int v = 0; v < mHeight; ++v) {
+      const float* readings = mReadings.data() + index(0, v);
       for (int u = 0; u < mWidth; ++u)
-        if (valid(u, v)) box.expand(readingPoint(u, v));
-    return box;
-  }
-  // pointAt with the terms of each column and row worked out once.
-  std::vector<double> columns(static_cast<std::size_t>(mWidth));
-  for (int u = 0; u < mWidth; ++u) columns[static_cast<std::size_t>(u)] = columnTerm(u);
-  for (int v = 0; v < mHeight; ++v) {
-    const double row = rowTerm(v);
-    const float* readings = mReadings.data() + index(0, v);
-    for (int u = 0; u < mWidth; ++u)
-      if (readings[u] == readings[u])
-        box.expand(mMapToWorld.transform(planarPoint(columns[static_cast<std::size_t>(u)], row, readings[u])));
-  }
+        if (readings[u] == readings[u]) box.expand(mMapToWorld.transform(rays.pointAt(u, v, readings[u])));
+    }
+  });
   return box;
 }
 
@@ -704,18 +645,6 @@ std::size_t RangeMap::memoryBytes() const {
          mReadings.capacity() * sizeof(float) +
          mUsableCell.memoryBytes() + mDirections.capacity() * sizeof(openvdb::Vec3f) +
          mSigmas.capacity() * sizeof(float) + mColours.capacity() * sizeof(Rgb8) + mSamples.capacity() * sizeof(openvdb::Vec3d) + mMisses.memoryBytes();
-}
-
-const char* projectionName(RangeMap::Kind kind) {
-  switch (kind) {
-    case RangeMap::Kind::kOrthographic:
-      return "orthographic";
-    case RangeMap::Kind::kPinhole:
-      return "pinhole";
-    case RangeMap::Kind::kSpherical:
-      return "spherical";
-  }
-  return "unknown";
 }
 
 RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps) {

@@ -32,29 +32,11 @@ void frameAround(Vec3d forward, Vec3d& x, Vec3d& y, Vec3d& z) {
   y = z.cross(x);
 }
 
-/// The world-space ray of pixel (u, v).
-void pixelRay(const View& view, int u, int v, Vec3d& origin, Vec3d& direction) {
-  if (view.kind == RangeMap::Kind::kOrthographic) {
-    const auto& p = view.orthographic;
-    origin = view.mapToWorld.transform(Vec3d(p.origin.x() + u * p.pixelSize, p.origin.y() + v * p.pixelSize, 0.0));
-    direction = view.mapToWorld.transform3x3(Vec3d(0, 0, 1));
-  } else if (view.kind == RangeMap::Kind::kSpherical) {
-    origin = view.mapToWorld.transform(Vec3d(0.0));
-    direction = view.mapToWorld.transform3x3(sphericalDirection(view.spherical, u, v));
-  } else {
-    const auto& p = view.pinhole;
-    origin = view.mapToWorld.transform(Vec3d(0.0));
-    direction = view.mapToWorld.transform3x3(Vec3d((u - p.cx) / p.fx, (v - p.cy) / p.fy, 1.0)).unit();
-  }
-}
-
-/// The reading of a hit at distance t along pixel (u, v)'s ray: z for
-/// orthographic maps, depth for pinhole ones, range for spherical ones.
-double readingAt(const View& view, int u, int v, double t) {
-  if (view.kind != RangeMap::Kind::kPinhole) return t;
-  const auto& p = view.pinhole;
-  const double a = (u - p.cx) / p.fx, b = (v - p.cy) / p.fy;
-  return t / std::sqrt(1.0 + a * a + b * b);
+/// The world-space ray of pixel (u, v) of a view whose projection is `projection`.
+void pixelRay(const View& view, const MapProjection& projection, int u, int v, Vec3d& origin, Vec3d& direction) {
+  const PixelRay ray = projection.rayOf(u, v);
+  origin = view.mapToWorld.transform(ray.origin);
+  direction = view.mapToWorld.transform3x3(ray.direction);
 }
 
 void addNoise(std::vector<float>& readings, const Noise& noise) {
@@ -291,7 +273,8 @@ RangeMap renderDistanceFunction(const std::function<double(const Vec3d&)>& signe
   // Scale of the scene, for the far limit and the hit tolerance: the size of
   // the scanner plane for parallel rays, the distance from the eye to the
   // nearest surface for a pinhole.
-  const bool parallel = view.kind == RangeMap::Kind::kOrthographic;
+  const MapProjection projection = view.projection();
+  const bool parallel = !projection.raysFromOneCentre();
   const double scale = parallel ? view.orthographic.pixelSize * std::max(view.width, view.height)
                                 : std::fabs(signedDistance(view.mapToWorld.transform(Vec3d(0.0))));
   const double far = (parallel ? 4.0 : 400.0) * scale, tolerance = 1e-7 * scale;
@@ -299,13 +282,14 @@ RangeMap renderDistanceFunction(const std::function<double(const Vec3d&)>& signe
     for (int v = static_cast<int>(begin); v < static_cast<int>(end); ++v)
       for (int u = 0; u < view.width; ++u) {
         Vec3d origin, direction;
-        pixelRay(view, u, v, origin, direction);
+        pixelRay(view, projection, u, v, origin, direction);
         double t = 0.0;
         for (int i = 0; i < 1000 && t < far; ++i) {
           const double d = signedDistance(origin + direction * t);
           if (d < tolerance) {
             if (d > -tolerance || i > 0)
-              readings[static_cast<std::size_t>(v) * view.width + u] = static_cast<float>(readingAt(view, u, v, t));
+              readings[static_cast<std::size_t>(v) * view.width + u] =
+                  static_cast<float>(projection.readingAlong(u, v, t));
             break;
           }
           t += d;  // sphere tracing: the distance function bounds the free step
@@ -318,7 +302,10 @@ RangeMap renderDistanceFunction(const std::function<double(const Vec3d&)>& signe
 
 RangeMap renderMesh(const std::vector<Vec3d>& points, const std::vector<openvdb::Vec3I>& triangles, const View& view,
                     const Noise& noise, double sigma) {
-  if (view.kind == RangeMap::Kind::kSpherical) {
+  // Triangles are rasterised between their corners' pixels where their
+  // edges stay straight in the image; a spherical grid's are cast one by one.
+  const MapProjection projection = view.projection();
+  if (!projection.keepsLinesStraight()) {
     std::vector<float> ranges = sphericalRangesOfMesh(points, triangles, view);
     addNoise(ranges, noise);
     return makeMap(view, std::move(ranges), sigma, noise);
@@ -335,15 +322,10 @@ RangeMap renderMesh(const std::vector<Vec3d>& points, const std::vector<openvdb:
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3d p = worldToMap.transform(points[i]);
     Projected& q = projected[i];
-    if (view.kind == RangeMap::Kind::kOrthographic) {
-      q = {(p.x() - view.orthographic.origin.x()) / view.orthographic.pixelSize,
-           (p.y() - view.orthographic.origin.y()) / view.orthographic.pixelSize, p.z(), true};
-    } else {
-      q = {view.pinhole.fx * p.x() / p.z() + view.pinhole.cx, view.pinhole.fy * p.y() / p.z() + view.pinhole.cy,
-           p.z(), p.z() > 0.0};
-    }
+    const openvdb::math::Vec2d uv = projection.pixelOf(p);
+    q = {uv.x(), uv.y(), p.z(), projection.canProject(p)};
   }
-  const bool perspective = view.kind == RangeMap::Kind::kPinhole;
+  const bool perspective = projection.raysFromOneCentre();
   for (const openvdb::Vec3I& t : triangles) {
     if (t.x() >= points.size() || t.y() >= points.size() || t.z() >= points.size())
       throw std::invalid_argument("renderMesh: a triangle index is out of range");

@@ -1,25 +1,15 @@
 // levelfuse: one range map (a scan): a 2D grid of range readings along lines
 // of sight, its scanner geometry and its pose (section 3 of the paper).
 //
-// In the map's own frame the lines of sight run along +z, away from the
-// scanner, and a pixel (u, v) has its centre at integer coordinates:
-//  - orthographic (parallel rays; laser stripe scanners): pixel (u, v) is the
-//    ray x = ox + u s, y = oy + v s; its reading is the z of the surface point.
-//  - pinhole (depth cameras): pixel (u, v) is the ray through
-//    ((u - cx) / fx, (v - cy) / fy, 1) from the camera centre; its reading is the
-//    depth z of the surface point (the Kinect / TUM / 7-Scenes convention).
-//  - spherical (terrestrial laser scanners, spinning LiDAR): the scanner sits
-//    at the origin with its z axis up; pixel (u, v) is the ray at azimuth
-//    theta = theta0 + u dtheta (about z, from +x toward +y) and elevation
-//    phi = phi0 + v dphi (from the xy plane toward +z); its reading is the
-//    range, the distance from the scanner to the surface point. Here alone
-//    the lines of sight do not run along +z.
+// Its pixels look into its frame through its projection (MapProjection.h:
+// parallel rays, a pinhole camera or a spherical grid).
 // Optional per-pixel ray directions refine the lines of sight of scanners
 // whose rays are neither parallel nor through one centre; pixels are still
 // found through the map's projection.
 #pragma once
 
 #include <levelfuse/scan/Colour.h>
+#include <levelfuse/scan/MapProjection.h>
 #include <levelfuse/scan/PixelFlags.h>
 
 #include <openvdb/Types.h>
@@ -38,78 +28,6 @@
 #include <vector>
 
 namespace levelfuse {
-
-struct OrthographicProjection {
-  double pixelSize = 1.0;           ///< distance between neighbouring rays (world units)
-  openvdb::math::Vec2d origin{0.0};  ///< x, y of pixel (0, 0) in the map frame
-};
-
-struct PinholeProjection {
-  double fx = 1.0, fy = 1.0;  ///< focal lengths in pixels
-  double cx = 0.0, cy = 0.0;  ///< principal point in pixels
-};
-
-/// The angular grid of a scanner that sweeps azimuth and elevation from one
-/// centre (radians). Steps may be negative (a scanner turning clockwise);
-/// every row lies strictly between the poles, and the columns span at most a
-/// full turn. The rows are evenly spaced, or lie at the elevations of
-/// `rowElevations` (a spinning LiDAR's lasers, spaced as the sensor spaces
-/// them): between two rows a fractional row is linear in elevation.
-struct SphericalProjection {
-  SphericalProjection() = default;
-  /// Evenly spaced rows.
-  SphericalProjection(double azimuthStart, double azimuthStep, double elevationStart, double elevationStep)
-      : azimuthStart(azimuthStart), azimuthStep(azimuthStep), elevationStart(elevationStart),
-        elevationStep(elevationStep) {}
-
-  double azimuthStart = 0.0;    ///< azimuth of column 0
-  double azimuthStep = 1e-3;    ///< from a column to the next
-  double elevationStart = 0.0;  ///< elevation of row 0
-  double elevationStep = 1e-3;  ///< from a row to the next (with rowElevations: their mean spacing)
-  /// One elevation per row, strictly increasing; empty for evenly spaced rows.
-  std::vector<double> rowElevations;
-};
-
-/// Throws std::invalid_argument, naming `who`, unless `rows` are at least two
-/// elevations, finite and strictly increasing (SphericalProjection::rowElevations).
-void requireRowElevations(const std::vector<double>& rows, const std::string& who);
-
-/// The fractional row at which a spherical grid sees `elevation` (beyond the
-/// first and the last of uneven rows, on the spacing of the nearest two).
-inline double rowOfElevation(const SphericalProjection& p, double elevation) {
-  const std::vector<double>& rows = p.rowElevations;
-  if (rows.empty()) return (elevation - p.elevationStart) / p.elevationStep;
-  const std::size_t below =
-      static_cast<std::size_t>(std::upper_bound(rows.begin() + 1, rows.end() - 1, elevation) - rows.begin()) - 1;
-  return static_cast<double>(below) + (elevation - rows[below]) / (rows[below + 1] - rows[below]);
-}
-
-/// Where a spherical grid sees a point `x` of its scanner's frame: its column,
-/// counted from the first in the direction of the sweep within a turn of
-/// `period` columns (2 pi / |azimuth step|), and its fractional row.
-inline openvdb::math::Vec2d sphericalPixel(const SphericalProjection& p, double period, const openvdb::Vec3d& x) {
-  double column = (std::atan2(x.y(), x.x()) - p.azimuthStart) / p.azimuthStep;
-  column -= period * std::floor(column / period);
-  const double elevation = std::atan2(x.z(), std::sqrt(x.x() * x.x() + x.y() * x.y()));
-  return {column, rowOfElevation(p, elevation)};
-}
-
-/// The elevation of fractional row v (the inverse of rowOfElevation).
-double elevationOfRow(const SphericalProjection& p, double v);
-
-/// The signed elevation from row j to row j + 1 (0 <= j < rows - 1).
-inline double rowStep(const SphericalProjection& p, int j) {
-  if (p.rowElevations.empty()) return p.elevationStep;
-  const std::size_t at = static_cast<std::size_t>(j);
-  return p.rowElevations[at + 1] - p.rowElevations[at];
-}
-
-/// The largest elevation between neighbouring rows (radians, positive).
-double largestRowStep(const SphericalProjection& p);
-
-/// The unit line of sight of pixel coordinates (u, v) of a spherical grid, in
-/// the scanner's frame.
-openvdb::Vec3d sphericalDirection(const SphericalProjection& p, double u, double v);
 
 /// What a range map says about a world point x (Eqs. 13, 17, 38).
 struct RangeSample {
@@ -139,7 +57,7 @@ struct DepthNoise {
 
 class RangeMap {
  public:
-  enum class Kind { kOrthographic, kPinhole, kSpherical };
+  using Kind = MapProjection::Kind;
 
   /// `readings` is row-major, `width * height` values in world units; NaN or
   /// values <= 0 (pinhole) mean no reading. `mapToWorld` is rigid. A pinhole
@@ -260,6 +178,21 @@ class RangeMap {
   __attribute__((always_inline))
 #endif
   bool sampleLocal(const openvdb::Vec3d& p, double reach, LocalSample& out) const;
+  /// sampleLocal along this map's own rays, of the kind that its projection
+  /// visits (projection().visit): a loop over many points of one map visits
+  /// once and calls these inside, the kind told apart once per map.
+#if defined(__GNUC__)
+  __attribute__((always_inline))
+#endif
+  bool sampleLocal(const ParallelRays& rays, const openvdb::Vec3d& p, double reach, LocalSample& out) const;
+#if defined(__GNUC__)
+  __attribute__((always_inline))
+#endif
+  bool sampleLocal(const PinholeRays& rays, const openvdb::Vec3d& p, double reach, LocalSample& out) const;
+#if defined(__GNUC__)
+  __attribute__((always_inline))
+#endif
+  bool sampleLocal(const SphericalRays& rays, const openvdb::Vec3d& p, double reach, LocalSample& out) const;
   /// What the line of sight through a point says about it, away from the
   /// reading (space carving, as in VRIP's hole filling).
   enum class Sight {
@@ -347,30 +280,31 @@ class RangeMap {
   /// pixels: a station's by half a pixel (each pixel's ray stands for the
   /// half pixel on either side of it, the outermost ones too), along the
   /// slopes of the cells at its border; 0 for other maps.
-  double borderReach() const { return mKind == Kind::kSpherical ? kBorderReach : 0.0; }
+  double borderReach() const { return isStation() ? kBorderReach : 0.0; }
   /// The readings usable cell (i, j) interpolates, or extrapolates over the
   /// border beside it (borderReach): false if the cell is not usable.
   bool usableCellSpan(int i, int j, float& lo, float& hi) const;
-  /// Pixel coordinates of a point in the map's frame (may lie outside the map).
-  openvdb::math::Vec2d project(const openvdb::Vec3d& p) const;
-  /// Whether project() answers for a point in the map's frame: false behind
-  /// a camera's pinhole (z not positive) and on a spherical scanner's axis
-  /// (x = y = 0: no azimuth), true along parallel rays.
-  bool canProject(const openvdb::Vec3d& p) const;
+  /// Pixel coordinates of a point in the map's frame (may lie outside the
+  /// map): MapProjection::pixelOf.
+  openvdb::math::Vec2d project(const openvdb::Vec3d& p) const { return mProjection.pixelOf(p); }
+  /// Whether project() answers for a point in the map's frame: MapProjection::canProject.
+  bool canProject(const openvdb::Vec3d& p) const { return mProjection.canProject(p); }
 
-  Kind kind() const { return mKind; }
+  /// How the map's pixels look into its frame.
+  const MapProjection& projection() const { return mProjection; }
+  Kind kind() const { return mProjection.kind(); }
   int width() const { return mWidth; }
   int height() const { return mHeight; }
   const std::string& name() const { return mName; }
   double sigma() const { return mSigma; }
   const openvdb::math::Mat4d& mapToWorld() const { return mMapToWorld; }
-  const OrthographicProjection& orthographicProjection() const { return mOrtho; }
-  const PinholeProjection& pinholeProjection() const { return mPinhole; }
-  const SphericalProjection& sphericalProjection() const { return mSpherical; }
+  const OrthographicProjection& orthographicProjection() const { return mProjection.orthographic(); }
+  const PinholeProjection& pinholeProjection() const { return mProjection.pinhole(); }
+  const SphericalProjection& sphericalProjection() const { return mProjection.spherical(); }
   /// True when the lines of sight fan out from the scanner's position (a
   /// camera, a spherical scanner): such a map sees the surfaces around it, and
   /// says nothing of points outside its view.
-  bool raysFromOneCentre() const { return mKind != Kind::kOrthographic; }
+  bool raysFromOneCentre() const { return mProjection.raysFromOneCentre(); }
   /// True for a scan of a scene around its scanner rather than of an object
   /// before it: a depth frame (a camera among the surfaces it films), or a
   /// spherical scan (a station of a terrestrial scanner or a LiDAR sweep,
@@ -380,11 +314,9 @@ class RangeMap {
   /// The quantity a point's readings are compared with, for a point in the
   /// map's frame: its z along parallel rays or a camera's optical axis, its
   /// distance from a spherical scanner.
-  double readingCoordinate(const openvdb::Vec3d& p) const {
-    return mKind == Kind::kSpherical ? p.length() : p.z();
-  }
+  double readingCoordinate(const openvdb::Vec3d& p) const { return mProjection.readingOf(p); }
   /// Columns in a full turn of a spherical map (2 pi / |azimuth step|).
-  double azimuthPeriod() const { return mAzimuthPeriod; }
+  double azimuthPeriod() const { return mProjection.azimuthPeriod(); }
 
   bool valid(int u, int v) const { return mReadings[index(u, v)] == mReadings[index(u, v)]; }
   float reading(int u, int v) const { return mReadings[index(u, v)]; }
@@ -415,8 +347,12 @@ class RangeMap {
 
  private:
   friend class PackedRangeMap;  // compresses and restores the per-pixel arrays
-  RangeMap(Kind kind, int width, int height, std::string name)
-      : mKind(kind), mWidth(width), mHeight(height), mName(std::move(name)) {}
+  RangeMap(MapProjection projection, int width, int height, std::string name)
+      : mProjection(std::move(projection)), mWidth(width), mHeight(height), mName(std::move(name)) {}
+  /// A spherical scan, a station's: its surface ends half a pixel beyond its
+  /// border rays (borderReach, extendEdge), and its rays spread over ranges
+  /// of many times the nearest (typicalRaySpacing).
+  bool isStation() const { return mProjection.kind() == Kind::kSpherical; }
   std::size_t index(int u, int v) const {
     return static_cast<std::size_t>(v) * static_cast<std::size_t>(mWidth) + static_cast<std::size_t>(u);
   }
@@ -441,6 +377,9 @@ class RangeMap {
   /// working the usable cells out again; throws unless `noise` is positive
   /// and finite.
   void adoptDepthNoise(const DepthNoise& noise);
+  /// The line of sight and sigma of the pixel nearest (i + fu, j + fv), into
+  /// a sample found in cell (i, j): the end of each sampleLocal; true.
+  bool nearestPixelSays(int i, int j, double fu, double fv, LocalSample& out) const;
   /// The standard deviation of pixel `at`'s reading: per pixel, from its depth, or the map's.
   double sigmaAt(std::size_t at) const {
     if (!mSigmas.empty()) return mSigmas[at];
@@ -455,8 +394,6 @@ class RangeMap {
   /// The readings of cell (i, j), at pixels (i, j), (i + 1, j), (i, j + 1) and
   /// (i + 1, j + 1); false unless the cell lies in the map and all four are valid.
   bool cellReadings(int i, int j, double (&r)[4]) const;
-  /// The distance between neighbouring rays at a reading (world units).
-  double raySpacingAt(double reading) const;
   /// Whether cell (i, j), whose readings `r` are valid and may differ by
   /// `noise` on top of the surface's own change, spans no depth
   /// discontinuity (the rule setDiscontinuityFactor states).
@@ -471,12 +408,6 @@ class RangeMap {
   double bilinearReading(std::size_t at, double fu, double fv) const;
   /// Works out mBlockMin, mBlockMax and mBlockComplete from the readings.
   void findBlockBounds();
-  /// A camera's or parallel rays' point in the map's frame (pointAt) from
-  /// what depends on the column alone (x of the ray through it, per unit of
-  /// depth for a camera), on the row alone (y) and on the reading.
-  double columnTerm(double u) const;
-  double rowTerm(double v) const;
-  openvdb::Vec3d planarPoint(double column, double row, double reading) const;
   /// Whether a camera's point of depth z at pixel (u, v) lies farther than
   /// `reach` in depth from every reading of the block of pixels its cell lies
   /// in: a test cheaper than the interpolation that finds the same (false
@@ -514,7 +445,7 @@ class RangeMap {
   std::vector<float> mBlockMin, mBlockMax;  ///< per block, NaN if it has no reading
   std::vector<std::uint8_t> mBlockComplete;  ///< per block, 1 if every pixel of it has a reading
 
-  Kind mKind = Kind::kOrthographic;
+  MapProjection mProjection;
   int mWidth = 0, mHeight = 0;
   std::string mName;
   std::vector<float> mReadings;  ///< NaN where there is no reading
@@ -542,33 +473,13 @@ class RangeMap {
   /// The most a usable cell's readings may differ (parallel rays): the
   /// larger of mJumpFactor and kSteepSlopeSpacings pixels, plus the noise.
   double mLargestStep = 0.0;
-  OrthographicProjection mOrtho;
-  double mInversePixel = 1.0;  ///< 1 / pixel size (orthographic)
   double mRayDensity = 1.0;    ///< gamma of an orthographic map: rays per unit area (1 / pixel size^2 by default)
-  PinholeProjection mPinhole;
-  SphericalProjection mSpherical;
-  double mAzimuthPeriod = 0.0;  ///< columns in a full turn (spherical): 2 pi / |azimuth step|
-  double mAngularStep = 0.0;    ///< the larger of a spherical map's two steps, its widest row spacing (radians)
   openvdb::math::Mat4d mMapToWorld = openvdb::math::Mat4d::identity();
   openvdb::math::Mat4d mWorldToMap = openvdb::math::Mat4d::identity();
   openvdb::math::Mat3d mRotation = openvdb::math::Mat3d::identity();  ///< map-to-world rotation
 };
 
 // ---- the hot paths of accumulation and carving, inline ----
-
-inline openvdb::math::Vec2d RangeMap::project(const openvdb::Vec3d& p) const {
-  if (mKind == Kind::kOrthographic)
-    return {(p.x() - mOrtho.origin.x()) / mOrtho.pixelSize, (p.y() - mOrtho.origin.y()) / mOrtho.pixelSize};
-  if (mKind == Kind::kPinhole)
-    return {mPinhole.fx * p.x() / p.z() + mPinhole.cx, mPinhole.fy * p.y() / p.z() + mPinhole.cy};
-  return sphericalPixel(mSpherical, mAzimuthPeriod, p);
-}
-
-inline bool RangeMap::canProject(const openvdb::Vec3d& p) const {
-  if (mKind == Kind::kPinhole) return p.z() > 0.0;
-  if (mKind == Kind::kSpherical) return p.x() * p.x() + p.y() * p.y() > 0.0;
-  return true;
-}
 
 inline double RangeMap::bilinearReading(std::size_t at, double fu, double fv) const {
   const double r00 = mReadings[at], r10 = mReadings[at + 1];
@@ -581,7 +492,7 @@ inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, dou
                                   double& fv) const {
   const double border = borderReach();
   // Columns count round the turn: the border before the first lies at the turn's end.
-  if (border > 0.0 && u >= mWidth - 1 + border) u -= mAzimuthPeriod;
+  if (border > 0.0 && u >= mWidth - 1 + border) u -= mProjection.azimuthPeriod();
   if (!(u >= -border) || !(v >= -border) || !(u < mWidth - 1 + border) || !(v < mHeight - 1 + border)) return false;
   // Beyond the border, the cell beside it, extrapolated (fu or fv outside [0, 1]).
   i = std::clamp(static_cast<int>(std::floor(u)), 0, mWidth - 2);
@@ -591,7 +502,7 @@ inline bool RangeMap::interpolate(double u, double v, double& r, double& ru, dou
   fv = v - j;
   // Never across a missing reading nor a depth discontinuity; a station's
   // surfaces end half a pixel beyond their last rays.
-  if (!mUsableCell[at]) return mKind == Kind::kSpherical && extendEdge(i, j, fu, fv, r, ru, rv);
+  if (!mUsableCell[at]) return isStation() && extendEdge(i, j, fu, fv, r, ru, rv);
   const double r00 = mReadings[at], r10 = mReadings[at + 1];
   const double r01 = mReadings[at + static_cast<std::size_t>(mWidth)];
   const double r11 = mReadings[at + static_cast<std::size_t>(mWidth) + 1];
@@ -613,85 +524,97 @@ inline bool RangeMap::outsideBlockWindow(double u, double v, double z, double re
 }
 
 inline bool RangeMap::sampleLocal(const openvdb::Vec3d& p, double reach, LocalSample& out) const {
-  double u, v;
-  if (mKind == Kind::kOrthographic) {
-    u = (p.x() - mOrtho.origin.x()) * mInversePixel;
-    v = (p.y() - mOrtho.origin.y()) * mInversePixel;
-    // Far outside the window of the cell's first reading (the others differ
-    // from it by less than the discontinuity step): no interpolation needed.
-    if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
-    const std::size_t at = index(static_cast<int>(u), static_cast<int>(v));
-    if (!mUsableCell[at] || std::fabs(p.z() - mReadings[at]) > reach + mLargestStep) return false;
-  } else if (mKind == Kind::kPinhole) {
-    if (!(p.z() > 0.0)) return false;
-    u = mPinhole.fx * p.x() / p.z() + mPinhole.cx;
-    v = mPinhole.fy * p.y() / p.z() + mPinhole.cy;
-    if (outsideBlockWindow(u, v, p.z(), reach)) return false;
-  } else {
-    if (!(p.x() * p.x() + p.y() * p.y() > 0.0)) return false;  // on the scanner's axis: no azimuth
-    const openvdb::math::Vec2d uv = project(p);
-    u = uv.x();
-    v = uv.y();
-  }
+  return mProjection.visit([&](const auto& rays) { return sampleLocal(rays, p, reach, out); });
+}
+
+inline bool RangeMap::sampleLocal(const ParallelRays& rays, const openvdb::Vec3d& p, double reach,
+                                  LocalSample& out) const {
+  const openvdb::math::Vec2d uv = rays.pixelByInverse(p);
+  const double u = uv.x(), v = uv.y();
+  // Far outside the window of the cell's first reading (the others differ
+  // from it by less than the discontinuity step): no interpolation needed.
+  if (!(u >= 0.0) || !(v >= 0.0) || !(u < mWidth - 1) || !(v < mHeight - 1)) return false;
+  const std::size_t at = index(static_cast<int>(u), static_cast<int>(v));
+  if (!mUsableCell[at] || std::fabs(p.z() - mReadings[at]) > reach + mLargestStep) return false;
   double r, ru, rv, fu, fv;
   int i, j;
   if (!interpolate(u, v, r, ru, rv, i, j, fu, fv)) return false;
-  if (mKind == Kind::kOrthographic) {
-    out.D = p.z() - r;  // Eq. 13, rays along +z
-    if (!(std::fabs(out.D) <= reach)) return false;
-    out.gradD = openvdb::Vec3d(-ru * mInversePixel, -rv * mInversePixel, 1.0);
-    out.gradDSquared = out.gradD.lengthSqr();
-    out.lineOfSight = openvdb::Vec3d(0.0, 0.0, 1.0);
-    out.gamma = mRayDensity;
-  } else if (mKind == Kind::kSpherical) {
-    const double distance = p.length();
-    out.D = distance - r;  // Eq. 13, along the ray from the scanner
-    if (!(std::fabs(out.D) <= reach)) return false;
-    // grad D = grad |p| - r_u grad u - r_v grad v, with u and v the azimuth and
-    // elevation in steps (the step of the cell's rows).
-    const double across2 = p.x() * p.x() + p.y() * p.y(), across = std::sqrt(across2);
-    const double distance2 = distance * distance;
-    const double elevationStep = rowStep(mSpherical, j);
-    const openvdb::Vec3d gradU = openvdb::Vec3d(-p.y(), p.x(), 0.0) / (across2 * mSpherical.azimuthStep);
-    const openvdb::Vec3d gradV = openvdb::Vec3d(-p.z() * p.x() / across, -p.z() * p.y() / across, across) /
-                                 (distance2 * elevationStep);
-    out.lineOfSight = p / distance;
-    out.gradD = out.lineOfSight - gradU * ru - gradV * rv;
-    out.gradDSquared = out.gradD.lengthSqr();
-    // Rays per unit area across the line of sight: one per solid angle
-    // |dtheta dphi| cos(phi), at distance |p|.
-    out.gamma = distance / (distance2 * across * std::fabs(mSpherical.azimuthStep * elevationStep));
-  } else {
-    // D = k (z - r) with k >= 1: a depth farther than the reach from the
-    // reading is out of the window (a relative slack leaves ties within
-    // rounding to the exact test below).
-    if (std::fabs(p.z() - r) > reach * (1.0 + 1e-9)) return false;
-    const double a = (u - mPinhole.cx) / mPinhole.fx, b = (v - mPinhole.cy) / mPinhole.fy;
-    const double k = std::sqrt(1.0 + a * a + b * b);
-    // Readings are depths z; along the ray the reading lies at rho = z k, with
-    // k = |(a, b, 1)|: D = |p| - rho(u(x), v(x)) (Eq. 13).
-    const double distance = p.length();
-    out.D = distance - r * k;
-    if (!(std::fabs(out.D) <= reach)) return false;
-    const double rhoU = ru * k + r * a / (mPinhole.fx * k);
-    const double rhoV = rv * k + r * b / (mPinhole.fy * k);
-    const double z = p.z();
-    out.lineOfSight = p / distance;
-    out.gradD = out.lineOfSight - openvdb::Vec3d(mPinhole.fx / z, 0.0, -mPinhole.fx * p.x() / (z * z)) * rhoU -
-                openvdb::Vec3d(0.0, mPinhole.fy / z, -mPinhole.fy * p.y() / (z * z)) * rhoV;
-    out.gradDSquared = out.gradD.lengthSqr();
-    // Rays per unit area across the line of sight: fx fy / (|p|^2 cos^3) = fx fy k / z^2.
-    out.gamma = mPinhole.fx * mPinhole.fy * k / (z * z);
-  }
+  out.D = p.z() - r;  // Eq. 13, rays along +z
+  if (!(std::fabs(out.D) <= reach)) return false;
+  out.gradD = openvdb::Vec3d(-ru * rays.inversePixel(), -rv * rays.inversePixel(), 1.0);
+  out.gradDSquared = out.gradD.lengthSqr();
+  out.lineOfSight = openvdb::Vec3d(0.0, 0.0, 1.0);
+  out.gamma = mRayDensity;
+  return nearestPixelSays(i, j, fu, fv, out);
+}
+
+inline bool RangeMap::sampleLocal(const PinholeRays& rays, const openvdb::Vec3d& p, double reach,
+                                  LocalSample& out) const {
+  if (!rays.canProject(p)) return false;
+  const openvdb::math::Vec2d uv = rays.pixelOf(p);
+  const double u = uv.x(), v = uv.y();
+  if (outsideBlockWindow(u, v, p.z(), reach)) return false;
+  double r, ru, rv, fu, fv;
+  int i, j;
+  if (!interpolate(u, v, r, ru, rv, i, j, fu, fv)) return false;
+  // D = k (z - r) with k >= 1: a depth farther than the reach from the
+  // reading is out of the window (a relative slack leaves ties within
+  // rounding to the exact test below).
+  if (std::fabs(p.z() - r) > reach * (1.0 + 1e-9)) return false;
+  const PinholeProjection& k0 = rays.parameters();
+  const double a = rays.columnSlope(u), b = rays.rowSlope(v);
+  const double k = std::sqrt(1.0 + a * a + b * b);
+  // Readings are depths z; along the ray the reading lies at rho = z k, with
+  // k = |(a, b, 1)|: D = |p| - rho(u(x), v(x)) (Eq. 13).
+  const double distance = p.length();
+  out.D = distance - r * k;
+  if (!(std::fabs(out.D) <= reach)) return false;
+  const double rhoU = ru * k + r * a / (k0.fx * k);
+  const double rhoV = rv * k + r * b / (k0.fy * k);
+  const double z = p.z();
+  out.lineOfSight = p / distance;
+  out.gradD = out.lineOfSight - openvdb::Vec3d(k0.fx / z, 0.0, -k0.fx * p.x() / (z * z)) * rhoU -
+              openvdb::Vec3d(0.0, k0.fy / z, -k0.fy * p.y() / (z * z)) * rhoV;
+  out.gradDSquared = out.gradD.lengthSqr();
+  // Rays per unit area across the line of sight: fx fy / (|p|^2 cos^3) = fx fy k / z^2.
+  out.gamma = k0.fx * k0.fy * k / (z * z);
+  return nearestPixelSays(i, j, fu, fv, out);
+}
+
+inline bool RangeMap::sampleLocal(const SphericalRays& rays, const openvdb::Vec3d& p, double reach,
+                                  LocalSample& out) const {
+  if (!rays.canProject(p)) return false;  // on the scanner's axis: no azimuth
+  const openvdb::math::Vec2d uv = rays.pixelOf(p);
+  double r, ru, rv, fu, fv;
+  int i, j;
+  if (!interpolate(uv.x(), uv.y(), r, ru, rv, i, j, fu, fv)) return false;
+  const double distance = p.length();
+  out.D = distance - r;  // Eq. 13, along the ray from the scanner
+  if (!(std::fabs(out.D) <= reach)) return false;
+  // grad D = grad |p| - r_u grad u - r_v grad v, with u and v the azimuth and
+  // elevation in steps (the step of the cell's rows).
+  const SphericalProjection& grid = rays.parameters();
+  const double across2 = p.x() * p.x() + p.y() * p.y(), across = std::sqrt(across2);
+  const double distance2 = distance * distance;
+  const double elevationStep = rowStep(grid, j);
+  const openvdb::Vec3d gradU = openvdb::Vec3d(-p.y(), p.x(), 0.0) / (across2 * grid.azimuthStep);
+  const openvdb::Vec3d gradV =
+      openvdb::Vec3d(-p.z() * p.x() / across, -p.z() * p.y() / across, across) / (distance2 * elevationStep);
+  out.lineOfSight = p / distance;
+  out.gradD = out.lineOfSight - gradU * ru - gradV * rv;
+  out.gradDSquared = out.gradD.lengthSqr();
+  // Rays per unit area across the line of sight: one per solid angle
+  // |dtheta dphi| cos(phi), at distance |p|.
+  out.gamma = distance / (distance2 * across * std::fabs(grid.azimuthStep * elevationStep));
+  return nearestPixelSays(i, j, fu, fv, out);
+}
+
+inline bool RangeMap::nearestPixelSays(int i, int j, double fu, double fv, LocalSample& out) const {
   const std::size_t nearest = index(fu < 0.5 ? i : i + 1, fv < 0.5 ? j : j + 1);
   if (!mDirections.empty()) out.lineOfSight = openvdb::Vec3d(mDirections[nearest]);
   out.sigma = sigmaAt(nearest);
   return true;
 }
-
-/// The name of a projection, as the converter and the Python module print it:
-/// "orthographic", "pinhole" or "spherical".
-const char* projectionName(RangeMap::Kind kind);
 
 /// Visits range maps one at a time, in their order; a map need not outlive its visit.
 using RangeMapVisitor = std::function<void(const RangeMap&)>;

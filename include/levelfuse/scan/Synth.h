@@ -29,6 +29,8 @@ struct View {
   PinholeProjection pinhole;
   SphericalProjection spherical;
   std::string name;
+  /// How the view's pixels look into its frame: its kind's projection.
+  MapProjection projection() const { return MapProjection::ofKind(kind, orthographic, pinhole, spherical); }
 };
 
 /// An orthographic view looking along `direction` (away from the scanner) at a
