@@ -8,7 +8,7 @@
 #include "support/MemoryBudgetScope.h"
 
 #include <levelfuse/io/InputError.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
