@@ -50,8 +50,8 @@
 #include "DepthSequence.h"
 
 #include <levelfuse/core/FreedMemory.h>
-#include <levelfuse/io/DepthImages.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/images/DepthImages.h>
+#include <levelfuse/io/scans/Scans.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/HeldOutFrames.h>

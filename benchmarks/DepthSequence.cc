@@ -1,6 +1,6 @@
 #include "DepthSequence.h"
 
-#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/images/DepthImages.h>
 #include <levelfuse/recon/HeldOutFrames.h>
 
 #include <algorithm>

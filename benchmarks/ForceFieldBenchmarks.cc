@@ -16,7 +16,7 @@
 
 #include "BenchmarkSupport.h"
 
-#include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/scans/StanfordScans.h>
 #include <levelfuse/scan/ForceField.h>
 
 #include <tbb/global_control.h>

@@ -24,7 +24,7 @@
 
 #include "BenchmarkSupport.h"
 
-#include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/scans/StanfordScans.h>
 #include <levelfuse/mpi/RankTeam.h>
 #include <levelfuse/recon/Reconstructor.h>
 

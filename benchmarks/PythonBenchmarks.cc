@@ -15,7 +15,7 @@
 
 #include "BenchmarkSupport.h"
 
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/scans/Scans.h>
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/ScansReconstruction.h>
 

@@ -36,7 +36,7 @@
 
 #include "BenchmarkSupport.h"
 
-#include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/scans/StanfordScans.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/DataSpeed.h>

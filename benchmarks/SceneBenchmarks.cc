@@ -37,7 +37,7 @@
 #include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/SurfaceWeight.h>
-#include <levelfuse/scan/Scenes.h>
+#include <levelfuse/synth/Scenes.h>
 
 #if defined(LEVELFUSE_HAVE_OPEN3D)
 #include "peers/Open3DTSDF.h"

@@ -25,7 +25,7 @@
 #include "BenchmarkSupport.h"
 
 #include <levelfuse/geometry/NearestTriangle.h>
-#include <levelfuse/io/E57Scans.h>
+#include <levelfuse/io/scans/E57Scans.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/Reconstructor.h>

@@ -3,17 +3,31 @@
 
     tools/module-cycles.py [root]   (default: the repository this script is in)
 
-A module is a header and its source of the same name (include/levelfuse/<floor>/X.h,
-src/<floor>/X.cc, or a private src/<floor>/X.h); it depends on every module
-whose header its header or its source includes. Exits 1 if any modules form a
+A module is a header and its source of the same name (include/levelfuse/<folder>/X.h,
+src/<folder>/X.cc, or a private src/<folder>/X.h); it depends on every module
+whose header its header or its source includes (a private header by its path
+from the including file). Exits 1 if any modules form a
 cycle (A includes B's header while B includes A's, directly or through others),
 and prints each cycle's modules.
 """
+import os
 import pathlib
 import re
 import sys
 
-INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^">]+)[">]', re.M)
+INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^">]+)[">]', re.M)
+
+
+def module_name(root, path):
+    """The module a file of src/ or include/levelfuse/ belongs to ("io/scans/E57Scans"), or None."""
+    parts = path.relative_to(root).parts
+    if parts[0] == "include" and parts[1:2] == ("levelfuse",):
+        folder_parts = parts[2:-1]
+    elif parts[0] == "src":
+        folder_parts = parts[1:-1]
+    else:
+        return None
+    return "/".join(folder_parts + (path.stem,))
 
 
 def modules(root):
@@ -21,27 +35,23 @@ def modules(root):
     files = {}
     for path in list((root / "include/levelfuse").rglob("*.h")) + list((root / "src").rglob("*.cc")) + \
             list((root / "src").rglob("*.h")):
-        rel = path.relative_to(root)
-        parts = rel.parts
-        floor_parts = parts[2:-1] if parts[0] == "include" else parts[1:-1]
+        parts = path.relative_to(root).parts
         if parts[0] == "src" and parts[1] == "python":
             continue  # the Python module is one unit of its own, above the library
-        name = "/".join(floor_parts + (path.stem,))
-        files.setdefault(name, []).append(path)
+        files.setdefault(module_name(root, path), []).append(path)
     known = set(files)
     graph = {}
     for name, paths in files.items():
-        floor = name.rsplit("/", 1)[0] if "/" in name else ""
         deps = set()
         for path in paths:
-            for target in INCLUDE.findall(path.read_text(errors="replace")):
-                target = re.sub(r"\.(h|cc)$", "", target)
+            for bracket, target in INCLUDE.findall(path.read_text(errors="replace")):
                 if target.startswith("levelfuse/"):
-                    dep = target[len("levelfuse/"):]
-                elif "/" not in target and floor:
-                    dep = floor + "/" + target
+                    dep = re.sub(r"\.(h|cc)$", "", target[len("levelfuse/"):])
+                elif bracket == '"':  # a private header, beside the file or in a folder near it
+                    resolved = pathlib.Path(os.path.normpath(path.parent / target))
+                    dep = module_name(root, resolved) if resolved.is_relative_to(root) else None
                 else:
-                    dep = target
+                    dep = None
                 if dep in known and dep != name:
                     deps.add(dep)
         graph[name] = deps

@@ -2,8 +2,8 @@
 
 #include "Arrays.h"
 
-#include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/images/DepthImages.h>
 
 #include <cmath>
 

@@ -6,7 +6,7 @@
 #include "Grids.h"
 #include "PyOpenVdb.h"
 
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 
 #include <openvdb/tools/Interpolation.h>
 #include <pybind11/numpy.h>

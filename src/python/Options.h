@@ -3,7 +3,7 @@
 
 #include "Result.h"
 
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/scans/Scans.h>
 #include <levelfuse/recon/Reconstructor.h>
 
 #include <pybind11/pybind11.h>

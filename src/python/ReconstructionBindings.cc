@@ -7,7 +7,7 @@
 #include "Options.h"
 #include "Result.h"
 
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/scans/Scans.h>
 #include <levelfuse/recon/ScansReconstruction.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 

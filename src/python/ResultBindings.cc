@@ -7,9 +7,9 @@
 #include "PyOpenVdb.h"
 #include "Result.h"
 
-#include <levelfuse/io/MeshFile.h>
-#include <levelfuse/io/Preview.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/outputs/MeshFile.h>
+#include <levelfuse/io/outputs/Preview.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/recon/RunSummary.h>
 #include <levelfuse/recon/ScansReconstruction.h>

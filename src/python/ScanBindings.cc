@@ -6,8 +6,8 @@
 #include "Options.h"
 #include "Scans.h"
 
-#include <levelfuse/io/DepthImages.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/images/DepthImages.h>
+#include <levelfuse/io/scans/Scans.h>
 #include <levelfuse/scan/SphericalScan.h>
 
 #include <pybind11/numpy.h>

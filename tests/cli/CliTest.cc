@@ -3,7 +3,7 @@
 #include "CliSupport.h"
 #include "support/TestSupport.h"
 
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/levelset/Components.h>
 
 #include <gtest/gtest.h>

@@ -6,7 +6,7 @@
 #include "support/Files.h"
 
 #include <levelfuse/io/Ply.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 
 #include <gtest/gtest.h>
 

@@ -10,7 +10,7 @@
 #include "support/PointFiles.h"
 #include "support/PtxFiles.h"
 
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/recon/DataFit.h>
 
 #include <gtest/gtest.h>

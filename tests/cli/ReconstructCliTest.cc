@@ -5,7 +5,7 @@
 #include "support/TestSupport.h"
 
 #include <levelfuse/io/Ply.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/levelset/Components.h>
 
 #include <nlohmann/json.hpp>

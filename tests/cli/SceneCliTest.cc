@@ -6,7 +6,7 @@
 #include "support/TestSupport.h"
 
 #include <levelfuse/io/Ply.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 
 #include <nlohmann/json.hpp>
 

@@ -3,7 +3,7 @@
 
 #include "FuzzInput.h"
 
-#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/images/DepthImages.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace levelfuse;

@@ -6,7 +6,7 @@
 
 #include "FuzzInput.h"
 
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/scans/Scans.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace levelfuse;

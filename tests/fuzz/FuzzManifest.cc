@@ -4,7 +4,7 @@
 #include "FuzzInput.h"
 #include "ScanFixtures.h"
 
-#include <levelfuse/io/Manifest.h>
+#include <levelfuse/io/scans/Manifest.h>
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   levelfuse::fuzz::writeScanFixtures();

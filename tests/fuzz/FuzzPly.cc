@@ -4,7 +4,7 @@
 #include "FuzzInput.h"
 
 #include <levelfuse/io/Ply.h>
-#include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/scans/StanfordScans.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace levelfuse;

@@ -8,7 +8,7 @@
 
 #include "FuzzInput.h"
 
-#include <levelfuse/io/PointScans.h>
+#include <levelfuse/io/scans/PointScans.h>
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include "FuzzInput.h"
 #include "ScanFixtures.h"
 
-#include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/scans/StanfordScans.h>
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   levelfuse::fuzz::writeScanFixtures();

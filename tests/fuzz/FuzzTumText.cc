@@ -6,7 +6,7 @@
 #include "FuzzInput.h"
 #include "ScanFixtures.h"
 
-#include <levelfuse/io/TumScans.h>
+#include <levelfuse/io/scans/TumScans.h>
 
 #include <filesystem>
 

@@ -3,7 +3,7 @@
 
 #include "FuzzInput.h"
 
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/levelset/Components.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/levelset/RequireLevelSet.h>

@@ -5,9 +5,9 @@
 #include "support/TestSupport.h"
 
 #include <levelfuse/io/AtomicWrite.h>
-#include <levelfuse/io/MeshFile.h>
-#include <levelfuse/io/Preview.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/outputs/MeshFile.h>
+#include <levelfuse/io/outputs/Preview.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/levelset/Mesh.h>
 
 #include <gtest/gtest.h>

@@ -5,16 +5,16 @@
 #include "LargestAllocation.h"
 #include "support/InputErrors.h"
 
-#include <levelfuse/io/ColourImages.h>
-#include <levelfuse/io/DepthImages.h>
-#include <levelfuse/io/E57Scans.h>
-#include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Ply.h>
-#include <levelfuse/io/PointScans.h>
-#include <levelfuse/io/PtxScans.h>
-#include <levelfuse/io/Scans.h>
-#include <levelfuse/io/StanfordScans.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/images/ColourImages.h>
+#include <levelfuse/io/images/DepthImages.h>
+#include <levelfuse/io/scans/E57Scans.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/io/scans/PointScans.h>
+#include <levelfuse/io/scans/PtxScans.h>
+#include <levelfuse/io/scans/Scans.h>
+#include <levelfuse/io/scans/StanfordScans.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/recon/Reconstructor.h>
 
 #include <gtest/gtest.h>

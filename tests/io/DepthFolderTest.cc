@@ -6,8 +6,8 @@
 #include "support/InputErrors.h"
 #include "support/WantedScans.h"
 
-#include <levelfuse/io/Manifest.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/io/scans/Scans.h>
 
 #include <gtest/gtest.h>
 

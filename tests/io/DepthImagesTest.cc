@@ -4,8 +4,8 @@
 #include "support/InputErrors.h"
 #include "support/TestSupport.h"
 
-#include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
+#include <levelfuse/io/images/DepthImages.h>
 
 #include <gtest/gtest.h>
 

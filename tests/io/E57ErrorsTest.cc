@@ -7,8 +7,8 @@
 #include "support/InputErrors.h"
 #include "support/PtxFiles.h"
 
-#include <levelfuse/io/E57Scans.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/scans/E57Scans.h>
+#include <levelfuse/io/scans/Scans.h>
 
 #include <gtest/gtest.h>
 

@@ -8,9 +8,9 @@
 #include "support/PtxFiles.h"
 #include "support/TestSupport.h"
 
-#include <levelfuse/io/E57Scans.h>
-#include <levelfuse/io/Manifest.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/scans/E57Scans.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/io/scans/Scans.h>
 
 #include <gtest/gtest.h>
 

@@ -4,14 +4,14 @@
 #include "support/Files.h"
 #include "support/InputErrors.h"
 
-#include <levelfuse/io/DepthImages.h>
 #include <levelfuse/io/InputError.h>
 #include <levelfuse/io/InputFile.h>
-#include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Ply.h>
-#include <levelfuse/io/Scans.h>
-#include <levelfuse/io/StanfordScans.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/images/DepthImages.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/io/scans/Scans.h>
+#include <levelfuse/io/scans/StanfordScans.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 
 #include <gtest/gtest.h>
 

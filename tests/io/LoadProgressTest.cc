@@ -5,8 +5,8 @@
 #include "support/Files.h"
 
 #include <levelfuse/io/InputError.h>
-#include <levelfuse/io/Manifest.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/io/scans/Scans.h>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

@@ -4,9 +4,9 @@
 #include "support/TestSupport.h"
 
 #include <levelfuse/io/InputError.h>
-#include <levelfuse/io/Manifest.h>
-#include <levelfuse/scan/Scenes.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/synth/Scenes.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -6,8 +6,8 @@
 #include "support/InputErrors.h"
 #include "support/PointFiles.h"
 
-#include <levelfuse/io/Manifest.h>
-#include <levelfuse/io/PointScans.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/io/scans/PointScans.h>
 
 #include <gtest/gtest.h>
 

@@ -7,9 +7,9 @@
 #include "support/PointFiles.h"
 #include "support/PtxFiles.h"
 
-#include <levelfuse/io/Manifest.h>
-#include <levelfuse/io/PointScans.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/io/scans/PointScans.h>
+#include <levelfuse/io/scans/Scans.h>
 
 #include <gtest/gtest.h>
 

@@ -3,8 +3,8 @@
 #include "support/Files.h"
 #include "support/TestSupport.h"
 
-#include <levelfuse/io/Preview.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/io/outputs/Preview.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <gtest/gtest.h>
 

@@ -5,9 +5,9 @@
 #include "support/InputErrors.h"
 #include "support/PtxFiles.h"
 
-#include <levelfuse/io/Manifest.h>
-#include <levelfuse/io/PtxScans.h>
-#include <levelfuse/io/Scans.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/io/scans/PtxScans.h>
+#include <levelfuse/io/scans/Scans.h>
 
 #include <gtest/gtest.h>
 

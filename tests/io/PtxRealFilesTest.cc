@@ -7,7 +7,7 @@
 #include "support/InputErrors.h"
 #include "support/TestSupport.h"
 
-#include <levelfuse/io/PtxScans.h>
+#include <levelfuse/io/scans/PtxScans.h>
 
 #include <gtest/gtest.h>
 

@@ -6,8 +6,8 @@
 #include "support/WantedScans.h"
 
 #include <levelfuse/io/InputError.h>
-#include <levelfuse/io/Scans.h>
-#include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/scans/Scans.h>
+#include <levelfuse/io/scans/StanfordScans.h>
 
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/MeshToVolume.h>

@@ -5,9 +5,9 @@
 #include "support/Files.h"
 #include "support/InputErrors.h"
 
-#include <levelfuse/io/ColourImages.h>
-#include <levelfuse/io/Scans.h>
-#include <levelfuse/io/TumScans.h>
+#include <levelfuse/io/images/ColourImages.h>
+#include <levelfuse/io/scans/Scans.h>
+#include <levelfuse/io/scans/TumScans.h>
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 #include "support/InputErrors.h"
 
 #include <levelfuse/io/InputError.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>

@@ -4,16 +4,16 @@
 
 #include "support/TestSupport.h"
 
-#include <levelfuse/io/DepthImages.h>
-#include <levelfuse/io/Scans.h>
-#include <levelfuse/io/StanfordScans.h>
+#include <levelfuse/io/images/DepthImages.h>
+#include <levelfuse/io/scans/Scans.h>
+#include <levelfuse/io/scans/StanfordScans.h>
 #include <levelfuse/levelset/Components.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/DataFit.h>
 #include <levelfuse/recon/HeldOutFrames.h>
-#include <levelfuse/scan/Scenes.h>
+#include <levelfuse/synth/Scenes.h>
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // their depth and noise, fading where less than one reading reaches; the same
 // rule from the per-map term and from the grids.
 
-#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/images/DepthImages.h>
 #include <levelfuse/levelset/SparseFieldStep.h>
 #include <levelfuse/recon/DataSpeed.h>
 

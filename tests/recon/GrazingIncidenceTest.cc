@@ -6,7 +6,7 @@
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/Reconstructor.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <openvdb/tools/Interpolation.h>
 

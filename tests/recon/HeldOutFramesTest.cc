@@ -4,7 +4,7 @@
 
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/recon/HeldOutFrames.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <tbb/global_control.h>
 

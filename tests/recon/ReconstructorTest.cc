@@ -11,8 +11,8 @@
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/ScansReconstruction.h>
 #include <levelfuse/recon/SurfaceWeight.h>
-#include <levelfuse/scan/Scenes.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Scenes.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <openvdb/tools/Diagnostics.h>
 #include <openvdb/tools/Interpolation.h>

@@ -3,7 +3,7 @@
 
 #include "support/TestSupport.h"
 
-#include <levelfuse/io/Preview.h>
+#include <levelfuse/io/outputs/Preview.h>
 #include <levelfuse/levelset/Components.h>
 #include <levelfuse/levelset/DenseField.h>
 #include <levelfuse/levelset/Mesh.h>

@@ -2,7 +2,7 @@
 #pragma once
 
 #include <levelfuse/scan/RangeMap.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <algorithm>
 #include <cmath>

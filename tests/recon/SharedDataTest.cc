@@ -12,7 +12,7 @@
 #include <levelfuse/recon/SharedData.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 #pragma once
 
 #include <levelfuse/scan/RangeMap.h>
-#include <levelfuse/scan/Scenes.h>
+#include <levelfuse/synth/Scenes.h>
 
 #include <vector>
 

@@ -5,14 +5,14 @@
 #include "support/Files.h"
 #include "support/TestSupport.h"
 
-#include <levelfuse/io/Preview.h>
+#include <levelfuse/io/outputs/Preview.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/scan/PackedRangeMap.h>
-#include <levelfuse/scan/Scenes.h>
 #include <levelfuse/scan/SurfaceColour.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Scenes.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <gtest/gtest.h>
 

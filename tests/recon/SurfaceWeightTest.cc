@@ -7,7 +7,7 @@
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/levelset/MeshTrim.h>
 #include <levelfuse/recon/SurfaceWeight.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <openvdb/tools/Interpolation.h>
 

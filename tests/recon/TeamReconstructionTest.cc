@@ -12,7 +12,7 @@
 #include <levelfuse/recon/Reconstructor.h>
 #include <levelfuse/recon/SharedData.h>
 #include <levelfuse/scan/PackedRangeMap.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <gtest/gtest.h>
 #include <openvdb/tools/Composite.h>

@@ -5,7 +5,7 @@
 #include <levelfuse/scan/AccumulationCost.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/PackedRangeMap.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

@@ -10,7 +10,7 @@
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/RangeMap.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <gtest/gtest.h>
 

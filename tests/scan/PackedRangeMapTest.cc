@@ -2,7 +2,7 @@
 
 #include "support/TestSupport.h"
 
-#include <levelfuse/io/DepthImages.h>
+#include <levelfuse/io/images/DepthImages.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/RangeMap.h>
 

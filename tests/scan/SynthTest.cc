@@ -1,8 +1,8 @@
 // Synthetic range maps: exact renderings and stated noise.
 
 #include <levelfuse/geometry/Shapes.h>
-#include <levelfuse/scan/Scenes.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Scenes.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/scan/RangeMap.h>
-#include <levelfuse/scan/Scenes.h>
+#include <levelfuse/synth/Scenes.h>
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 #include "support/NoisyTorus.h"
 
 #include <levelfuse/geometry/Shapes.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/synth/Synth.h>
 
 namespace levelfuse::test {
 

@@ -7,7 +7,7 @@
 
 #include <levelfuse/Version.h>
 #include <levelfuse/geometry/Shapes.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/levelset/Components.h>
 #include <levelfuse/levelset/LevelSetFromFunction.h>
 #include <levelfuse/levelset/SparseField.h>

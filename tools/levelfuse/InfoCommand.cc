@@ -5,9 +5,9 @@
 #include "Support.h"
 #include "Units.h"
 
-#include <levelfuse/io/Manifest.h>
-#include <levelfuse/io/Scans.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/io/scans/Scans.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/levelset/Components.h>
 #include <levelfuse/levelset/RequireLevelSet.h>
 

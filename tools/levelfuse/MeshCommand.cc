@@ -5,8 +5,8 @@
 #include "Support.h"
 #include "Units.h"
 
-#include <levelfuse/io/MeshFile.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/outputs/MeshFile.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/levelset/LevelSetPieces.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/levelset/RequireLevelSet.h>

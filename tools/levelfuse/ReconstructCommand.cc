@@ -7,12 +7,13 @@
 #include "Support.h"
 #include "Units.h"
 
+#include <levelfuse/core/MemoryBudget.h>
 #include <levelfuse/io/InputFile.h>
-#include <levelfuse/io/Manifest.h>
-#include <levelfuse/io/MeshFile.h>
-#include <levelfuse/io/Preview.h>
-#include <levelfuse/io/Scans.h>
-#include <levelfuse/io/VdbFile.h>
+#include <levelfuse/io/outputs/MeshFile.h>
+#include <levelfuse/io/outputs/Preview.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/io/scans/Scans.h>
+#include <levelfuse/io/vdb/VdbFile.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
 #include <levelfuse/recon/DataFit.h>

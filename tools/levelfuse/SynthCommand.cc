@@ -6,10 +6,10 @@
 #include "Units.h"
 
 #include <levelfuse/io/InputError.h>
-#include <levelfuse/io/Manifest.h>
 #include <levelfuse/io/Ply.h>
-#include <levelfuse/scan/Scenes.h>
-#include <levelfuse/scan/Synth.h>
+#include <levelfuse/io/scans/Manifest.h>
+#include <levelfuse/synth/Scenes.h>
+#include <levelfuse/synth/Synth.h>
 
 #include <nlohmann/json.hpp>
 

@@ -5,7 +5,7 @@
 #pragma once
 
 #include <levelfuse/core/Interrupter.h>
-#include <levelfuse/io/Preview.h>
+#include <levelfuse/io/outputs/Preview.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/recon/Fusion.h>
 #include <levelfuse/recon/Reconstructor.h>
