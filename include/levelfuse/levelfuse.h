@@ -99,6 +99,7 @@
 #include <levelfuse/scan/DepthRaster.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/LaserSweep.h>
+#include <levelfuse/scan/MapProjection.h>
 #include <levelfuse/scan/PackedRangeMap.h>
 #include <levelfuse/scan/PixelFlags.h>
 #include <levelfuse/scan/RangeMap.h>
