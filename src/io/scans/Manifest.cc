@@ -121,24 +121,16 @@ SphericalProjection sphericalGridOf(const Entry& e, int rows) {
   return grid;
 }
 
-/// A PTX file's entry: the file, and optionally the noise of its readings.
-/// Its scans are collected with the manifest's others, not handed over one
-/// at a time, so that the entry's own options apply to them.
-std::vector<RangeMap> loadPtxEntry(const Entry& e, const ScanLoadOptions& defaults) {
+/// A station file's options (PTX, E57): the manifest's, with the entry's own
+/// noise of its readings if it gives one. Its scans are collected with the
+/// manifest's others, not handed over one at a time, so that the entry's own
+/// options apply to them.
+ScanLoadOptions stationEntryOptions(const Entry& e, const ScanLoadOptions& defaults) {
   ScanLoadOptions o;
   o.interrupter = defaults.interrupter;
   o.memoryBudget = defaults.memoryBudget;
   o.stationSigma = e.positive("sigma", defaults.stationSigma);
-  return loadPtxScans(e.path("file"), o);
-}
-
-/// An E57 file's entry, as a PTX file's: the file, and optionally the noise of its readings.
-std::vector<RangeMap> loadE57Entry(const Entry& e, const ScanLoadOptions& defaults) {
-  ScanLoadOptions o;
-  o.interrupter = defaults.interrupter;
-  o.memoryBudget = defaults.memoryBudget;
-  o.stationSigma = e.positive("sigma", defaults.stationSigma);
-  return loadE57Scans(e.path("file"), o);
+  return o;
 }
 
 json parseManifest(const std::string& path) {
@@ -227,11 +219,9 @@ RangeMap loadDepthImageEntry(const Entry& e, const std::string& format, const st
   dropReadingsBeyond(image, e.positive("max_depth", defaults.maxDepth));
   const PinholeProjection intrinsics = intrinsicsOf(e);
   const openvdb::math::Mat4d pose = poseOf(e, path);
-  try {
+  return e.checked([&] {
     return depthFrame(std::move(image), intrinsics, pose, depthNoiseOf(e), fs::path(file).filename().string());
-  } catch (const std::invalid_argument& error) {
-    e.fail(error.what());
-  }
+  });
 }
 
 /// An "orthographic-pfm" entry's scan: depths along parallel rays, their
@@ -248,12 +238,10 @@ RangeMap loadOrthographicEntry(const Entry& e, const std::string& path, const Me
   }
   if (!e.has("sigma")) e.fail("missing 'sigma'");
   const double sigma = e.positive("sigma", 0.0);
-  try {
+  return e.checked([&] {
     return RangeMap::orthographic(image.width, image.height, std::move(image.depth), projection, poseOf(e, path),
                                   sigma, fs::path(file).filename().string());
-  } catch (const std::invalid_argument& error) {
-    e.fail(error.what());
-  }
+  });
 }
 
 /// A "spherical-pfm" entry's scan: ranges on an angular grid, its pose and
@@ -263,12 +251,10 @@ RangeMap loadSphericalEntry(const Entry& e, const std::string& path, const Memor
   DepthImage image = readDepthPfm(file, true, budget);
   if (!e.has("sigma")) e.fail("missing 'sigma'");
   const SphericalProjection grid = sphericalGridOf(e, image.height);
-  try {
+  return e.checked([&] {
     return RangeMap::spherical(image.width, image.height, std::move(image.depth), grid, poseOf(e, path),
                                depthNoiseOf(e), fs::path(file).filename().string());
-  } catch (const std::invalid_argument& error) {
-    e.fail(error.what());
-  }
+  });
 }
 
 /// Appends the scans of entry `e`, of format `format`, to `maps` (`path`: the manifest's).
@@ -282,8 +268,8 @@ void appendEntryScans(const Entry& e, const std::string& format, const std::stri
   else if (format == "depth-png" || format == "depth-pfm" || format == "depth-exr")
     maps.push_back(loadDepthImageEntry(e, format, path, defaults));
   else if (format == "tum") append(loadTumEntry(e, defaults));
-  else if (format == "ptx") append(loadPtxEntry(e, defaults));
-  else if (format == "e57") append(loadE57Entry(e, defaults));
+  else if (format == "ptx") append(loadPtxScans(e.path("file"), stationEntryOptions(e, defaults)));
+  else if (format == "e57") append(loadE57Scans(e.path("file"), stationEntryOptions(e, defaults)));
   else if (format == "points") maps.push_back(loadPointsEntry(e, defaults));
   else if (format == "kitti-bin") append(loadKittiBinEntry(e, defaults));
   else if (format == "orthographic-pfm") maps.push_back(loadOrthographicEntry(e, path, defaults.memoryBudget));

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,16 @@ class Entry {
   }
 
   [[noreturn]] void fail(const std::string& problem) const { throw InputError(mManifest, mWhere + problem); }
+  /// What `make()` returns, or the entry's error with what it refused
+  /// (std::invalid_argument: a scan's or a step's own checks).
+  template <typename Make>
+  auto checked(Make&& make) const -> decltype(make()) {
+    try {
+      return make();
+    } catch (const std::invalid_argument& error) {
+      fail(error.what());
+    }
+  }
   bool has(const char* key) const { return mJson.contains(key); }
 
   std::string string(const char* key) const {

@@ -52,11 +52,7 @@ std::optional<AngularSteps> stepsOf(const Entry& e) {
     if (!e.has("azimuth_step")) e.fail("'row_elevations' needs the 'azimuth_step' (degrees) beside it");
     std::vector<double> rows = rowElevationsOf(e);
     const double azimuthStep = stepOf(e, "azimuth_step");
-    try {
-      return stepsOnRows(azimuthStep, std::move(rows), "'row_elevations'");
-    } catch (const std::invalid_argument& error) {
-      e.fail(error.what());
-    }
+    return e.checked([&] { return stepsOnRows(azimuthStep, std::move(rows), "'row_elevations'"); });
   }
   const int given = e.countOf({"azimuth_step", "elevation_step"});
   if (given == 0) return std::nullopt;
