@@ -62,4 +62,15 @@ void deliverFrames(std::size_t count, const Read& read, ScanDelivery& scans, con
       options.interrupter);
 }
 
+/// Reads every ScanLoadOptions::frameStride-th of `frameCount` frames as
+/// deliverFrames does, `read(f)` making frame f; returns the frames kept.
+template <typename Read>
+std::vector<RangeMap> deliverStridedFrames(std::size_t frameCount, const Read& read, const ScanLoadOptions& options) {
+  ScanDelivery scans(options);
+  const std::size_t stride = static_cast<std::size_t>(options.frameStride);
+  const std::size_t total = (frameCount + stride - 1) / stride;
+  deliverFrames(total, [&](std::size_t i) { return read(i * stride); }, scans, options);
+  return scans.kept();
+}
+
 }  // namespace levelfuse::io

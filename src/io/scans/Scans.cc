@@ -45,21 +45,17 @@ std::vector<RangeMap> loadDepthFolder(const fs::path& folder, const ScanLoadOpti
   if (!fs::exists(intrinsicsFile, ec))
     throw InputError(folder.string(), "no camera-intrinsics.txt (the 3x3 pinhole intrinsics) in this folder");
   const PinholeProjection intrinsics = readIntrinsics(intrinsicsFile.string());
-  ScanDelivery scans(options);
-  const std::size_t stride = static_cast<std::size_t>(options.frameStride);
-  const std::size_t total = (frames.size() + stride - 1) / stride;  // the frames of the stride
-  deliverFrames(
-      total,
-      [&](std::size_t i) {
-        const std::string image = frames[i * stride].string();
+  return deliverStridedFrames(
+      frames.size(),
+      [&](std::size_t f) {
+        const std::string image = frames[f].string();
         const std::string stem = image.substr(0, image.size() - std::string(".depth.png").size());
         const std::string pose = stem + ".pose.txt";
         std::error_code missing;
         if (!fs::exists(pose, missing)) throw InputError(image, "no pose beside it (expected " + pose + ")");
         return loadDepthFrame(image, intrinsics, readPose(pose), options, 0.001);
       },
-      scans, options);
-  return scans.kept();
+      options);
 }
 
 /// The scans of a reader that reads them all first and asked which are wanted

@@ -137,13 +137,10 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
   const std::vector<TumPose> poses = readTumTrajectory(trajectory);
   const PinholeProjection intrinsics = tumIntrinsics(folder);
   const std::vector<TumFrame> colourImages = colourImagesOf(root);
-  ScanDelivery scans(options);
-  const std::size_t stride = static_cast<std::size_t>(options.frameStride);
-  const std::size_t total = (frames.size() + stride - 1) / stride;  // the frames of the stride
-  deliverFrames(
-      total,
-      [&](std::size_t i) {
-        const TumFrame& frame = frames[i * stride];
+  return deliverStridedFrames(
+      frames.size(),
+      [&](std::size_t f) {
+        const TumFrame& frame = frames[f];
         const std::string image = (root / frame.file).lexically_normal().string();
         std::error_code missing;
         if (!fs::is_regular_file(image, missing))
@@ -159,8 +156,7 @@ std::vector<RangeMap> loadTumFolder(const std::string& folder, const ScanLoadOpt
         colourFrame(map, frame.time, colourImages, root, options.poseTimeTolerance, options.memoryBudget);
         return map;
       },
-      scans, options);
-  return scans.kept();
+      options);
 }
 
 }  // namespace levelfuse::io
