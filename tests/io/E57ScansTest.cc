@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -218,6 +219,33 @@ TEST(E57RealFile, ThePumpRoomIsOneColouredStationOfItsWholeGrid) {
   ASSERT_EQ(maps.size(), 1u);
   EXPECT_TRUE(maps[0].hasColours());
   EXPECT_GE(maps[0].validCount(), 155201u * 99 / 100);  // a few returns share a pixel of the fitted grid
+}
+
+// ---- a file of another writer (tests/data/e57/cloudcompare, with its licence) ----
+
+TEST(E57RealFile, CloudComparesSegmentOfThePumpRoomIsColouredPointsAroundTheScanner) {
+  // Written by CloudCompare 2.12.4 with E57Format 2.3.0: single floats, no grid indices, no pose.
+  const std::string path =
+      (std::filesystem::path(LEVELFUSE_TEST_DATA_DIR) / "e57" / "cloudcompare" / "pipeSpherical.e57").string();
+  const std::vector<E57Scan> scans = readAll(path);
+  ASSERT_EQ(scans.size(), 1u);
+  const E57Scan& scan = scans[0];
+  EXPECT_EQ(scan.name, "pumpsA.segmented");
+  EXPECT_EQ(scan.records, 1220u);
+  EXPECT_FALSE(scan.structured());
+  ASSERT_EQ(scan.station.points.size(), 1220u);
+  EXPECT_EQ(scan.station.colours.size(), 1220u);
+  EXPECT_EQ(scan.station.intensities.size(), 1220u);
+  for (const Vec3d& p : scan.station.points) {  // within the scan's cartesianBounds
+    EXPECT_TRUE(p.x() >= -1.2379294 && p.x() <= -0.3198701) << p;
+    EXPECT_TRUE(p.y() >= -5.1274882 && p.y() <= -4.5700235) << p;
+    EXPECT_TRUE(p.z() >= 1.4372075 && p.z() <= 1.8430030) << p;
+  }
+  const std::vector<RangeMap> maps = loadScans(path);
+  ASSERT_EQ(maps.size(), 1u);
+  EXPECT_EQ(maps[0].kind(), RangeMap::Kind::kSpherical);
+  EXPECT_TRUE(maps[0].hasColours());
+  EXPECT_GE(maps[0].validCount(), 1220u * 97 / 100);  // binned by angle: a few share a pixel
 }
 
 }  // namespace
