@@ -4,6 +4,7 @@
 #include <levelfuse/levelset/LeafNodeWidth.h>
 #include <levelfuse/scan/DataTermGrids.h>
 
+#include "CellSpans.h"
 #include "LeavesReached.h"
 #include "ReadingWeight.h"
 #include "TrilinearCorners.h"
@@ -122,9 +123,10 @@ Coord leafBlock(const Coord& ijk) {
 /// sums per bin, with what the map's leaves share worked out once.
 class LeafTermsOfMap {
  public:
-  LeafTermsOfMap(const RangeMap& map, const detail::UsableSpans& spans, double voxelSize, const DataWindow& window,
-                 double positionVariance)
+  LeafTermsOfMap(const RangeMap& map, const detail::CellSpans& cells, const detail::UsableSpans& spans,
+                 double voxelSize, const DataWindow& window, double positionVariance)
       : mMap(map),
+        mCells(cells),
         mSpans(spans),
         mWindow(window),
         mPositionVariance(positionVariance),
@@ -168,7 +170,7 @@ class LeafTermsOfMap {
         for (int k = 0; k < kLeafNodeWidth; ++k, q += mStep[2]) {
           if (!(cubes & (1 << (cubeRow | (k >> 2))))) continue;
           ++evaluations;
-          if (!mMap.sampleLocal(rays, q, mReach, s)) continue;
+          if (!mayReach(rays, q) || !mMap.sampleLocal(rays, q, mReach, s)) continue;
           const double w = mWindow(s.D);
           if (w == 0.0) continue;
           const double weight = detail::readingWeight(w, s, mPositionVariance);  // Eq. 38
@@ -185,7 +187,22 @@ class LeafTermsOfMap {
   }
 
  private:
+  /// Whether the map may give the voxel at q (map frame) a term: false for a
+  /// camera's voxel whose depth lies beyond the reach of every reading of its
+  /// cell, which sampleLocal would reject after its interpolation. Other
+  /// maps' voxels are sampled as they are.
+  template <typename Rays>
+  bool mayReach(const Rays&, const Vec3d&) const {
+    return true;
+  }
+  bool mayReach(const PinholeRays& rays, const Vec3d& q) const {
+    if (!rays.canProject(q)) return false;
+    const openvdb::math::Vec2d uv = rays.pixelOf(q);
+    return mCells.mayReach(uv.x(), uv.y(), q.z(), mReach);
+  }
+
   const RangeMap& mMap;
+  const detail::CellSpans& mCells;
   const detail::UsableSpans& mSpans;
   const DataWindow& mWindow;
   const double mPositionVariance, mReach, mH;
@@ -257,7 +274,8 @@ void DataTermGrids::restrictToSlab(openvdb::Int32 begin, openvdb::Int32 end) {
 }
 
 void DataTermGrids::integrate(const RangeMap& map) {
-  const detail::UsableSpans spans(map);
+  const detail::CellSpans cells(map);
+  const detail::UsableSpans spans(cells);
   std::vector<Coord> leaves = detail::leavesReached(map, mVoxelSize, mWindow.reach());
   leaves.erase(std::remove_if(leaves.begin(), leaves.end(),
                               [&](const Coord& origin) { return origin.x() < mSlabBegin || origin.x() >= mSlabEnd; }),
@@ -265,14 +283,14 @@ void DataTermGrids::integrate(const RangeMap& map) {
   // A batch of leaves at a time, in order: the terms of one batch are held at
   // once, not the map's, and the sums are those of one pass.
   for (std::size_t begin = 0; begin < leaves.size(); begin += kLeavesPerBatch)
-    integrateLeaves(map, spans, leaves.data() + begin, std::min(kLeavesPerBatch, leaves.size() - begin));
+    integrateLeaves(map, cells, spans, leaves.data() + begin, std::min(kLeavesPerBatch, leaves.size() - begin));
   ++mMapCount;
 }
 
-void DataTermGrids::integrateLeaves(const RangeMap& map, const detail::UsableSpans& spans, const Coord* leaves,
-                                    std::size_t count) {
+void DataTermGrids::integrateLeaves(const RangeMap& map, const detail::CellSpans& cells,
+                                    const detail::UsableSpans& spans, const Coord* leaves, std::size_t count) {
   // 1. Per leaf, the map's terms at its voxels and their sums per bin.
-  const LeafTermsOfMap termsOfMap(map, spans, mVoxelSize, mWindow, mPositionVariance);
+  const LeafTermsOfMap termsOfMap(map, cells, spans, mVoxelSize, mWindow, mPositionVariance);
   BatchTerms batch(count);
   parallelFor(count, mGrainSize, [&](std::size_t begin, std::size_t end) {
     RangeMap::LocalSample s;
