@@ -170,16 +170,16 @@ class LeafTermsOfMap {
         for (int k = 0; k < kLeafNodeWidth; ++k, q += mStep[2]) {
           if (!(cubes & (1 << (cubeRow | (k >> 2))))) continue;
           ++evaluations;
-          if (!mayReach(rays, q) || !mMap.sampleLocal(rays, q, mReach, s)) continue;
+          if (!sample(rays, q, s)) continue;
           const double w = mWindow(s.D);
           if (w == 0.0) continue;
           const double weight = detail::readingWeight(w, s, mPositionVariance);  // Eq. 38
-          const Vec3d sight = mToWorld.transform3x3(s.lineOfSight);
+          const Vec3d sight = rotatedToWorld(s.lineOfSight);
           const int bin = leafBin >= 0 ? leafBin : sightBin(sight);
           binsOfLeaf = static_cast<std::uint16_t>(binsOfLeaf | (1u << bin));
           out.push_back(VoxelTerm{static_cast<std::uint16_t>(row + k), static_cast<std::uint8_t>(bin),
                                   static_cast<float>(weight * s.D),  // Eq. 17
-                                  static_cast<float>(weight), Vec3f(mToWorld.transform3x3(s.gradD) * weight)});
+                                  static_cast<float>(weight), Vec3f(rotatedToWorld(s.gradD) * weight)});
           sums.sight[bin] += Vec3f(sight * weight);
           sums.weightAndWindows[bin] += openvdb::Vec2d(static_cast<float>(weight), static_cast<float>(w));
         }
@@ -187,18 +187,24 @@ class LeafTermsOfMap {
   }
 
  private:
-  /// Whether the map may give the voxel at q (map frame) a term: false for a
-  /// camera's voxel whose depth lies beyond the reach of every reading of its
-  /// cell, which sampleLocal would reject after its interpolation. Other
-  /// maps' voxels are sampled as they are.
+  /// The map's sample at the voxel at q (map frame): RangeMap::sampleLocal.
   template <typename Rays>
-  bool mayReach(const Rays&, const Vec3d&) const {
-    return true;
+  bool sample(const Rays& rays, const Vec3d& q, RangeMap::LocalSample& s) const {
+    return mMap.sampleLocal(rays, q, mReach, s);
   }
-  bool mayReach(const PinholeRays& rays, const Vec3d& q) const {
+  /// A camera's voxel whose depth lies beyond the reach of every reading of
+  /// its cell is culled before the interpolation, which would reject it.
+  bool sample(const PinholeRays& rays, const Vec3d& q, RangeMap::LocalSample& s) const {
     if (!rays.canProject(q)) return false;
     const openvdb::math::Vec2d uv = rays.pixelOf(q);
-    return mCells.mayReach(uv.x(), uv.y(), q.z(), mReach);
+    return mCells.mayReach(uv.x(), uv.y(), q.z(), mReach) && mMap.sampleLocalAtPixel(rays, q, uv, mReach, s);
+  }
+  /// A vector of the map's frame in the world's: mapToWorld().transform3x3,
+  /// its sums in the same order, inlined.
+  Vec3d rotatedToWorld(const Vec3d& v) const {
+    const openvdb::math::Mat4d& m = mToWorld;
+    return Vec3d(v[0] * m(0, 0) + v[1] * m(1, 0) + v[2] * m(2, 0), v[0] * m(0, 1) + v[1] * m(1, 1) + v[2] * m(2, 1),
+                 v[0] * m(0, 2) + v[1] * m(1, 2) + v[2] * m(2, 2));
   }
 
   const RangeMap& mMap;
