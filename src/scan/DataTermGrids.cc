@@ -48,11 +48,15 @@ struct BatchTerms {
 };
 static_assert(kSightBins <= 16, "a bit per bin");
 
-/// The leaves of one bin that a leaf's terms go into.
+/// The leaves of one bin that a leaf's terms go into, and the values of the
+/// first three, which the terms are added to in place.
 struct BinLeaves {
   FloatLeaf* g = nullptr;
   FloatLeaf* weight = nullptr;
   VectorLeaf* gradient = nullptr;
+  float* gValues = nullptr;
+  float* weightValues = nullptr;
+  openvdb::Vec3f* gradientValues = nullptr;
   VectorLeaf* sight = nullptr;  ///< holds the leaf's S_b at `sightOffset`
   FloatLeaf* leafWeight = nullptr;
   FloatLeaf* leafWindows = nullptr;
@@ -227,9 +231,12 @@ void addVoxelTerms(const BatchTerms& batch, const BatchTargets& targets, std::si
       for (const VoxelTerm& t : batch.terms[l]) {
         const BinLeaves& target = targets.bins[l][t.bin];
         const openvdb::Index o = t.offset;
-        target.g->setValueOn(o, target.g->getValue(o) + t.g);
-        target.weight->setValueOn(o, target.weight->getValue(o) + t.weight);
-        target.gradient->setValueOn(o, target.gradient->getValue(o) + t.gradient);
+        target.gValues[o] += t.g;
+        target.weightValues[o] += t.weight;
+        target.gradientValues[o] += t.gradient;
+        target.g->getValueMask().setOn(o);
+        target.weight->getValueMask().setOn(o);
+        target.gradient->getValueMask().setOn(o);
         targets.maskLeaves[l]->setValueOn(o, targets.maskLeaves[l]->getValue(o) | (1 << t.bin));
       }
     }
@@ -328,6 +335,9 @@ detail::BatchTargets DataTermGrids::touchTargetLeaves(const detail::BatchTerms& 
       target.g = bin.g->tree().touchLeaf(leaves[l]);
       target.weight = bin.weight->tree().touchLeaf(leaves[l]);
       target.gradient = bin.gradient->tree().touchLeaf(leaves[l]);
+      target.gValues = target.g->buffer().data();
+      target.weightValues = target.weight->buffer().data();
+      target.gradientValues = target.gradient->buffer().data();
       const Coord block = leafBlock(leaves[l]);
       target.sight = bin.sight->tree().touchLeaf(block);
       target.leafWeight = bin.leafWeight->tree().touchLeaf(block);
