@@ -4,6 +4,7 @@
 #include <levelfuse/levelset/LeafNodeWidth.h>
 #include <levelfuse/scan/DataTermGrids.h>
 
+#include "CellSpans.h"
 #include "LeavesReached.h"
 #include "ReadingWeight.h"
 #include "TrilinearCorners.h"
@@ -47,11 +48,15 @@ struct BatchTerms {
 };
 static_assert(kSightBins <= 16, "a bit per bin");
 
-/// The leaves of one bin that a leaf's terms go into.
+/// The leaves of one bin that a leaf's terms go into, and the values of the
+/// first three, which the terms are added to in place.
 struct BinLeaves {
   FloatLeaf* g = nullptr;
   FloatLeaf* weight = nullptr;
   VectorLeaf* gradient = nullptr;
+  float* gValues = nullptr;
+  float* weightValues = nullptr;
+  openvdb::Vec3f* gradientValues = nullptr;
   VectorLeaf* sight = nullptr;  ///< holds the leaf's S_b at `sightOffset`
   FloatLeaf* leafWeight = nullptr;
   FloatLeaf* leafWindows = nullptr;
@@ -122,9 +127,10 @@ Coord leafBlock(const Coord& ijk) {
 /// sums per bin, with what the map's leaves share worked out once.
 class LeafTermsOfMap {
  public:
-  LeafTermsOfMap(const RangeMap& map, const detail::UsableSpans& spans, double voxelSize, const DataWindow& window,
-                 double positionVariance)
+  LeafTermsOfMap(const RangeMap& map, const detail::CellSpans& cells, const detail::UsableSpans& spans,
+                 double voxelSize, const DataWindow& window, double positionVariance)
       : mMap(map),
+        mCells(cells),
         mSpans(spans),
         mWindow(window),
         mPositionVariance(positionVariance),
@@ -168,16 +174,16 @@ class LeafTermsOfMap {
         for (int k = 0; k < kLeafNodeWidth; ++k, q += mStep[2]) {
           if (!(cubes & (1 << (cubeRow | (k >> 2))))) continue;
           ++evaluations;
-          if (!mMap.sampleLocal(rays, q, mReach, s)) continue;
+          if (!sample(rays, q, s)) continue;
           const double w = mWindow(s.D);
           if (w == 0.0) continue;
           const double weight = detail::readingWeight(w, s, mPositionVariance);  // Eq. 38
-          const Vec3d sight = mToWorld.transform3x3(s.lineOfSight);
+          const Vec3d sight = rotatedToWorld(s.lineOfSight);
           const int bin = leafBin >= 0 ? leafBin : sightBin(sight);
           binsOfLeaf = static_cast<std::uint16_t>(binsOfLeaf | (1u << bin));
           out.push_back(VoxelTerm{static_cast<std::uint16_t>(row + k), static_cast<std::uint8_t>(bin),
                                   static_cast<float>(weight * s.D),  // Eq. 17
-                                  static_cast<float>(weight), Vec3f(mToWorld.transform3x3(s.gradD) * weight)});
+                                  static_cast<float>(weight), Vec3f(rotatedToWorld(s.gradD) * weight)});
           sums.sight[bin] += Vec3f(sight * weight);
           sums.weightAndWindows[bin] += openvdb::Vec2d(static_cast<float>(weight), static_cast<float>(w));
         }
@@ -185,7 +191,28 @@ class LeafTermsOfMap {
   }
 
  private:
+  /// The map's sample at the voxel at q (map frame): RangeMap::sampleLocal.
+  template <typename Rays>
+  bool sample(const Rays& rays, const Vec3d& q, RangeMap::LocalSample& s) const {
+    return mMap.sampleLocal(rays, q, mReach, s);
+  }
+  /// A camera's voxel whose depth lies beyond the reach of every reading of
+  /// its cell is culled before the interpolation, which would reject it.
+  bool sample(const PinholeRays& rays, const Vec3d& q, RangeMap::LocalSample& s) const {
+    if (!rays.canProject(q)) return false;
+    const openvdb::math::Vec2d uv = rays.pixelOf(q);
+    return mCells.mayReach(uv.x(), uv.y(), q.z(), mReach) && mMap.sampleLocalAtPixel(rays, q, uv, mReach, s);
+  }
+  /// A vector of the map's frame in the world's: mapToWorld().transform3x3,
+  /// its sums in the same order, inlined.
+  Vec3d rotatedToWorld(const Vec3d& v) const {
+    const openvdb::math::Mat4d& m = mToWorld;
+    return Vec3d(v[0] * m(0, 0) + v[1] * m(1, 0) + v[2] * m(2, 0), v[0] * m(0, 1) + v[1] * m(1, 1) + v[2] * m(2, 1),
+                 v[0] * m(0, 2) + v[1] * m(1, 2) + v[2] * m(2, 2));
+  }
+
   const RangeMap& mMap;
+  const detail::CellSpans& mCells;
   const detail::UsableSpans& mSpans;
   const DataWindow& mWindow;
   const double mPositionVariance, mReach, mH;
@@ -204,9 +231,12 @@ void addVoxelTerms(const BatchTerms& batch, const BatchTargets& targets, std::si
       for (const VoxelTerm& t : batch.terms[l]) {
         const BinLeaves& target = targets.bins[l][t.bin];
         const openvdb::Index o = t.offset;
-        target.g->setValueOn(o, target.g->getValue(o) + t.g);
-        target.weight->setValueOn(o, target.weight->getValue(o) + t.weight);
-        target.gradient->setValueOn(o, target.gradient->getValue(o) + t.gradient);
+        target.gValues[o] += t.g;
+        target.weightValues[o] += t.weight;
+        target.gradientValues[o] += t.gradient;
+        target.g->getValueMask().setOn(o);
+        target.weight->getValueMask().setOn(o);
+        target.gradient->getValueMask().setOn(o);
         targets.maskLeaves[l]->setValueOn(o, targets.maskLeaves[l]->getValue(o) | (1 << t.bin));
       }
     }
@@ -257,7 +287,8 @@ void DataTermGrids::restrictToSlab(openvdb::Int32 begin, openvdb::Int32 end) {
 }
 
 void DataTermGrids::integrate(const RangeMap& map) {
-  const detail::UsableSpans spans(map);
+  const detail::CellSpans cells(map);
+  const detail::UsableSpans spans(cells);
   std::vector<Coord> leaves = detail::leavesReached(map, mVoxelSize, mWindow.reach());
   leaves.erase(std::remove_if(leaves.begin(), leaves.end(),
                               [&](const Coord& origin) { return origin.x() < mSlabBegin || origin.x() >= mSlabEnd; }),
@@ -265,14 +296,14 @@ void DataTermGrids::integrate(const RangeMap& map) {
   // A batch of leaves at a time, in order: the terms of one batch are held at
   // once, not the map's, and the sums are those of one pass.
   for (std::size_t begin = 0; begin < leaves.size(); begin += kLeavesPerBatch)
-    integrateLeaves(map, spans, leaves.data() + begin, std::min(kLeavesPerBatch, leaves.size() - begin));
+    integrateLeaves(map, cells, spans, leaves.data() + begin, std::min(kLeavesPerBatch, leaves.size() - begin));
   ++mMapCount;
 }
 
-void DataTermGrids::integrateLeaves(const RangeMap& map, const detail::UsableSpans& spans, const Coord* leaves,
-                                    std::size_t count) {
+void DataTermGrids::integrateLeaves(const RangeMap& map, const detail::CellSpans& cells,
+                                    const detail::UsableSpans& spans, const Coord* leaves, std::size_t count) {
   // 1. Per leaf, the map's terms at its voxels and their sums per bin.
-  const LeafTermsOfMap termsOfMap(map, spans, mVoxelSize, mWindow, mPositionVariance);
+  const LeafTermsOfMap termsOfMap(map, cells, spans, mVoxelSize, mWindow, mPositionVariance);
   BatchTerms batch(count);
   parallelFor(count, mGrainSize, [&](std::size_t begin, std::size_t end) {
     RangeMap::LocalSample s;
@@ -304,6 +335,9 @@ detail::BatchTargets DataTermGrids::touchTargetLeaves(const detail::BatchTerms& 
       target.g = bin.g->tree().touchLeaf(leaves[l]);
       target.weight = bin.weight->tree().touchLeaf(leaves[l]);
       target.gradient = bin.gradient->tree().touchLeaf(leaves[l]);
+      target.gValues = target.g->buffer().data();
+      target.weightValues = target.weight->buffer().data();
+      target.gradientValues = target.gradient->buffer().data();
       const Coord block = leafBlock(leaves[l]);
       target.sight = bin.sight->tree().touchLeaf(block);
       target.leafWeight = bin.leafWeight->tree().touchLeaf(block);

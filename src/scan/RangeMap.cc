@@ -415,13 +415,6 @@ void RangeMap::setDepthNoise(const DepthNoise& noise) {
   findUsableCells();
 }
 
-float RangeMap::depthNoiseSigma(float reading) const {
-  const double z = reading == reading ? reading : 1.0;
-  // Readings so far away that their sigma overflows a float carry no weight anyway.
-  const double sigma = mDepthNoise.at(z);
-  return static_cast<float>(std::min(sigma, double(std::numeric_limits<float>::max())));
-}
-
 void RangeMap::setSamples(std::vector<openvdb::Vec3d> worldPoints, double raySpacing) {
   if (raysFromOneCentre())
     throw std::invalid_argument("range map '" + mName + "': only an orthographic map is resampled from samples");

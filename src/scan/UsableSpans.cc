@@ -14,7 +14,8 @@
 
 namespace levelfuse::detail {
 
-UsableSpans::UsableSpans(const RangeMap& map) : mMap(map) {
+UsableSpans::UsableSpans(const CellSpans& cells) : mMap(cells.map()) {
+  const RangeMap& map = mMap;
   const int cellsX = map.width() - 1, cellsY = map.height() - 1;
   mBlocksX = (cellsX + kBlock - 1) / kBlock;
   mBlocksY = (cellsY + kBlock - 1) / kBlock;
@@ -26,11 +27,11 @@ UsableSpans::UsableSpans(const RangeMap& map) : mMap(map) {
   mGapHi.assign(blocks, nan);
   parallelFor(static_cast<std::size_t>(mBlocksY), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t c = begin; c < end; ++c)
-      for (int b = 0; b < mBlocksX; ++b) findSpans(b, static_cast<int>(c));
+      for (int b = 0; b < mBlocksX; ++b) findSpans(cells, b, static_cast<int>(c));
   });
 }
 
-void UsableSpans::findSpans(int b, int c) {
+void UsableSpans::findSpans(const CellSpans& cells, int b, int c) {
   struct Span {
     float lo, hi;
   };
@@ -45,12 +46,10 @@ void UsableSpans::findSpans(int b, int c) {
     for (int i = i0; i < i1; ++i) {
       if (!mMap.cellUsable(i, j)) {
         inRun = false;
-        Span edge;
-        if (mMap.edgeReadings(i, j, edge.lo, edge.hi)) spans[count++] = edge;
+        if (cells.givesReadings(i, j)) spans[count++] = {cells.lo(i, j), cells.hi(i, j)};  // a station's edge
         continue;
       }
-      float lo, hi;
-      mMap.usableCellSpan(i, j, lo, hi);
+      const float lo = cells.lo(i, j), hi = cells.hi(i, j);
       if (!inRun) spans[count++] = {lo, hi};
       spans[count - 1].lo = std::min(spans[count - 1].lo, lo);
       spans[count - 1].hi = std::max(spans[count - 1].hi, hi);

@@ -5,6 +5,8 @@
 
 #include <levelfuse/scan/RangeMap.h>
 
+#include "CellSpans.h"
+
 #include <vector>
 
 namespace levelfuse::detail {
@@ -14,11 +16,13 @@ namespace levelfuse::detail {
 /// edges extended into the others, RangeMap::edgeReadings), and the widest
 /// open stretch between them that no cell's readings span (a depth
 /// discontinuity's: the cells across it are not usable). Worked out from the
-/// map when accumulation takes it up, in parallel over rows of blocks; the
-/// map must outlive it.
+/// spans of the map's cells when accumulation takes it up, in parallel over
+/// rows of blocks; the map must outlive it.
 class UsableSpans {
  public:
-  explicit UsableSpans(const RangeMap& map);
+  explicit UsableSpans(const CellSpans& cells);
+  /// The same from the map's cells, worked out for it and let go.
+  explicit UsableSpans(const RangeMap& map) : UsableSpans(CellSpans(map)) {}
 
   const RangeMap& map() const { return mMap; }
   /// Whether a reading interpolated in a usable cell whose corner pixel (its
@@ -33,7 +37,7 @@ class UsableSpans {
 
  private:
   /// The spans of the block in column b and row c of blocks.
-  void findSpans(int b, int c);
+  void findSpans(const CellSpans& cells, int b, int c);
 
   const RangeMap& mMap;
   int mBlocksX = 0, mBlocksY = 0;

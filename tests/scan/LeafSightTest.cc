@@ -208,15 +208,21 @@ TEST(LeavesReached, EveryVoxelAReadingReachesIsInALeafReached) {
   const double reach = 0.07;
   for (const RangeMap& map : {wallWithABox(), roomAroundAScanner(false), roomAroundAScanner(true), roomOnUnevenRows()}) {
     const std::vector<Coord> leaves = detail::leavesReached(map, kVoxel, reach);
-    const detail::UsableSpans spans(map);
+    const detail::CellSpans cells(map);
+    const detail::UsableSpans spans(cells);
     std::size_t reached = 0;
     for (int x = -96; x < 96; ++x)
       for (int y = -96; y < 96; ++y)
         for (int z = -16; z < 160; ++z) {
           const Coord ijk(x, y, z);
           RangeMap::LocalSample s;
-          if (!map.sampleLocal(map.worldToMap().transform(ijk.asVec3d() * kVoxel), reach, s)) continue;
+          const Vec3d p = map.worldToMap().transform(ijk.asVec3d() * kVoxel);
+          if (!map.sampleLocal(p, reach, s)) continue;
           ++reached;
+          if (map.canProject(p)) {
+            const openvdb::math::Vec2d uv = map.project(p);
+            ASSERT_TRUE(cells.mayReach(uv.x(), uv.y(), map.readingCoordinate(p), reach)) << map.name() << " voxel " << ijk;
+          }
           const Coord leaf(x & ~7, y & ~7, z & ~7);
           ASSERT_TRUE(std::binary_search(leaves.begin(), leaves.end(), leaf)) << map.name() << " voxel " << ijk;
           ASSERT_TRUE(detail::leafMayBeReached(spans, leaf, kVoxel, reach)) << map.name() << " voxel " << ijk;

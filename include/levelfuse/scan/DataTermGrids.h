@@ -55,6 +55,7 @@
 namespace levelfuse {
 
 namespace detail {
+class CellSpans;
 class UsableSpans;
 struct BatchTerms;    // DataTermGrids.cc
 struct BatchTargets;  // DataTermGrids.cc
@@ -139,9 +140,9 @@ class DataTermGrids {
     openvdb::FloatGrid::Ptr leafWeight, leafWindows;
   };
   /// Adds the terms of `map` at the leaf nodes [leaves, leaves + count), in
-  /// their order (`spans`: the map's usable readings).
-  void integrateLeaves(const RangeMap& map, const detail::UsableSpans& spans, const openvdb::Coord* leaves,
-                       std::size_t count);
+  /// their order (`cells` and `spans`: the map's readings per cell and per block).
+  void integrateLeaves(const RangeMap& map, const detail::CellSpans& cells, const detail::UsableSpans& spans,
+                       const openvdb::Coord* leaves, std::size_t count);
   /// The leaves of the grids that the terms of `batch`, one map's at the leaf
   /// nodes [leaves, leaves + count), go into: made, serially (tree topology).
   detail::BatchTargets touchTargetLeaves(const detail::BatchTerms& batch, const openvdb::Coord* leaves);

@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -189,6 +190,14 @@ class RangeMap {
   __attribute__((always_inline))
 #endif
   bool sampleLocal(const PinholeRays& rays, const openvdb::Vec3d& p, double reach, LocalSample& out) const;
+  /// sampleLocal of a point in front of the camera (rays.canProject(p)) at
+  /// the pixel coordinates `uv` that rays.pixelOf(p) gave: for a loop that
+  /// culls its points by their pixels before it samples them.
+#if defined(__GNUC__)
+  __attribute__((always_inline))
+#endif
+  bool sampleLocalAtPixel(const PinholeRays& rays, const openvdb::Vec3d& p, const openvdb::math::Vec2d& uv,
+                          double reach, LocalSample& out) const;
 #if defined(__GNUC__)
   __attribute__((always_inline))
 #endif
@@ -386,7 +395,12 @@ class RangeMap {
     return mHasDepthNoise ? depthNoiseSigma(mReadings[at]) : mSigma;
   }
   /// sigma(z) of the depth noise, as a float; a pixel without a reading counts as 1 m deep.
-  float depthNoiseSigma(float reading) const;
+  float depthNoiseSigma(float reading) const {
+    const double z = reading == reading ? reading : 1.0;
+    // Readings so far away that their sigma overflows a float carry no weight anyway.
+    const double sigma = mDepthNoise.at(z);
+    return static_cast<float>(std::min(sigma, double(std::numeric_limits<float>::max())));
+  }
   /// The median of the readings (0 without readings).
   double medianReading() const;
   /// Marks the 2x2 cells of readings that may be interpolated.
@@ -552,8 +566,13 @@ inline bool RangeMap::sampleLocal(const PinholeRays& rays, const openvdb::Vec3d&
                                   LocalSample& out) const {
   if (!rays.canProject(p)) return false;
   const openvdb::math::Vec2d uv = rays.pixelOf(p);
+  if (outsideBlockWindow(uv.x(), uv.y(), p.z(), reach)) return false;
+  return sampleLocalAtPixel(rays, p, uv, reach, out);
+}
+
+inline bool RangeMap::sampleLocalAtPixel(const PinholeRays& rays, const openvdb::Vec3d& p,
+                                         const openvdb::math::Vec2d& uv, double reach, LocalSample& out) const {
   const double u = uv.x(), v = uv.y();
-  if (outsideBlockWindow(u, v, p.z(), reach)) return false;
   double r, ru, rv, fu, fv;
   int i, j;
   if (!interpolate(u, v, r, ru, rv, i, j, fu, fv)) return false;
