@@ -5,6 +5,7 @@
 #include <levelfuse/levelset/RequireLevelSet.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/detail/LeafNeighbourhood.h>
+#include <levelfuse/levelset/detail/LeafSigns.h>
 #include <levelfuse/levelset/detail/SparseFieldState.h>
 
 #include <openvdb/tools/ChangeBackground.h>
@@ -216,22 +217,22 @@ std::unique_ptr<SparseFieldState> stateOfLevelSet(const openvdb::FloatGrid& leve
     for (std::size_t l = begin; l != end; ++l) {
       const auto& leaf = *leaves[l];
       auto active = std::make_unique<openvdb::MaskTree::LeafNodeType>(leaf.origin(), false);
-      for (openvdb::Index o = 0; o < FloatLeaf::SIZE; ++o) {
+      // Every point on a zero crossing whose value lies in the active range
+      // joins L0 (the efficient active set of the Appendix); where both
+      // members of a crossing lie outside the range (a steeper function than
+      // a distance), the one nearer the crossing joins, clamped. Every sign
+      // change then has an active member.
+      detail::forEachOn(detail::zeroCrossingVoxels(acc, leaf), [&](openvdb::Index o) {
         const float u = leaf.getValue(o);
-        const openvdb::Coord ijk = leaf.offsetToGlobalCoord(o);
-        // Every point on a zero crossing whose value lies in the active range
-        // joins L0 (the efficient active set of the Appendix); where both
-        // members of a crossing lie outside the range (a steeper function than
-        // a distance), the one nearer the crossing joins, clamped. Every sign
-        // change then has an active member.
+        const openvdb::Coord local = FloatLeaf::offsetToLocalCoord(o);
         for (const auto& e : detail::kFaceOffset) {
-          const float v = acc.getValue(ijk.offsetBy(e[0], e[1], e[2]));
+          const float v = detail::valueBeside(acc, leaf, local, e);
           if ((u < 0.0f) != (v < 0.0f) && (std::fabs(u) <= half || std::fabs(u) <= std::fabs(v))) {
             active->setValueOn(o);
             break;
           }
         }
-      }
+      });
       if (!active->isEmpty()) found[l] = std::move(active);
     }
   });

@@ -5,6 +5,7 @@
 #include <levelfuse/levelset/Background.h>
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/detail/LeafMaskOps.h>
+#include <levelfuse/levelset/detail/LeafSigns.h>
 #include <levelfuse/scan/ForceField.h>
 
 #include "CarvingVotes.h"
@@ -56,16 +57,17 @@ void distancesAtZeroCrossings(openvdb::FloatGrid& raw, const ParallelInterrupt& 
     openvdb::FloatGrid::ConstAccessor acc = raw.getConstAccessor();
     for (std::size_t i = begin; i < end && !interrupt.stop(); ++i) {
       const LeafT& in = leaves.leaf(i);
-      for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
+      // Only a voxel with a neighbour of the other sign has a crossing.
+      detail::forEachOn(detail::zeroCrossingVoxels(acc, in), [&](openvdb::Index o) {
         const float u = in.getValue(o);
-        const Coord ijk = in.offsetToGlobalCoord(o);
+        const Coord local = LeafT::offsetToLocalCoord(o);
         double inverseSquares = 0.0;
         for (int axis = 0; axis < 3; ++axis) {
           double nearest = 0.0;  // the crossing's distance along the axis, in voxels; 0: none
           for (const int side : {-1, 1}) {
-            Coord n = ijk;
-            n[axis] += side;
-            const float v = acc.getValue(n);
+            int step[3] = {0, 0, 0};
+            step[axis] = side;
+            const float v = detail::valueBeside(acc, in, local, step);
             if ((u < 0.0f) == (v < 0.0f)) continue;
             const double t = static_cast<double>(u) / (static_cast<double>(u) - v);
             if (nearest == 0.0 || t < nearest) nearest = t;
@@ -74,7 +76,7 @@ void distancesAtZeroCrossings(openvdb::FloatGrid& raw, const ParallelInterrupt& 
         }
         if (inverseSquares > 0.0)
           out[i].push_back({o, std::copysign(static_cast<float>(h / std::sqrt(inverseSquares)), u)});
-      }
+      });
     }
   });
   interrupt.throwIfStopped();
@@ -105,12 +107,31 @@ bool inSpeck(const openvdb::FloatGrid::ConstAccessor& acc, const Coord& ijk, std
   return true;
 }
 
-/// True if a face neighbour of `ijk` has the other sign.
-bool onZeroCrossing(const openvdb::FloatGrid::ConstAccessor& acc, const Coord& ijk) {
-  const bool negative = acc.getValue(ijk) < 0.0f;
-  for (const auto& e : detail::kFaceOffset)
-    if ((acc.getValue(ijk.offsetBy(e[0], e[1], e[2])) < 0.0f) != negative) return true;
-  return false;
+/// Of a leaf's voxels on a zero crossing (`crossing`), those that may lie in
+/// a speck: the face-connected components of one sign within the leaf alone,
+/// each flooded once, that hold fewer than kSpeckVoxels voxels (a larger one
+/// is no speck, whatever lies beyond the leaf).
+detail::LeafMask mayLieInSpecks(const detail::LeafMask& crossing, const detail::LeafMask& negative) {
+  const detail::LeafMask positive = !negative;
+  const detail::LeafMask* const withinTheLeaf[detail::kFaceCount] = {};
+  detail::LeafMask open = crossing, mayLie;
+  while (detail::anyOn(open)) {
+    const openvdb::Index seed = open.findFirstOn();
+    const detail::LeafMask& same = negative.isOn(seed) ? negative : positive;
+    detail::LeafMask component;
+    component.setOn(seed);
+    openvdb::Index count = 1;
+    for (;;) {
+      const detail::LeafMask grown = detail::dilateFaces(component, withinTheLeaf) & same;
+      const openvdb::Index grownCount = grown.countOn();
+      if (grownCount == count) break;
+      component = grown;
+      count = grownCount;
+    }
+    if (count < kSpeckVoxels) mayLie |= component & crossing;
+    open &= !component;
+  }
+  return mayLie;
 }
 
 /// A component of one sign smaller than 2 x 2 x 2 voxels, inside or outside,
@@ -126,11 +147,11 @@ void removeSpecks(openvdb::FloatGrid& raw, const ParallelInterrupt& interrupt) {
     std::vector<Coord> component;
     for (std::size_t i = begin; i < end && !interrupt.stop(); ++i) {
       const LeafT& leaf = leaves.leaf(i);
-      for (openvdb::Index o = 0; o < LeafT::SIZE; ++o) {
+      const detail::LeafMask crossing = detail::zeroCrossingVoxels(acc, leaf);
+      detail::forEachOn(mayLieInSpecks(crossing, detail::negativeVoxels(leaf)), [&](openvdb::Index o) {
         const Coord ijk = leaf.offsetToGlobalCoord(o);
-        if (onZeroCrossing(acc, ijk) && inSpeck(acc, ijk, component))
-          found[i].insert(found[i].end(), component.begin(), component.end());
-      }
+        if (inSpeck(acc, ijk, component)) found[i].insert(found[i].end(), component.begin(), component.end());
+      });
     }
   });
   interrupt.throwIfStopped();
