@@ -21,19 +21,6 @@ using LeafT = openvdb::FloatTree::LeafNodeType;
 
 }  // namespace
 
-int sightVote(RangeMap::Sight sight, bool raysFromOneCentre) {
-  switch (sight) {
-    case RangeMap::Sight::kBehind:
-      return 1;  // behind and speaking: 2 - 1
-    case RangeMap::Sight::kOutside:
-      return raysFromOneCentre ? 0 : -1;  // parallel rays speak for every point
-    case RangeMap::Sight::kUnknown:
-    case RangeMap::Sight::kEmpty:
-      break;
-  }
-  return -1;  // speaking, not behind
-}
-
 PointVotes::PointVotes(std::size_t count, PointAt point)
     : mPoint(std::move(point)), mBalance(count, 0), mEmpty(count, 0) {}
 

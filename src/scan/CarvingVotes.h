@@ -35,7 +35,18 @@ namespace levelfuse::detail {
 /// kEmpty is told apart (the point is outside whatever the others say).
 /// Parallel rays (`raysFromOneCentre` false) speak for every point, also
 /// those outside their map.
-int sightVote(RangeMap::Sight sight, bool raysFromOneCentre);
+inline int sightVote(RangeMap::Sight sight, bool raysFromOneCentre) {
+  switch (sight) {
+    case RangeMap::Sight::kBehind:
+      return 1;  // behind and speaking: 2 - 1
+    case RangeMap::Sight::kOutside:
+      return raysFromOneCentre ? 0 : -1;  // parallel rays speak for every point
+    case RangeMap::Sight::kUnknown:
+    case RangeMap::Sight::kEmpty:
+      break;
+  }
+  return -1;  // speaking, not behind
+}
 
 /// The votes on single points, `point(i)` the i-th of `count` (world units).
 class PointVotes {

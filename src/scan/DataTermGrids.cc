@@ -424,17 +424,22 @@ class LeafReadingSums {
 DataTerms DataTermGrids::Sampler::facingTerms(const Vec3d& x, const Vec3d& normal) {
   DataTerms sum;
   forEachBinAround(x, [&](BinAccess& bin, int b, const Corners& c, const std::int32_t(&masks)[8]) {
+    const auto holds = [&](int k) { return (masks[k] & (1 << b)) && c.t[k] != 0.0; };
+    // The bin's lines of sight at x first: a bin whose readings do not face
+    // the normal adds nothing (Eq. 37, per bin), and its terms are not read.
+    Vec3d S(0.0);
+    for (int k = 0; k < 8; ++k)
+      if (holds(k)) S += c.t[k] * Vec3d(bin.sight.getValue(leafBlock(c.ijk[k])));
+    if (!(S.dot(normal) < 0.0)) return;
     LeafReadingSums leafSums(bin.leafWeight, bin.leafWindows);
     double G = 0.0, W = 0.0;
-    Vec3d S(0.0);
     for (int k = 0; k < 8; ++k) {
-      if (!(masks[k] & (1 << b)) || c.t[k] == 0.0) continue;
+      if (!holds(k)) continue;
       G += c.t[k] * (bin.g.getValue(c.ijk[k]) + Vec3d(bin.gradient.getValue(c.ijk[k])).dot(c.offset[k]));  // carried to x
       W += c.t[k] * bin.weight.getValue(c.ijk[k]);
-      S += c.t[k] * Vec3d(bin.sight.getValue(leafBlock(c.ijk[k])));
       leafSums.add(c.ijk[k], c.t[k]);
     }
-    if (S.dot(normal) < 0.0) sum += DataTerms{G, W, leafSums.readingsIn(W)};  // Eq. 37, per bin
+    sum += DataTerms{G, W, leafSums.readingsIn(W)};
   });
   return sum;
 }
