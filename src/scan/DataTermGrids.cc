@@ -4,10 +4,10 @@
 #include <levelfuse/levelset/LeafNodeWidth.h>
 #include <levelfuse/scan/DataTermGrids.h>
 
+#include "CellCorners.h"
 #include "CellSpans.h"
 #include "LeavesReached.h"
 #include "ReadingWeight.h"
-#include "TrilinearCorners.h"
 
 #include <algorithm>
 #include <cmath>
@@ -115,12 +115,6 @@ int commonBinOfLeaf(const RangeMap& map, const Vec3d& base, const Vec3d step[3])
     corners[c] = map.mapToWorld().transform3x3(q / length);
   }
   return sightBinOfCone(corners, 8);
-}
-
-/// The voxel, in a grid of one voxel per leaf node, of the leaf holding `ijk`
-/// (arithmetic shifts: floor division, also of negative coordinates).
-Coord leafBlock(const Coord& ijk) {
-  return Coord(ijk.x() >> FloatLeaf::LOG2DIM, ijk.y() >> FloatLeaf::LOG2DIM, ijk.z() >> FloatLeaf::LOG2DIM);
 }
 
 /// One range map's terms at the voxels of a leaf (Eqs. 17, 38) and their
@@ -338,7 +332,7 @@ detail::BatchTargets DataTermGrids::touchTargetLeaves(const detail::BatchTerms& 
       target.gValues = target.g->buffer().data();
       target.weightValues = target.weight->buffer().data();
       target.gradientValues = target.gradient->buffer().data();
-      const Coord block = leafBlock(leaves[l]);
+      const Coord block = detail::leafBlockOf(leaves[l]);
       target.sight = bin.sight->tree().touchLeaf(block);
       target.leafWeight = bin.leafWeight->tree().touchLeaf(block);
       target.leafWindows = bin.leafWindows->tree().touchLeaf(block);
@@ -347,28 +341,6 @@ detail::BatchTargets DataTermGrids::touchTargetLeaves(const detail::BatchTerms& 
   }
   return targets;
 }
-
-namespace {
-
-/// The eight voxels around a point and their trilinear weights.
-struct Corners {
-  Coord ijk[8];
-  double t[8];
-  Vec3d offset[8];  ///< x - p_k, world
-};
-
-Corners cornersAround(const Vec3d& x, double h) {
-  Corners c;
-  const detail::TrilinearCorners around = detail::trilinearCorners(x / h);
-  for (int k = 0; k < 8; ++k) {
-    c.ijk[k] = around.ijk[k];
-    c.t[k] = around.t[k];
-    c.offset[k] = x - c.ijk[k].asVec3d() * h;
-  }
-  return c;
-}
-
-}  // namespace
 
 DataTermGrids::Sampler DataTermGrids::sampler() const { return Sampler(*this); }
 
@@ -390,9 +362,10 @@ DataTermGrids::Sampler::BinAccess& DataTermGrids::Sampler::bin(int b) {
 
 template <typename Visit>
 void DataTermGrids::Sampler::forEachBinAround(const Vec3d& x, const Visit& visit) {
-  const Corners c = cornersAround(x, mGrids->mVoxelSize);
+  const detail::CellCorners c = detail::cellCornersAround(x, mGrids->mVoxelSize);
+  const detail::CornerValues binsAt(mMask, c);
   std::int32_t masks[8], bins = 0;
-  for (int k = 0; k < 8; ++k) bins |= masks[k] = mMask.getValue(c.ijk[k]);
+  for (int k = 0; k < 8; ++k) bins |= masks[k] = binsAt[k];
   for (int b = 0; bins != 0; ++b, bins >>= 1)
     if (bins & 1) visit(bin(b), b, c, masks);
 }
@@ -402,20 +375,16 @@ namespace {
 /// One bin's sums of weights and of windows over the leaves around x,
 /// interpolated like its other terms: their ratio is the weight R_b of one
 /// reading near x, and a weight W_b there holds N_b = W_b / R_b readings.
-template <typename Accessor>
 class LeafReadingSums {
  public:
-  LeafReadingSums(const Accessor& weight, const Accessor& windows) : mWeight(weight), mWindows(windows) {}
-  /// Adds the leaf holding voxel `ijk` with trilinear weight t.
-  void add(const Coord& ijk, double t) {
-    mWeightSum += t * mWeight.getValue(leafBlock(ijk));
-    mWindowSum += t * mWindows.getValue(leafBlock(ijk));
+  /// Adds a corner's leaf, with sums `weight` and `windows`, with trilinear weight t.
+  void add(float weight, float windows, double t) {
+    mWeightSum += t * weight;
+    mWindowSum += t * windows;
   }
   double readingsIn(double weight) const { return mWeightSum > 0.0 ? weight * mWindowSum / mWeightSum : 0.0; }
 
  private:
-  const Accessor& mWeight;
-  const Accessor& mWindows;
   double mWeightSum = 0.0, mWindowSum = 0.0;
 };
 
@@ -423,21 +392,25 @@ class LeafReadingSums {
 
 DataTerms DataTermGrids::Sampler::facingTerms(const Vec3d& x, const Vec3d& normal) {
   DataTerms sum;
-  forEachBinAround(x, [&](BinAccess& bin, int b, const Corners& c, const std::int32_t(&masks)[8]) {
+  forEachBinAround(x, [&](BinAccess& bin, int b, const detail::CellCorners& c, const std::int32_t(&masks)[8]) {
     const auto holds = [&](int k) { return (masks[k] & (1 << b)) && c.t[k] != 0.0; };
     // The bin's lines of sight at x first: a bin whose readings do not face
     // the normal adds nothing (Eq. 37, per bin), and its terms are not read.
+    const detail::CornerLeafValues sight(bin.sight, c);
     Vec3d S(0.0);
     for (int k = 0; k < 8; ++k)
-      if (holds(k)) S += c.t[k] * Vec3d(bin.sight.getValue(leafBlock(c.ijk[k])));
+      if (holds(k)) S += c.t[k] * Vec3d(sight[k]);
     if (!(S.dot(normal) < 0.0)) return;
-    LeafReadingSums leafSums(bin.leafWeight, bin.leafWindows);
+    const detail::CornerValues g(bin.g, c), weight(bin.weight, c);
+    const detail::CornerValues gradient(bin.gradient, c);
+    const detail::CornerLeafValues leafWeight(bin.leafWeight, c), leafWindows(bin.leafWindows, c);
+    LeafReadingSums leafSums;
     double G = 0.0, W = 0.0;
     for (int k = 0; k < 8; ++k) {
       if (!holds(k)) continue;
-      G += c.t[k] * (bin.g.getValue(c.ijk[k]) + Vec3d(bin.gradient.getValue(c.ijk[k])).dot(c.offset[k]));  // carried to x
-      W += c.t[k] * bin.weight.getValue(c.ijk[k]);
-      leafSums.add(c.ijk[k], c.t[k]);
+      G += c.t[k] * (g[k] + Vec3d(gradient[k]).dot(c.offset[k]));  // carried to x
+      W += c.t[k] * weight[k];
+      leafSums.add(leafWeight[k], leafWindows[k], c.t[k]);
     }
     sum += DataTerms{G, W, leafSums.readingsIn(W)};
   });
@@ -446,12 +419,14 @@ DataTerms DataTermGrids::Sampler::facingTerms(const Vec3d& x, const Vec3d& norma
 
 DataTerms DataTermGrids::Sampler::allTerms(const Vec3d& x) {
   DataTerms sum;
-  forEachBinAround(x, [&](BinAccess& bin, int, const Corners& c, const std::int32_t(&)[8]) {
-    LeafReadingSums leafSums(bin.leafWeight, bin.leafWindows);
+  forEachBinAround(x, [&](BinAccess& bin, int, const detail::CellCorners& c, const std::int32_t(&)[8]) {
+    const detail::CornerValues weight(bin.weight, c);
+    const detail::CornerLeafValues leafWeight(bin.leafWeight, c), leafWindows(bin.leafWindows, c);
+    LeafReadingSums leafSums;
     double W = 0.0;
     for (int k = 0; k < 8; ++k) {
-      W += c.t[k] * bin.weight.getValue(c.ijk[k]);
-      leafSums.add(c.ijk[k], c.t[k]);
+      W += c.t[k] * weight[k];
+      leafSums.add(leafWeight[k], leafWindows[k], c.t[k]);
     }
     sum += DataTerms{0.0, W, leafSums.readingsIn(W)};
   });
@@ -479,7 +454,7 @@ std::uint64_t wordBits(int y0, int y1, int z0, int z1) {
 /// Whether a tree holds an active voxel or an active tile in `box`.
 bool anyActiveIn(const openvdb::Int32Tree& tree, const openvdb::CoordBBox& box) {
   openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> acc(tree);
-  const Coord first = leafBlock(box.min()), last = leafBlock(box.max());
+  const Coord first = detail::leafBlockOf(box.min()), last = detail::leafBlockOf(box.max());
   for (int bx = first.x(); bx <= last.x(); ++bx)
     for (int by = first.y(); by <= last.y(); ++by)
       for (int bz = first.z(); bz <= last.z(); ++bz) {
