@@ -147,8 +147,9 @@ void removeSpecks(openvdb::FloatGrid& raw, const ParallelInterrupt& interrupt) {
     std::vector<Coord> component;
     for (std::size_t i = begin; i < end && !interrupt.stop(); ++i) {
       const LeafT& leaf = leaves.leaf(i);
-      const detail::LeafMask crossing = detail::zeroCrossingVoxels(acc, leaf);
-      detail::forEachOn(mayLieInSpecks(crossing, detail::negativeVoxels(leaf)), [&](openvdb::Index o) {
+      const detail::LeafMask negative = detail::negativeVoxels(leaf);
+      const detail::LeafMask crossing = detail::zeroCrossingVoxels(acc, leaf, negative);
+      detail::forEachOn(mayLieInSpecks(crossing, negative), [&](openvdb::Index o) {
         const Coord ijk = leaf.offsetToGlobalCoord(o);
         if (inSpeck(acc, ijk, component)) found[i].insert(found[i].end(), component.begin(), component.end());
       });

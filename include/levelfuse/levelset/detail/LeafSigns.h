@@ -27,12 +27,13 @@ LeafMask negativeVoxels(const LeafT& leaf) {
 }
 
 /// The voxels of `leaf` with a face neighbour of the other sign (a value
-/// below zero against one not below it). Across the leaf's faces the
+/// below zero against one not below it), its own negative voxels given
+/// (`negative`, negativeVoxels(leaf)). Across the leaf's faces the
 /// neighbours are read from the adjacent leaves, or from the tile or the
 /// background there, through `acc`: as asking each neighbour's value would.
 template <typename Accessor, typename LeafT>
-LeafMask zeroCrossingVoxels(const Accessor& acc, const LeafT& leaf) {
-  const LeafMask negative = negativeVoxels(leaf), positive = !negative;
+LeafMask zeroCrossingVoxels(const Accessor& acc, const LeafT& leaf, const LeafMask& negative) {
+  const LeafMask positive = !negative;
   LeafMask negativeAcross[kFaceCount], positiveAcross[kFaceCount];
   const LeafMask* negativeFaces[kFaceCount];
   const LeafMask* positiveFaces[kFaceCount];
@@ -47,6 +48,12 @@ LeafMask zeroCrossingVoxels(const Accessor& acc, const LeafT& leaf) {
     positiveFaces[f] = &positiveAcross[f];
   }
   return (negative & dilateFaces(positive, positiveFaces)) | (positive & dilateFaces(negative, negativeFaces));
+}
+
+/// The same, the leaf's negative voxels found here.
+template <typename Accessor, typename LeafT>
+LeafMask zeroCrossingVoxels(const Accessor& acc, const LeafT& leaf) {
+  return zeroCrossingVoxels(acc, leaf, negativeVoxels(leaf));
 }
 
 /// The value of the face neighbour `step` (one of kFaceOffset) of the voxel
