@@ -8,6 +8,7 @@
 #include "LeavesReached.h"
 
 #include <array>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -18,6 +19,14 @@ namespace {
 
 using openvdb::Coord;
 using LeafT = openvdb::FloatTree::LeafNodeType;
+
+/// Whether `map` surely sees none of the voxels of the cube of `dim` a side
+/// at `origin` (voxel centres at whole multiples of `voxelSize`): the ball
+/// around their centres lies beside its sight.
+bool missesCube(const RangeMap& map, const Coord& origin, int dim, double voxelSize) {
+  const double half = 0.5 * (dim - 1);
+  return map.missesBall((origin.asVec3d() + openvdb::Vec3d(half)) * voxelSize, half * std::sqrt(3.0) * voxelSize);
+}
 
 }  // namespace
 
@@ -60,7 +69,11 @@ void BlockVotes::add(const RangeMap& map, double margin) {
 }
 
 void BlockVotes::addToBlock(Block& block, const RangeMap& map, double margin) const {
-  const std::optional<RangeMap::Sight> whole = leafSight(map, block.origin, mVoxelSize, margin);
+  // Most blocks lie beside most maps' sight: a few products say so, where
+  // leafSight would project the block's corners.
+  const std::optional<RangeMap::Sight> whole = missesCube(map, block.origin, kLeafNodeWidth, mVoxelSize)
+                                                   ? RangeMap::Sight::kOutside
+                                                   : leafSight(map, block.origin, mVoxelSize, margin);
   if (whole == RangeMap::Sight::kEmpty) {
     block.empty = true;
     return;
@@ -95,8 +108,11 @@ void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, con
     }
   }
   if (count == 0) return;
+  const Coord cube = block.origin + local;
   const std::optional<RangeMap::Sight> whole =
-      count > 1 ? cubeSight(map, block.origin + local, kCubeDim, mVoxelSize, margin) : std::nullopt;
+      missesCube(map, cube, kCubeDim, mVoxelSize) ? RangeMap::Sight::kOutside
+      : count > 1                                 ? cubeSight(map, cube, kCubeDim, mVoxelSize, margin)
+                                                  : std::nullopt;
   std::array<RangeMap::Sight, kCubeVoxels> sight;
   if (!whole) {
     std::array<openvdb::Vec3d, kCubeVoxels> x;

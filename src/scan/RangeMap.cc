@@ -512,6 +512,13 @@ bool RangeMap::mayBeSeenIn(const openvdb::BBoxd& box) const {
   return !(u1 < 0.0 || v1 < 0.0 || u0 > mWidth - 1 || v0 > mHeight - 1);
 }
 
+bool RangeMap::missesBall(const Vec3d& centre, double radius) const {
+  const Vec3d c = mWorldToMap.transform(centre);  // the pose is rigid: the ball keeps its radius
+  // Ties within rounding go to the points: sight() projects each on its own.
+  const double slack = 1e-9 * (c.length() + radius);
+  return mProjection.missesBall(c, radius, mWidth, mHeight, slack);
+}
+
 RangeMap::Sight RangeMap::sightAtPixel(double u, double v, double along, double margin) const {
   if (!(u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1)) return Sight::kOutside;
   const int i = std::min(static_cast<int>(u), mWidth - 2), j = std::min(static_cast<int>(v), mHeight - 2);

@@ -1,8 +1,8 @@
 // What a range map says of a whole leaf node at once (detail::leafSight), of
 // many points at once (RangeMap::sights) and carving's votes on blocks
 // (detail::BlockVotes): never other than what it says of each voxel; and
-// the boxes a map says it cannot see (RangeMap::mayBeSeenIn) are outside its
-// sight at every point.
+// the boxes and balls a map says it cannot see (RangeMap::mayBeSeenIn,
+// RangeMap::missesBall) are outside its sight at every point.
 
 #include "../../src/scan/CarvingVotes.h"
 #include "../../src/scan/LeavesReached.h"
@@ -357,6 +357,16 @@ TEST(BlockVotes, TheVotesOnBlocksAreTheVotesOnEachVoxel) {
   EXPECT_GT(voxels.size() - inside, 1000u);
 }
 
+/// Calls visit(corner) for the 20 x 20 x 20 cells of 0.4 m over 8 m around
+/// the origin (`corner` the least), until it returns false.
+template <typename Visit>
+void forEachCellAroundTheOrigin(const Visit& visit) {
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j)
+      for (int k = 0; k < 20; ++k)
+        if (!visit(Vec3d(i, j, k) * 0.4 - Vec3d(4.0))) return;
+}
+
 /// Boxes 0.4 m a side over 8 m around the origin: where `map` says it may
 /// not see a box, every point of it (a 7 x 7 x 7 lattice, corners included)
 /// is outside its sight; its packed shell answers alike. Returns how many
@@ -364,38 +374,98 @@ TEST(BlockVotes, TheVotesOnBlocksAreTheVotesOnEachVoxel) {
 std::pair<int, int> boxesTold(const RangeMap& map) {
   const PackedRangeMap packed{RangeMap(map)};
   std::pair<int, int> told{0, 0};
-  for (int i = 0; i < 20; ++i)
-    for (int j = 0; j < 20; ++j)
-      for (int k = 0; k < 20; ++k) {
-        const Vec3d corner = Vec3d(i, j, k) * 0.4 - Vec3d(4.0);
-        const openvdb::BBoxd box(corner, corner + Vec3d(0.4));
-        const bool may = map.mayBeSeenIn(box);
-        EXPECT_EQ(packed.shell().mayBeSeenIn(box), may) << map.name() << " box at " << box.min();
-        ++(may ? told.second : told.first);
-        if (may) continue;
-        for (int a = 0; a <= 6; ++a)
-          for (int b = 0; b <= 6; ++b)
-            for (int c = 0; c <= 6; ++c) {
-              const Vec3d p = box.min() + box.extents() * Vec3d(a, b, c) / 6.0;
-              if (map.sight(p, kMargin) != Sight::kOutside) {
-                ADD_FAILURE() << map.name() << " says it cannot see the box at " << box.min() << ", but sees " << p;
-                return told;
-              }
-            }
-      }
+  forEachCellAroundTheOrigin([&](const Vec3d& corner) {
+    const openvdb::BBoxd box(corner, corner + Vec3d(0.4));
+    const bool may = map.mayBeSeenIn(box);
+    EXPECT_EQ(packed.shell().mayBeSeenIn(box), may) << map.name() << " box at " << box.min();
+    ++(may ? told.second : told.first);
+    if (may) return true;
+    for (int a = 0; a <= 6; ++a)
+      for (int b = 0; b <= 6; ++b)
+        for (int c = 0; c <= 6; ++c) {
+          const Vec3d p = box.min() + box.extents() * Vec3d(a, b, c) / 6.0;
+          if (map.sight(p, kMargin) != Sight::kOutside) {
+            ADD_FAILURE() << map.name() << " says it cannot see the box at " << box.min() << ", but sees " << p;
+            return false;
+          }
+        }
+    return true;
+  });
   return told;
 }
 
-TEST(MayBeSeenIn, ABoxAMapCannotSeeIsOutsideItsSightEverywhere) {
-  const auto [cameraCannot, cameraMay] = boxesTold(wallWithABox());
+/// What `told` (boxesTold or ballsTold: how many of the cells a map says it
+/// cannot see, and how many it may) finds of each kind of map: a camera and
+/// parallel rays cannot see many, a spherical scanner is not asked.
+template <typename Told>
+void expectEachKindTold(const Told& told) {
+  const auto [cameraCannot, cameraMay] = told(wallWithABox());
   EXPECT_GT(cameraCannot, 1000) << "behind the camera and beside its pixels";
   EXPECT_GT(cameraMay, 300) << "its view";
-  const auto [raysCannot, raysMay] = boxesTold(tiltedPlaneAlongZ());
+  const auto [raysCannot, raysMay] = told(tiltedPlaneAlongZ());
   EXPECT_GT(raysCannot, 1000) << "beside the patch of parallel rays";
   EXPECT_GT(raysMay, 300) << "along the rays, both ways";
-  const auto [scannerCannot, scannerMay] = boxesTold(roomAroundAScanner(false));
-  EXPECT_EQ(scannerCannot, 0) << "a spherical scanner is not asked: it may see any box";
+  const auto [scannerCannot, scannerMay] = told(roomAroundAScanner(false));
+  EXPECT_EQ(scannerCannot, 0) << "a spherical scanner may see any cell";
   EXPECT_EQ(scannerMay, 20 * 20 * 20);
+}
+
+TEST(MayBeSeenIn, ABoxAMapCannotSeeIsOutsideItsSightEverywhere) { expectEachKindTold(boxesTold); }
+
+/// Balls of radius 0.3 m centred 0.4 m apart over 8 m around the origin:
+/// where `map` says it misses a ball, every point of it (a lattice of 9 a
+/// side over its box, the points within the ball, and the six points where
+/// its axes meet its surface) is outside its sight. Returns how many balls
+/// it misses, and how many it may not.
+std::pair<int, int> ballsTold(const RangeMap& map) {
+  constexpr double kRadius = 0.3;
+  std::pair<int, int> told{0, 0};
+  forEachCellAroundTheOrigin([&](const Vec3d& corner) {
+    const Vec3d centre = corner + Vec3d(0.2);
+    const bool misses = map.missesBall(centre, kRadius);
+    ++(misses ? told.first : told.second);
+    if (!misses) return true;
+    std::vector<Vec3d> points;
+    for (int axis = 0; axis < 3; ++axis)
+      for (const double side : {-kRadius, kRadius}) {
+        Vec3d p = centre;
+        p[axis] += side;
+        points.push_back(p);
+      }
+    for (int a = 0; a <= 8; ++a)
+      for (int b = 0; b <= 8; ++b)
+        for (int c = 0; c <= 8; ++c) {
+          const Vec3d offset = (Vec3d(a, b, c) / 4.0 - Vec3d(1.0)) * kRadius;
+          if (offset.length() <= kRadius) points.push_back(centre + offset);
+        }
+    for (const Vec3d& p : points)
+      if (map.sight(p, kMargin) != Sight::kOutside) {
+        ADD_FAILURE() << map.name() << " says it misses the ball at " << centre << ", but sees " << p;
+        return false;
+      }
+    return true;
+  });
+  return told;
+}
+
+TEST(MissesBall, ABallAMapMissesIsOutsideItsSightEverywhere) { expectEachKindTold(ballsTold); }
+
+TEST(MissesBall, ABallJustInsideAnEdgeOfTheImageIsNotMissed) {
+  // A point on the ray of pixel (0, 29.5) of the camera, on the plane through
+  // its centre and the image's left edge (u = 0: fx x + cx z = 0 in its
+  // frame), and a ball whose surface reaches a hair's breadth inside that
+  // plane: seen; moved a little farther out: missed.
+  const RangeMap map = wallWithABox();
+  const Vec3d onTheEdge = map.pointAt(0.0, 29.5, 1.0);
+  const Vec3d outward = map.mapToWorld().transform3x3(Vec3d(-60.0, 0.0, -39.5)).unit();
+  const double radius = 0.05;
+  EXPECT_FALSE(map.missesBall(onTheEdge + outward * (radius - 1e-4), radius));
+  EXPECT_TRUE(map.missesBall(onTheEdge + outward * (radius + 1e-3), radius));
+  // Behind the camera.
+  const Vec3d camera = map.mapToWorld().getTranslation();
+  const Vec3d axis = map.mapToWorld().transform3x3(Vec3d(0.0, 0.0, 1.0));
+  EXPECT_TRUE(map.missesBall(camera - axis * 0.2, 0.1));
+  EXPECT_FALSE(map.missesBall(camera - axis * 0.05, 0.1));
 }
 
 }  // namespace

@@ -141,6 +141,13 @@ class ParallelRays {
   double raySpacingAt(double) const { return mP.pixelSize; }
   /// Readings may be any z: the rays reach behind the lattice's plane.
   double nearestReading(double reading, double) const { return reading; }
+  /// True only if no ray of a lattice of `width` x `height` pixels passes within
+  /// `radius` (plus `slack`) of `c`: the ball lies beside the lattice.
+  bool missesBall(const openvdb::Vec3d& c, double radius, int width, int height, double slack) const {
+    const double reach = radius + slack;
+    const double x1 = mP.origin.x() + (width - 1) * mP.pixelSize, y1 = mP.origin.y() + (height - 1) * mP.pixelSize;
+    return c.x() + reach < mP.origin.x() || c.x() - reach > x1 || c.y() + reach < mP.origin.y() || c.y() - reach > y1;
+  }
 
  private:
   OrthographicProjection mP;
@@ -178,6 +185,17 @@ class PinholeRays {
   double raySpacingAt(double reading) const { return reading / std::min(mP.fx, mP.fy); }
   /// Depths stay in front of the camera: at least a millionth of `farthest`.
   double nearestReading(double reading, double farthest) const { return std::max(reading, 1e-6 * farthest); }
+  /// True only if no point within `radius` (plus `slack`) of `c` projects onto
+  /// the pixels [0, width - 1] x [0, height - 1] of a `width` x `height` image:
+  /// the ball lies behind the camera's plane, or beyond a plane through the
+  /// camera's centre and an edge of the image (pixelOf's u = 0, u = width - 1,
+  /// v = 0 or v = height - 1, each a plane n . p = 0 with n . p >= 0 inside).
+  bool missesBall(const openvdb::Vec3d& c, double radius, int width, int height, double slack) const {
+    const double reach = radius + slack;
+    const auto beyond = [&](const openvdb::Vec3d& n) { return n.dot(c) < -reach * n.length(); };
+    return c.z() + reach <= 0.0 || beyond({mP.fx, 0.0, mP.cx}) || beyond({-mP.fx, 0.0, (width - 1) - mP.cx}) ||
+           beyond({0.0, mP.fy, mP.cy}) || beyond({0.0, -mP.fy, (height - 1) - mP.cy});
+  }
 
  private:
   PinholeProjection mP;
@@ -207,6 +225,8 @@ class SphericalRays {
   double raySpacingAt(double reading) const { return reading * mAngularStep; }
   /// Ranges are not negative.
   double nearestReading(double reading, double) const { return std::max(reading, 0.0); }
+  /// Never: a station's grid is not cut to the ball's sight here.
+  bool missesBall(const openvdb::Vec3d&, double, int, int, double) const { return false; }
   /// How far the rays of a tile of `du` columns and rows v0 to v1, out to
   /// `range`, reach beyond the box of their corners' points: the arcs between
   /// the corners bulge by at most range (1 - cos(the tile's diagonal angle)).
@@ -299,6 +319,14 @@ class MapProjection {
   /// camera's depths, a station's ranges), for readings up to `farthest`.
   double nearestReading(double reading, double farthest) const {
     return visit([&](const auto& rays) { return rays.nearestReading(reading, farthest); });
+  }
+
+  /// True only if no point within `radius` (plus `slack`) of `c` projects onto
+  /// the pixels of a `width` x `height` map: beside parallel rays' lattice, or
+  /// behind a camera or beyond a side of its image's frustum. Never for a
+  /// spherical grid.
+  bool missesBall(const openvdb::Vec3d& c, double radius, int width, int height, double slack) const {
+    return visit([&](const auto& rays) { return rays.missesBall(c, radius, width, height, slack); });
   }
 
   /// True when the lines of sight fan out from the scanner's centre (a

@@ -229,6 +229,12 @@ class RangeMap {
   /// for a box that reaches behind a camera and in front of it. Asks the map's
   /// projection and pose alone (a PackedRangeMap's shell answers).
   bool mayBeSeenIn(const openvdb::BBoxd& box) const;
+  /// True only where sight() says kOutside at every point within `radius` of
+  /// world point `centre`, whatever the readings: the ball lies beside
+  /// parallel rays' lattice, or behind a camera or beyond a side of its
+  /// frustum. Never for spherical maps. A handful of products (mayBeSeenIn
+  /// projects a box's eight corners), for the many blocks a map does not see.
+  bool missesBall(const openvdb::Vec3d& centre, double radius) const;
   /// sight(x[i], margin) into out[i] for `count` points: the same answers,
   /// with the points' projections worked out together before their readings
   /// are read (carving asks a block's voxels so).
