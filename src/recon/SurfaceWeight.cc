@@ -8,6 +8,7 @@
 #include <openvdb/tree/LeafManager.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -32,6 +33,7 @@ struct FacingWeightOp {
 
   void operator()(const openvdb::FloatTree::LeafNodeType& band, std::size_t n) const {
     if (interrupt->stop()) return;
+    if (!mayHaveTermsIn(*data, nearestPointsBox(band))) return;  // no reading faces it: no leaf
     openvdb::FloatGrid::ConstAccessor phi = levelSet->getConstAccessor();
     auto&& terms = samplerOf(*data);  // one leaf's voxels, one task
     auto leaf = std::make_unique<openvdb::FloatTree::LeafNodeType>(band, 0.0f, openvdb::TopologyCopy());
@@ -49,6 +51,16 @@ struct FacingWeightOp {
       faced = faced || value > 0.0f;
     }
     if (faced) (*weighed)[n] = std::move(leaf);
+  }
+
+  /// The world box that holds the surface points nearest the leaf's active
+  /// voxels: each lies |phi| from its voxel along the unit normal.
+  openvdb::BBoxd nearestPointsBox(const openvdb::FloatTree::LeafNodeType& band) const {
+    float reach = 0.0f;
+    for (auto it = band.cbeginValueOn(); it; ++it) reach = std::max(reach, std::fabs(*it));
+    openvdb::BBoxd box = levelSet->transform().indexToWorld(band.getNodeBoundingBox());
+    box.expand(static_cast<double>(reach) * (1.0 + 1e-6));
+    return box;
   }
 };
 

@@ -6,6 +6,7 @@
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/levelset/Mesh.h>
 #include <levelfuse/levelset/MeshTrim.h>
+#include <levelfuse/levelset/VoxelNormals.h>
 #include <levelfuse/recon/SurfaceWeight.h>
 #include <levelfuse/synth/Synth.h>
 
@@ -115,6 +116,35 @@ TEST(SurfaceWeight, HoldsOnlyTheLeavesThatAReadingFaces) {
   EXPECT_EQ(weightAt(*weight, Vec3d(0.0, 0.0, -1.0)), 0.0);
   const openvdb::Coord top = openvdb::Coord::round(sphere->worldToIndex(Vec3d(0.0, 0.0, 1.0)));
   EXPECT_NE(weight->tree().probeConstLeaf(top), nullptr);
+}
+
+TEST(SurfaceWeight, FromGridsLeavesOutOnlyTheLeavesNoReadingReaches) {
+  // The weight from the grids skips a leaf of the band whose nearest surface
+  // points no reading's window reaches (DataTermGrids::mayHaveTermsIn): every
+  // voxel holds what the facing terms at its nearest surface point say, one
+  // by one, and the leaves left out hold no reading.
+  const auto sphere = test::makeSphere(1.0 / kVoxel, Vec3d(0.0), kVoxel);
+  DataTermGrids grids(kVoxel, forceOptions().dataWindow(), forceOptions().positionVariance);
+  grids.integrate(viewFromAbove());
+  const auto weight = surfaceWeight(*sphere, grids);
+  const openvdb::FloatGrid::ConstAccessor phi = sphere->getConstAccessor(), w = weight->getConstAccessor();
+  const VoxelNormals normals(*sphere);
+  auto sampler = grids.sampler();
+  std::size_t weighed = 0, leavesWithoutTerms = 0;
+  for (auto leaf = sphere->tree().cbeginLeaf(); leaf; ++leaf) {
+    const openvdb::BBoxd around = sphere->transform().indexToWorld(leaf->getNodeBoundingBox().expandBy(3));
+    leavesWithoutTerms += !grids.mayHaveTermsIn(around);
+    for (auto it = leaf->cbeginValueOn(); it; ++it) {
+      Vec3d normal;
+      if (!normals.at(phi, it.getCoord(), normal)) continue;
+      const Vec3d nearest = sphere->indexToWorld(it.getCoord()) - normal * static_cast<double>(*it);
+      const auto expected = static_cast<float>(sampler.facingTerms(nearest, normal).readings);
+      ASSERT_EQ(w.getValue(it.getCoord()), expected) << it.getCoord();
+      weighed += expected > 0.0f;
+    }
+  }
+  EXPECT_GT(weighed, 1000u);
+  EXPECT_GT(leavesWithoutTerms, sphere->tree().leafCount() / 4) << "the leaves the short way takes";
 }
 
 TEST(SurfaceWeight, IsTheSurfacesWhereTheRaysGraze) {

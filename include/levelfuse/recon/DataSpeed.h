@@ -69,17 +69,7 @@ struct DataForce {
   /// lines of sight, which change by at most the distance the surface moves.
   double stiffness() const { return 1.0; }
   /// F is 0 where no reading's window reaches (for a data term that can tell).
-  bool vanishesIn(const openvdb::BBoxd& box) const {
-    if constexpr (HasTermsTest<Field>::value) return !field->mayHaveTermsIn(box);
-    else return false;
-  }
-
- private:
-  template <typename T, typename = void>
-  struct HasTermsTest : std::false_type {};
-  template <typename T>
-  struct HasTermsTest<T, std::void_t<decltype(std::declval<const T&>().mayHaveTermsIn(openvdb::BBoxd()))>>
-      : std::true_type {};
+  bool vanishesIn(const openvdb::BBoxd& box) const { return !mayHaveTermsIn(*field, box); }
 };
 
 /// The data force's limit when the prior is off (DataForce::limit, set by the

@@ -197,6 +197,11 @@ template <typename T, typename = void>
 struct HasSampler : std::false_type {};
 template <typename T>
 struct HasSampler<T, std::void_t<decltype(std::declval<const T&>().sampler())>> : std::true_type {};
+template <typename T, typename = void>
+struct HasTermsTest : std::false_type {};
+template <typename T>
+struct HasTermsTest<T, std::void_t<decltype(std::declval<const T&>().mayHaveTermsIn(openvdb::BBoxd()))>>
+    : std::true_type {};
 }  // namespace detail
 
 /// A data term's queries (facingTerms, weight, readings) for one task, point
@@ -206,6 +211,15 @@ template <typename Field>
 decltype(auto) samplerOf(const Field& field) {
   if constexpr (detail::HasSampler<Field>::value) return field.sampler();
   else return field;  // a reference: no copy
+}
+
+/// False only if `field` can tell that no term reaches any point of the world
+/// box `world` (DataTermGrids::mayHaveTermsIn); true for a data term that
+/// cannot tell (ForceField).
+template <typename Field>
+bool mayHaveTermsIn(const Field& field, const openvdb::BBoxd& world) {
+  if constexpr (detail::HasTermsTest<Field>::value) return field.mayHaveTermsIn(world);
+  else return true;
 }
 
 }  // namespace levelfuse
