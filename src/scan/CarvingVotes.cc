@@ -8,7 +8,6 @@
 #include "LeavesReached.h"
 
 #include <array>
-#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -19,14 +18,6 @@ namespace {
 
 using openvdb::Coord;
 using LeafT = openvdb::FloatTree::LeafNodeType;
-
-/// Whether `map` surely sees none of the voxels of the cube of `dim` a side
-/// at `origin` (voxel centres at whole multiples of `voxelSize`): the ball
-/// around their centres lies beside its sight.
-bool missesCube(const RangeMap& map, const Coord& origin, int dim, double voxelSize) {
-  const double half = 0.5 * (dim - 1);
-  return map.missesBall((origin.asVec3d() + openvdb::Vec3d(half)) * voxelSize, half * std::sqrt(3.0) * voxelSize);
-}
 
 }  // namespace
 
@@ -69,11 +60,7 @@ void BlockVotes::add(const RangeMap& map, double margin) {
 }
 
 void BlockVotes::addToBlock(Block& block, const RangeMap& map, double margin) const {
-  // Most blocks lie beside most maps' sight: a few products say so, where
-  // leafSight would project the block's corners.
-  const std::optional<RangeMap::Sight> whole = missesCube(map, block.origin, kLeafNodeWidth, mVoxelSize)
-                                                   ? RangeMap::Sight::kOutside
-                                                   : leafSight(map, block.origin, mVoxelSize, margin);
+  const std::optional<RangeMap::Sight> whole = leafSight(map, block.origin, mVoxelSize, margin);
   if (whole == RangeMap::Sight::kEmpty) {
     block.empty = true;
     return;
@@ -108,11 +95,8 @@ void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, con
     }
   }
   if (count == 0) return;
-  const Coord cube = block.origin + local;
   const std::optional<RangeMap::Sight> whole =
-      missesCube(map, cube, kCubeDim, mVoxelSize) ? RangeMap::Sight::kOutside
-      : count > 1                                 ? cubeSight(map, cube, kCubeDim, mVoxelSize, margin)
-                                                  : std::nullopt;
+      count > 1 ? cubeSight(map, block.origin + local, kCubeDim, mVoxelSize, margin) : std::nullopt;
   std::array<RangeMap::Sight, kCubeVoxels> sight;
   if (!whole) {
     std::array<openvdb::Vec3d, kCubeVoxels> x;

@@ -170,12 +170,23 @@ CubeFootprint sphericalFootprint(const RangeMap& m, const Vec3d& centre, double 
   return f;
 }
 
+/// The radius of the ball around the voxel centres of a cube of `dim` voxels
+/// a side (world units).
+double cubeBallRadius(double voxelSize, int dim) { return 0.5 * std::sqrt(3.0) * (voxelSize * (dim - 1)); }
+
+/// Whether `m` surely sees none of the voxels of the cube of `dim` a side at
+/// `origin`: the ball around their centres lies beside its sight.
+bool missesCube(const RangeMap& m, const Coord& origin, int dim, double voxelSize) {
+  const double half = 0.5 * (dim - 1);
+  return m.missesBall((origin.asVec3d() + Vec3d(half)) * voxelSize, cubeBallRadius(voxelSize, dim));
+}
+
 CubeFootprint cubeFootprint(const RangeMap& m, const Coord& origin, double voxelSize, int dim = kLeafNodeWidth) {
   const openvdb::math::Mat4d& toMap = m.worldToMap();
   const Vec3d base = toMap.transform(origin.asVec3d() * voxelSize);
   const double span = voxelSize * (dim - 1);
   if (!m.projection().keepsLinesStraight())
-    return sphericalFootprint(m, base + toMap.transform3x3(Vec3d(0.5 * span)), 0.5 * std::sqrt(3.0) * span);
+    return sphericalFootprint(m, base + toMap.transform3x3(Vec3d(0.5 * span)), cubeBallRadius(voxelSize, dim));
   CubeFootprint f;
   for (int c = 0; c < 8; ++c) {
     const Vec3d q = base + toMap.transform3x3(Vec3d((c & 1) * span, ((c >> 1) & 1) * span, (c >> 2) * span));
@@ -270,6 +281,9 @@ std::optional<RangeMap::Sight> sightOfPixels(const RangeMap& m, int i0, int j0, 
 std::optional<RangeMap::Sight> cubeSight(const RangeMap& m, const Coord& origin, int dim, double voxelSize,
                                          double margin) {
   using Sight = RangeMap::Sight;
+  // Most cubes lie beside most maps' sight: a few products say so, before
+  // the corners are projected.
+  if (missesCube(m, origin, dim, voxelSize)) return Sight::kOutside;
   CubeFootprint f = cubeFootprint(m, origin, voxelSize, dim);
   double &u0 = f.u0, &v0 = f.v0, &u1 = f.u1, &v1 = f.v1;
   const double z0 = f.z0, z1 = f.z1;

@@ -54,7 +54,8 @@ inline unsigned cubeOfOffset(openvdb::Index offset) {
 /// `origin`, when it says the same everywhere and that can be told from the
 /// leaf's corners and the readings over its footprint (the blocks' bounds,
 /// else the footprint's own pixels when they are few): kOutside (wholly
-/// behind a camera or beside the map's pixels), kEmpty (in front of complete
+/// behind a camera or beside the map's pixels; RangeMap::missesBall first,
+/// which spares the projection of the corners), kEmpty (in front of complete
 /// readings by more than the margin), kBehind (behind them by more), kUnknown
 /// (no pixel of the footprint has a reading, and misses are not empty);
 /// nothing when each voxel must be asked. Never says what a voxel's own sight
