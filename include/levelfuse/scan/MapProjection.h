@@ -159,13 +159,18 @@ class ParallelRays {
 class PinholeRays {
  public:
   PinholeRays() = default;
-  explicit PinholeRays(const PinholeProjection& p) : mP(p) {}
+  explicit PinholeRays(const PinholeProjection& p) : mP(p), mInverseFx(1.0 / p.fx), mInverseFy(1.0 / p.fy) {}
   const PinholeProjection& parameters() const { return mP; }
+  /// 1 / fx and 1 / fy: the hot loops multiply where they would divide.
+  double inverseFx() const { return mInverseFx; }
+  double inverseFy() const { return mInverseFy; }
 
   /// In front of the camera: the pinhole sees nothing at or behind its plane.
   bool canProject(const openvdb::Vec3d& p) const { return p.z() > 0.0; }
+  /// (fx x / z + cx, fy y / z + cy), with one division.
   openvdb::math::Vec2d pixelOf(const openvdb::Vec3d& p) const {
-    return {mP.fx * p.x() / p.z() + mP.cx, mP.fy * p.y() / p.z() + mP.cy};
+    const double inverseZ = 1.0 / p.z();
+    return {mP.fx * p.x() * inverseZ + mP.cx, mP.fy * p.y() * inverseZ + mP.cy};
   }
   double readingOf(const openvdb::Vec3d& p) const { return p.z(); }
   /// The ray's point at depth 1 at pixel (u, v): (a, b, 1).
@@ -199,6 +204,7 @@ class PinholeRays {
 
  private:
   PinholeProjection mP;
+  double mInverseFx = 1.0, mInverseFy = 1.0;
 };
 
 /// A station's rays from its centre over a grid of azimuths and elevations; a

@@ -587,22 +587,24 @@ inline bool RangeMap::sampleLocalAtPixel(const PinholeRays& rays, const openvdb:
   // rounding to the exact test below).
   if (std::fabs(p.z() - r) > reach * (1.0 + 1e-9)) return false;
   const PinholeProjection& k0 = rays.parameters();
-  const double a = rays.columnSlope(u), b = rays.rowSlope(v);
-  const double k = std::sqrt(1.0 + a * a + b * b);
-  // Readings are depths z; along the ray the reading lies at rho = z k, with
-  // k = |(a, b, 1)|: D = |p| - rho(u(x), v(x)) (Eq. 13).
-  const double distance = p.length();
+  // Along the ray the reading lies at rho = r k, k = |(a, b, 1)| = |p| / z
+  // with (a, b) = (x, y) / z, the slopes of p's ray: D = |p| - rho(u(x), v(x))
+  // (Eq. 13). Two reciprocals serve every quotient below.
+  const double z = p.z(), distance = p.length();
+  const double inverseZ = 1.0 / z, inverseDistance = 1.0 / distance;
+  const double a = p.x() * inverseZ, b = p.y() * inverseZ;
+  const double k = distance * inverseZ, inverseK = z * inverseDistance;
   out.D = distance - r * k;
   if (!(std::fabs(out.D) <= reach)) return false;
-  const double rhoU = ru * k + r * a / (k0.fx * k);
-  const double rhoV = rv * k + r * b / (k0.fy * k);
-  const double z = p.z();
-  out.lineOfSight = p / distance;
-  out.gradD = out.lineOfSight - openvdb::Vec3d(k0.fx / z, 0.0, -k0.fx * p.x() / (z * z)) * rhoU -
-              openvdb::Vec3d(0.0, k0.fy / z, -k0.fy * p.y() / (z * z)) * rhoV;
+  const double rhoU = ru * k + r * a * inverseK * rays.inverseFx();
+  const double rhoV = rv * k + r * b * inverseK * rays.inverseFy();
+  out.lineOfSight = p * inverseDistance;
+  const double fxOverZ = k0.fx * inverseZ, fyOverZ = k0.fy * inverseZ;
+  out.gradD = out.lineOfSight - openvdb::Vec3d(fxOverZ, 0.0, -fxOverZ * a) * rhoU -
+              openvdb::Vec3d(0.0, fyOverZ, -fyOverZ * b) * rhoV;
   out.gradDSquared = out.gradD.lengthSqr();
   // Rays per unit area across the line of sight: fx fy / (|p|^2 cos^3) = fx fy k / z^2.
-  out.gamma = k0.fx * k0.fy * k / (z * z);
+  out.gamma = fxOverZ * fyOverZ * k;
   return nearestPixelSays(i, j, fu, fv, out);
 }
 
