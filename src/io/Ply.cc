@@ -391,14 +391,38 @@ void writeMeshHeader(std::ostream& out, const MeshArrays& mesh, bool binary) {
       << "element face " << mesh.triangles.size() / 3 << "\nproperty list uchar int vertex_indices\nend_header\n";
 }
 
+/// Bytes gathered in memory and written to a stream a chunk at a time: a
+/// mesh's millions of small records cost one stream write per chunk.
+class ChunkedWriter {
+ public:
+  explicit ChunkedWriter(std::ostream& out) : mOut(out) { mChunk.reserve(kChunkBytes); }
+  ~ChunkedWriter() { flush(); }
+  ChunkedWriter(const ChunkedWriter&) = delete;
+  ChunkedWriter& operator=(const ChunkedWriter&) = delete;
+  void put(const void* bytes, std::size_t count) {
+    if (mChunk.size() + count > kChunkBytes) flush();
+    const char* first = static_cast<const char*>(bytes);
+    mChunk.insert(mChunk.end(), first, first + count);
+  }
+  void flush() {
+    mOut.write(mChunk.data(), static_cast<std::streamsize>(mChunk.size()));
+    mChunk.clear();
+  }
+
+ private:
+  static constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
+  std::ostream& mOut;
+  std::vector<char> mChunk;
+};
+
 void writeBinaryMesh(std::ostream& out, const MeshArrays& mesh) {
+  ChunkedWriter chunks(out);
   if (mesh.rgb.empty()) {
-    out.write(reinterpret_cast<const char*>(mesh.xyz.data()),
-              static_cast<std::streamsize>(mesh.xyz.size() * sizeof(float)));
+    chunks.put(mesh.xyz.data(), mesh.xyz.size() * sizeof(float));
   } else {
     for (std::size_t i = 0; i < mesh.xyz.size(); i += 3) {
-      out.write(reinterpret_cast<const char*>(&mesh.xyz[i]), 3 * sizeof(float));
-      out.write(reinterpret_cast<const char*>(&mesh.rgb[i]), 3);
+      chunks.put(&mesh.xyz[i], 3 * sizeof(float));
+      chunks.put(&mesh.rgb[i], 3);
     }
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); t += 3) {
@@ -406,8 +430,8 @@ void writeBinaryMesh(std::ostream& out, const MeshArrays& mesh) {
     const std::int32_t tri[3] = {static_cast<std::int32_t>(mesh.triangles[t]),
                                  static_cast<std::int32_t>(mesh.triangles[t + 1]),
                                  static_cast<std::int32_t>(mesh.triangles[t + 2])};
-    out.write(reinterpret_cast<const char*>(&three), 1);
-    out.write(reinterpret_cast<const char*>(tri), sizeof(tri));
+    chunks.put(&three, 1);
+    chunks.put(tri, sizeof(tri));
   }
 }
 
