@@ -392,7 +392,8 @@ void writeMeshHeader(std::ostream& out, const MeshArrays& mesh, bool binary) {
 }
 
 /// Bytes gathered in memory and written to a stream a chunk at a time: a
-/// mesh's millions of small records cost one stream write per chunk.
+/// mesh's millions of small records cost one stream write per chunk; a run
+/// of bytes as long as a chunk goes to the stream at once, not copied.
 class ChunkedWriter {
  public:
   explicit ChunkedWriter(std::ostream& out) : mOut(out) { mChunk.reserve(kChunkBytes); }
@@ -402,6 +403,10 @@ class ChunkedWriter {
   void put(const void* bytes, std::size_t count) {
     if (mChunk.size() + count > kChunkBytes) flush();
     const char* first = static_cast<const char*>(bytes);
+    if (count >= kChunkBytes) {
+      mOut.write(first, static_cast<std::streamsize>(count));
+      return;
+    }
     mChunk.insert(mChunk.end(), first, first + count);
   }
   void flush() {
