@@ -72,6 +72,10 @@ TEST_F(ReliabilityCli, SigintInEveryPhaseExits130AndWritesNothing) {
     EXPECT_EQ(run.output, "levelfuse mesh: interrupted while " + phase + "; nothing written\n") << phase;
     EXPECT_FALSE(fs::exists(path("m.ply"))) << phase;
   }
+  // info writes no file; a request pending as it reads a .vdb stops it before it prints.
+  const CliRun info = interruptedAt("reading", "info " + path("in.vdb"));
+  EXPECT_EQ(info.exitCode, 130) << info.output;
+  EXPECT_EQ(info.output, "levelfuse info: interrupted while reading; nothing written\n");
   for (const std::string phase : {"scanning", "writing"}) {
     const CliRun run = interruptedAt(phase, "synth --shape torus --resolution 32 -o " + path("more"));
     EXPECT_EQ(run.exitCode, 130) << phase << ": " << run.output;

@@ -179,6 +179,9 @@ int runInfo(const InfoSettings& s) {
     enterPhase("reading");
     const bool vdb = std::filesystem::path(path).extension() == ".vdb";
     all.push_back(vdb ? describeVdb(path) : describeScans(path, s));
+    // Reading a .vdb does not ask for a cancellation: a request made while
+    // it read is answered before anything is printed.
+    checkCancellation();
     if (!s.json) print(all.back());
   }
   if (s.json) std::cout << (all.size() == 1 ? all[0] : all).dump(2) << "\n";
