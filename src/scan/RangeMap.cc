@@ -107,18 +107,21 @@ void RangeMap::findUsableCells() {
     }
   };
   sigmasOfRow(0, below);
-  for (int j = 0; j + 1 < mHeight; ++j) {
-    std::swap(above, below);
-    sigmasOfRow(j + 1, below);
-    for (int i = 0; i + 1 < mWidth; ++i) {
-      double r[4];
-      if (!cellReadings(i, j, r)) continue;
-      // Two readings of one surface differ by sqrt(2) sigma typically.
-      const std::size_t u = static_cast<std::size_t>(i);
-      const double sigma = std::max(std::max(above[u], above[u + 1]), std::max(below[u], below[u + 1]));
-      mUsableCell.set(index(i, j), spansNoDiscontinuity(i, j, r, kJumpNoise * sigma));
+  // The map's kind of rays told apart once, not at every cell.
+  mProjection.visit([&](const auto& rays) {
+    for (int j = 0; j + 1 < mHeight; ++j) {
+      std::swap(above, below);
+      sigmasOfRow(j + 1, below);
+      for (int i = 0; i + 1 < mWidth; ++i) {
+        double r[4];
+        if (!cellReadings(i, j, r)) continue;
+        // Two readings of one surface differ by sqrt(2) sigma typically.
+        const std::size_t u = static_cast<std::size_t>(i);
+        const double sigma = std::max(std::max(above[u], above[u + 1]), std::max(below[u], below[u + 1]));
+        mUsableCell.set(index(i, j), spansNoDiscontinuity(rays, i, j, r, kJumpNoise * sigma));
+      }
     }
-  }
+  });
   mLargestStep = std::max(mJumpFactor, kSteepSlopeSpacings) * mProjection.orthographic().pixelSize +
                  kJumpNoise * largestSigma;
 }
@@ -142,10 +145,11 @@ double changeAlongRows(const double (&r)[4]) { return std::max(std::fabs(r[2] - 
 
 }  // namespace
 
-bool RangeMap::spansNoDiscontinuity(int i, int j, const double (&r)[4], double noise) const {
+template <typename Rays>
+bool RangeMap::spansNoDiscontinuity(const Rays& rays, int i, int j, const double (&r)[4], double noise) const {
   const double lo = std::min(std::min(r[0], r[1]), std::min(r[2], r[3]));
   const double hi = std::max(std::max(r[0], r[1]), std::max(r[2], r[3]));
-  const double spacing = mProjection.raySpacingAt(hi);
+  const double spacing = rays.raySpacingAt(hi);
   if (hi - lo <= mJumpFactor * spacing + noise) return true;
   // Steeper than the factor allows: a surface seen at grazing incidence, if
   // it changes as gradually as the cells beside it.
@@ -627,15 +631,33 @@ double RangeMap::maxRaySpacing() const {
   return mProjection.raySpacingAt(mLargestReading);
 }
 
+template <typename Rays, typename Visit>
+void RangeMap::forEachReadingPoint(const Rays& rays, const Visit& visit) const {
+  for (int v = 0; v < mHeight; ++v) {
+    const float* readings = mReadings.data() + index(0, v);
+    for (int u = 0; u < mWidth; ++u)
+      if (readings[u] == readings[u]) visit(mMapToWorld.transform(rays.pointAt(u, v, readings[u])));
+  }
+}
+
+template <typename Visit>
+void RangeMap::forEachReadingPoint(const PinholeRays& rays, const Visit& visit) const {
+  // PinholeRays::pointAt's arithmetic, each column's and row's slope worked out once.
+  std::vector<double> columnSlopes(static_cast<std::size_t>(mWidth));
+  for (int u = 0; u < mWidth; ++u) columnSlopes[static_cast<std::size_t>(u)] = rays.columnSlope(u);
+  for (int v = 0; v < mHeight; ++v) {
+    const float* readings = mReadings.data() + index(0, v);
+    const double rowSlope = rays.rowSlope(v);
+    for (int u = 0; u < mWidth; ++u)
+      if (readings[u] == readings[u])
+        visit(mMapToWorld.transform(
+            PinholeRays::pointOnRay(columnSlopes[static_cast<std::size_t>(u)], rowSlope, readings[u])));
+  }
+}
+
 openvdb::BBoxd RangeMap::boundsOfReadings() const {
   openvdb::BBoxd box;
-  mProjection.visit([&](const auto& rays) {
-    for (int v = 0; v < mHeight; ++v) {
-      const float* readings = mReadings.data() + index(0, v);
-      for (int u = 0; u < mWidth; ++u)
-        if (readings[u] == readings[u]) box.expand(mMapToWorld.transform(rays.pointAt(u, v, readings[u])));
-    }
-  });
+  mProjection.visit([&](const auto& rays) { forEachReadingPoint(rays, [&box](const Vec3d& x) { box.expand(x); }); });
   return box;
 }
 

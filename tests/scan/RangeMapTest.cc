@@ -153,6 +153,35 @@ TEST(RangeMap, PinholeGeometry) {
   EXPECT_EQ(RangeMap::pinhole(40, 30, depths, k, c2w, 0.002).validCount(), 40u * 30u - 2u);
 }
 
+/// The box of every reading's world point (readingPoint), as readingBounds should hold it.
+openvdb::BBoxd boxOfReadingPoints(const RangeMap& map) {
+  openvdb::BBoxd box;
+  for (int v = 0; v < map.height(); ++v)
+    for (int u = 0; u < map.width(); ++u)
+      if (map.valid(u, v)) box.expand(map.readingPoint(u, v));
+  return box;
+}
+
+TEST(RangeMap, ReadingBoundsAreTheBoxOfEveryReadingsPointExactly) {
+  // Uneven depths with holes, seen by a tilted camera off the origin: the
+  // box is worked out once, with each column's slope shared, and must hold
+  // the very points readingPoint gives.
+  const PinholeProjection k{52.5, 49.0, 19.25, 14.75};
+  const Mat4d c2w = pose(-0.7, Vec3d(0.1, -2.2, 0.3));
+  std::vector<float> depths(40 * 30);
+  for (int v = 0; v < 30; ++v)
+    for (int u = 0; u < 40; ++u) depths[v * 40 + u] = float(1.0 + 0.037 * u + 0.011 * v * v + 0.3 * std::sin(0.7 * u));
+  depths[0] = depths[39] = depths[40 * 29 + 7] = kNone;
+  const RangeMap camera = RangeMap::pinhole(40, 30, depths, k, c2w, 0.002, "uneven");
+  const openvdb::BBoxd expected = boxOfReadingPoints(camera);
+  EXPECT_EQ(camera.readingBounds().min(), expected.min());
+  EXPECT_EQ(camera.readingBounds().max(), expected.max());
+  // Parallel rays take the general way.
+  const RangeMap plane = tiltedPlane(pose(0.4, Vec3d(1.0, 2.0, 3.0)), kNone);
+  EXPECT_EQ(plane.readingBounds().min(), boxOfReadingPoints(plane).min());
+  EXPECT_EQ(plane.readingBounds().max(), boxOfReadingPoints(plane).max());
+}
+
 TEST(RangeMap, DepthNoiseIsTheSigmaPerPixelOfTheReadingsDepth) {
   // A floor seen from 1 to 3.4 m, a few readings missing: the sigmas computed
   // from the depth are those a sigma per pixel gives, at every sample.

@@ -180,8 +180,10 @@ class PinholeRays {
     return {openvdb::Vec3d(0.0), openvdb::Vec3d(columnSlope(u), rowSlope(v), 1.0).unit()};
   }
   openvdb::Vec3d pointAt(double u, double v, double reading) const {
-    return {columnSlope(u) * reading, rowSlope(v) * reading, reading};
+    return pointOnRay(columnSlope(u), rowSlope(v), reading);
   }
+  /// The point at depth `reading` on the ray of slopes (a, b) (columnSlope, rowSlope).
+  static openvdb::Vec3d pointOnRay(double a, double b, double reading) { return {a * reading, b * reading, reading}; }
   /// The depth of the point at distance t along the ray: t / |(a, b, 1)|.
   double readingAlong(double u, double v, double t) const {
     const double a = columnSlope(u), b = rowSlope(v);

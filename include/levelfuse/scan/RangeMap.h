@@ -388,6 +388,14 @@ class RangeMap {
   void finish(std::vector<float> readings, const openvdb::math::Mat4d& mapToWorld, double sigma);
   /// The world box of the reading points, worked out once (finish).
   openvdb::BBoxd boundsOfReadings() const;
+  /// Calls visit(x) with the world point x of each reading, row by row, along
+  /// the map's own `rays` (its projection's visit).
+  template <typename Rays, typename Visit>
+  void forEachReadingPoint(const Rays& rays, const Visit& visit) const;
+  /// The same along a camera's rays, with the same arithmetic, the slopes of
+  /// each column and row worked out once.
+  template <typename Visit>
+  void forEachReadingPoint(const PinholeRays& rays, const Visit& visit) const;
   /// Takes sigmas that follow the depth, replacing any others, without
   /// working the usable cells out again; throws unless `noise` is positive
   /// and finite.
@@ -416,8 +424,10 @@ class RangeMap {
   bool cellReadings(int i, int j, double (&r)[4]) const;
   /// Whether cell (i, j), whose readings `r` are valid and may differ by
   /// `noise` on top of the surface's own change, spans no depth
-  /// discontinuity (the rule setDiscontinuityFactor states).
-  bool spansNoDiscontinuity(int i, int j, const double (&r)[4], double noise) const;
+  /// discontinuity (the rule setDiscontinuityFactor states); `rays` are the
+  /// map's own (its projection's visit).
+  template <typename Rays>
+  bool spansNoDiscontinuity(const Rays& rays, int i, int j, const double (&r)[4], double noise) const;
   /// Whether the readings of cell (i, j) change along each axis by at most
   /// kSteepSlopeStepRatio times the smaller change of its neighbours on that
   /// axis (those with readings; none: false), plus `noise`: the cell lies on
