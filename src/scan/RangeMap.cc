@@ -462,6 +462,38 @@ void RangeMap::setMissesAreEmpty(bool empty, int dropoutReach) {
     }
 }
 
+// Inlined into sight() and the loop of sights(), carving's hot path.
+inline RangeMap::Sight RangeMap::sightAtPixel(double u, double v, double along, double margin) const {
+  if (!(u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1)) return Sight::kOutside;
+  const int i = std::min(static_cast<int>(u), mWidth - 2), j = std::min(static_cast<int>(v), mHeight - 2);
+  // Where the data term interpolates, the reading it interpolates (Eq. 13's
+  // r_j(x)) decides: no point is left unknown between the window's reach and
+  // the carved space, where a surface seen at grazing incidence would settle
+  // inside.
+  if (mUsableCell[index(i, j)]) {
+    const double D = along - bilinearReading(index(i, j), u - i, v - j);
+    return D < -margin ? Sight::kEmpty : D > margin ? Sight::kBehind : Sight::kUnknown;
+  }
+  // Elsewhere the four pixels around x must agree: near a depth discontinuity
+  // or a silhouette the nearest ray alone could pass either side of x.
+  const bool missesAreEmpty = !mMisses.empty();
+  int empty = 0, behind = 0;
+  for (int c = 0; c < 4; ++c) {
+    const std::size_t at = index(i + (c & 1), j + (c >> 1));
+    const float r = mReadings[at];
+    // Along the rays (parallel), the optical axis (pinhole) or the ray
+    // (spherical); NaN where the pixel has no reading, neither in front nor
+    // behind (no branch on the holes, which come and go from pixel to pixel).
+    const double D = along - r;
+    empty += D < -margin;
+    behind += D > margin;
+    if (missesAreEmpty && !(r == r)) empty += mMisses[at];
+  }
+  if (empty == 4) return Sight::kEmpty;
+  if (behind == 4) return Sight::kBehind;
+  return Sight::kUnknown;
+}
+
 RangeMap::Sight RangeMap::sight(const Vec3d& x, double margin) const {
   const Vec3d p = mWorldToMap.transform(x);
   if (!canProject(p)) return Sight::kOutside;
@@ -521,37 +553,6 @@ bool RangeMap::missesBall(const Vec3d& centre, double radius) const {
   // Ties within rounding go to the points: sight() projects each on its own.
   const double slack = 1e-9 * (c.length() + radius);
   return mProjection.missesBall(c, radius, mWidth, mHeight, slack);
-}
-
-RangeMap::Sight RangeMap::sightAtPixel(double u, double v, double along, double margin) const {
-  if (!(u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1)) return Sight::kOutside;
-  const int i = std::min(static_cast<int>(u), mWidth - 2), j = std::min(static_cast<int>(v), mHeight - 2);
-  // Where the data term interpolates, the reading it interpolates (Eq. 13's
-  // r_j(x)) decides: no point is left unknown between the window's reach and
-  // the carved space, where a surface seen at grazing incidence would settle
-  // inside.
-  if (mUsableCell[index(i, j)]) {
-    const double D = along - bilinearReading(index(i, j), u - i, v - j);
-    return D < -margin ? Sight::kEmpty : D > margin ? Sight::kBehind : Sight::kUnknown;
-  }
-  // Elsewhere the four pixels around x must agree: near a depth discontinuity
-  // or a silhouette the nearest ray alone could pass either side of x.
-  const bool missesAreEmpty = !mMisses.empty();
-  int empty = 0, behind = 0;
-  for (int c = 0; c < 4; ++c) {
-    const std::size_t at = index(i + (c & 1), j + (c >> 1));
-    const float r = mReadings[at];
-    // Along the rays (parallel), the optical axis (pinhole) or the ray
-    // (spherical); NaN where the pixel has no reading, neither in front nor
-    // behind (no branch on the holes, which come and go from pixel to pixel).
-    const double D = along - r;
-    empty += D < -margin;
-    behind += D > margin;
-    if (missesAreEmpty && !(r == r)) empty += mMisses[at];
-  }
-  if (empty == 4) return Sight::kEmpty;
-  if (behind == 4) return Sight::kBehind;
-  return Sight::kUnknown;
 }
 
 bool RangeMap::readingBounds(double u0, double v0, double u1, double v1, double& lo, double& hi,
