@@ -135,6 +135,7 @@ struct LeafTally {
   std::uint32_t conflicts = 0; ///< of those, points held because a neighbour left the other way
   std::uint32_t movedOut = 0;  ///< points that left the active set outward
   std::uint32_t movedIn = 0;   ///< ... inward
+  bool valuesChanged = false;  ///< some active value changed, if only in the sign of a zero
 };
 
 /// Step 2: adds dt times its rate to every active point; the points whose
@@ -152,8 +153,9 @@ void addChanges(SparseFieldState& state, float dt, std::vector<LeafTally>& tally
     std::uint32_t slot = state.firstActive[r];
     forEachOn(record.layer[0], [&](unsigned o) {
       const float change = dt * rates[slot++];
-      const float v = values[o] + change;
+      const float old = values[o], v = old + change;
       values[o] = v;
+      t.valuesChanged |= v != old || std::signbit(v) != std::signbit(old);
       t.sumSq += static_cast<double>(change) * change;
       t.maxChange = std::max(t.maxChange, std::fabs(change));
       ++t.points;
@@ -239,6 +241,31 @@ void replaceLeavingPoints(SparseFieldState& state, std::vector<LeafTally>& tally
   });
 }
 
+/// Marks in state.layersSettled the leaves whose layers the layer rule would
+/// rebuild as they are: no leaf of their 3 x 3 x 3 neighbourhood changed in
+/// the step (its active values, including a zero's sign, and its active set
+/// stayed). A leaf's layers and their values follow from the active points
+/// and values within N <= 3 voxels of them and from the signs of its own
+/// voxels, all within that neighbourhood. A slab's ghosts, refreshed from
+/// its neighbours between steps, count as changed.
+void markSettledLeaves(SparseFieldState& state, const std::vector<LeafTally>& tally) {
+  const LeafTable& table = state.table;
+  std::vector<std::uint8_t> changed(table.size(), 0);
+  forEachRecord(table, state.options.grainSize, [&](std::size_t r) {
+    const LeafRecord& record = table[r];
+    const LeafTally& t = tally[r];
+    changed[r] = !state.owns(record) || t.valuesChanged || t.conflicts > 0 || record.next != record.layer[0];
+  });
+  state.layersSettled.assign(table.size(), 0);
+  if (!state.options.keepSettledLayers) return;
+  forEachRecord(table, state.options.grainSize, [&](std::size_t r) {
+    const LeafRecord& record = table[r];
+    bool settled = true;
+    for (const std::int32_t n : record.neighbour) settled = settled && (n < 0 || !changed[n]);
+    state.layersSettled[r] = settled;
+  });
+}
+
 /// The tally of the leaves the field answers for (all of them, unless it is a slab).
 StepTally summarise(const SparseFieldState& state, const std::vector<LeafTally>& tally, double dt,
                     double maxSpeed) {
@@ -268,6 +295,7 @@ StepTally applyRates(SparseFieldState& state, double dt, double maxSpeed) {
   addChanges(state, static_cast<float>(dt), tally);  // step 2
   holdConflicts(state, tally);
   replaceLeavingPoints(state, tally);                // step 4 for the active set
+  markSettledLeaves(state, tally);
   rebuildLayers(state);                              // steps 3 and 4 for the layers
   return summarise(state, tally, dt, maxSpeed);
 }
@@ -286,6 +314,9 @@ void rebuildLayers(SparseFieldState& state) {
   // the background value of their side. Neighbours read only layers and
   // values of layer voxels in that pass, so committing there is safe.
   const float background = state.background;
+  // A settled leaf (markSettledLeaves) keeps its layers and their values:
+  // the rule would give them again. New leaves are never settled.
+  const auto settled = [&state](std::size_t r) { return r < state.layersSettled.size() && state.layersSettled[r]; };
   std::vector<std::uint8_t> empty(table.size(), 0);
   for (int i = 1; i <= layers; ++i) {
     if (i == layers) {
@@ -295,17 +326,20 @@ void rebuildLayers(SparseFieldState& state) {
     const auto innerOf = [i](const LeafRecord& n) -> const LeafMask& { return i == 1 ? n.next : n.layer[i - 1]; };
     forEachRecord(table, grain, [&](std::size_t r) {
       LeafRecord& record = table[r];
-      const LeafMask* innerFaces[kFaceCount];
-      faceMasks(table, record, innerOf, nullptr, innerFaces);
-      LeafMask ring = dilateFaces(innerOf(record), innerFaces);
-      ring -= record.next;
-      for (int j = 1; j < i; ++j) ring -= record.layer[j];
-      record.layer[i] = ring;
       float* values = record.values;
-      if (anyOn(ring)) {
-        const FaceNeighbourhood inner(table, record, innerOf);
-        forEachOn(ring, [&](unsigned o) { values[o] = fromNearestInner(inner, o, values[o] < 0.0f, dx); });
+      if (!settled(r)) {
+        const LeafMask* innerFaces[kFaceCount];
+        faceMasks(table, record, innerOf, nullptr, innerFaces);
+        LeafMask ring = dilateFaces(innerOf(record), innerFaces);
+        ring -= record.next;
+        for (int j = 1; j < i; ++j) ring -= record.layer[j];
+        record.layer[i] = ring;
+        if (anyOn(ring)) {
+          const FaceNeighbourhood inner(table, record, innerOf);
+          forEachOn(ring, [&](unsigned o) { values[o] = fromNearestInner(inner, o, values[o] < 0.0f, dx); });
+        }
       }
+      const LeafMask& ring = record.layer[i];
       if (i == layers - 1) {
         // The outermost layer grows one voxel past this one: ask for the leaves it reaches.
         std::uint8_t request = 0, inside = 0;
@@ -331,6 +365,8 @@ void rebuildLayers(SparseFieldState& state) {
       }
     });
   }
+
+  state.layersSettled.clear();  // a mark holds for one step's rebuild only
 
   // A leaf left without layers lies wholly on one side of the surface: it
   // becomes an inactive tile of that side.

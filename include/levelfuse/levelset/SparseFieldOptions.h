@@ -26,6 +26,10 @@ struct SparseFieldOptions {
   double stiffnessStepLimit = 0.5;
   /// Leaf nodes per parallel task; 0 runs every phase serially.
   std::size_t grainSize = 4;
+  /// A step keeps the layers of a leaf whose 3 x 3 x 3 neighbourhood of
+  /// leaves it left unchanged, which the layer rule would rebuild as they
+  /// are (the same values); false rebuilds every leaf's.
+  bool keepSettledLayers = true;
 };
 
 }  // namespace levelfuse

@@ -115,6 +115,7 @@ struct SparseFieldState {
   std::vector<std::uint8_t> atRest;         ///< leaves whose points the step's speed left at rest
   std::vector<std::uint8_t> faceRequest;   ///< faces whose missing neighbour the outermost layer needs
   std::vector<std::uint8_t> faceInside;    ///< of those, the faces whose side is the inside
+  std::vector<std::uint8_t> layersSettled;  ///< leaves whose layers a step's rebuild keeps (markSettledLeaves)
 
   /// Sizes the per-record arrays to the table (new records start at zero).
   void fitRecordArrays() {
