@@ -250,14 +250,14 @@ void replaceLeavingPoints(SparseFieldState& state, std::vector<LeafTally>& tally
 /// its neighbours between steps, count as changed.
 void markSettledLeaves(SparseFieldState& state, const std::vector<LeafTally>& tally) {
   const LeafTable& table = state.table;
+  state.layersSettled.assign(table.size(), 0);
+  if (!state.options.keepSettledLayers) return;
   std::vector<std::uint8_t> changed(table.size(), 0);
   forEachRecord(table, state.options.grainSize, [&](std::size_t r) {
     const LeafRecord& record = table[r];
     const LeafTally& t = tally[r];
     changed[r] = !state.owns(record) || t.valuesChanged || t.conflicts > 0 || record.next != record.layer[0];
   });
-  state.layersSettled.assign(table.size(), 0);
-  if (!state.options.keepSettledLayers) return;
   forEachRecord(table, state.options.grainSize, [&](std::size_t r) {
     const LeafRecord& record = table[r];
     bool settled = true;
