@@ -75,23 +75,75 @@ void forEachTileBox(const RangeMap& m, double reach, const Visit& visit) {
 
 }  // namespace
 
-std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double reach) {
-  // One voxel per leaf: duplicates cost nothing. Bands of rows of tiles mark
-  // their own trees in parallel, joined in the order of the bands.
+namespace {
+
+/// The boxes of leaves (origins divided by the leaf's width) that the tiles
+/// of each band of kRowsPerBand rows of tiles reach (forEachTileBox), per
+/// band, worked out in parallel over the bands.
+std::vector<std::vector<openvdb::CoordBBox>> boxesOfLeavesPerBand(const RangeMap& m, double voxelSize, double reach) {
   constexpr int kRowsPerBand = 8;
   const int bands = (tileRows(m) + kRowsPerBand - 1) / kRowsPerBand;
-  std::vector<openvdb::MaskTree> marked(static_cast<std::size_t>(bands));
+  std::vector<std::vector<openvdb::CoordBBox>> boxes(static_cast<std::size_t>(bands));
+  parallelFor(boxes.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t b = begin; b < end; ++b) {
+      const int first = static_cast<int>(b) * kRowsPerBand;
+      forEachTileBoxOfRows(m, reach, first, first + kRowsPerBand, [&](const openvdb::BBoxd& box) {
+        boxes[b].emplace_back(Coord::floor(box.min() / (voxelSize * kLeafNodeWidth)),
+                              Coord::floor(box.max() / (voxelSize * kLeafNodeWidth)));
+      });
+    }
+  });
+  return boxes;
+}
+
+/// The origins (in voxels) of the leaves in `boxes`, sorted, each once: bits
+/// of a dense block over `bounds` (the boxes' bounds), read in the order of
+/// Coord's comparison (x, then y, then z).
+std::vector<Coord> leavesOfDenseBlock(const std::vector<std::vector<openvdb::CoordBBox>>& boxes,
+                                      const openvdb::CoordBBox& bounds) {
+  const openvdb::Coord dim = bounds.dim();
+  const auto bitOf = [&](int x, int y, int z) {
+    return (static_cast<std::size_t>(x - bounds.min().x()) * static_cast<std::size_t>(dim.y()) +
+            static_cast<std::size_t>(y - bounds.min().y())) * static_cast<std::size_t>(dim.z()) +
+           static_cast<std::size_t>(z - bounds.min().z());
+  };
+  std::vector<std::uint64_t> marked((static_cast<std::size_t>(bounds.volume()) + 63) / 64, 0);
+  std::size_t count = 0;
+  for (const std::vector<openvdb::CoordBBox>& band : boxes)
+    for (const openvdb::CoordBBox& box : band)
+      for (int x = box.min().x(); x <= box.max().x(); ++x)
+        for (int y = box.min().y(); y <= box.max().y(); ++y)
+          for (int z = box.min().z(); z <= box.max().z(); ++z) {
+            const std::size_t bit = bitOf(x, y, z);
+            count += !(marked[bit >> 6] & (std::uint64_t(1) << (bit & 63)));
+            marked[bit >> 6] |= std::uint64_t(1) << (bit & 63);
+          }
+  std::vector<Coord> leaves;
+  leaves.reserve(count);
+  const std::size_t perX = static_cast<std::size_t>(dim.y()) * static_cast<std::size_t>(dim.z());
+  for (std::size_t word = 0; word < marked.size(); ++word)
+    for (std::uint64_t bits = marked[word]; bits != 0; bits &= bits - 1) {
+      const std::size_t bit = word * 64 + openvdb::util::FindLowestOn(static_cast<openvdb::Index64>(bits));
+      const int x = bounds.min().x() + static_cast<int>(bit / perX);
+      const int y = bounds.min().y() + static_cast<int>(bit % perX / static_cast<std::size_t>(dim.z()));
+      const int z = bounds.min().z() + static_cast<int>(bit % static_cast<std::size_t>(dim.z()));
+      leaves.emplace_back(x * kLeafNodeWidth, y * kLeafNodeWidth, z * kLeafNodeWidth);
+    }
+  return leaves;
+}
+
+/// The same from sparse trees of marks, for boxes whose bounds span more
+/// leaves than a dense block should hold: each band marks its own tree in
+/// parallel, joined in the order of the bands.
+std::vector<Coord> leavesOfSparseMarks(const std::vector<std::vector<openvdb::CoordBBox>>& boxes) {
+  std::vector<openvdb::MaskTree> marked(boxes.size());
   parallelFor(marked.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b) {
       openvdb::tree::ValueAccessor<openvdb::MaskTree, false> marks(marked[b]);  // its band's own tree: not registered
-      const int first = static_cast<int>(b) * kRowsPerBand;
-      forEachTileBoxOfRows(m, reach, first, first + kRowsPerBand, [&](const openvdb::BBoxd& box) {
-        const Coord lo = Coord::floor(box.min() / (voxelSize * kLeafNodeWidth));
-        const Coord hi = Coord::floor(box.max() / (voxelSize * kLeafNodeWidth));
-        for (int x = lo.x(); x <= hi.x(); ++x)
-          for (int y = lo.y(); y <= hi.y(); ++y)
-            for (int z = lo.z(); z <= hi.z(); ++z) marks.setValueOn(Coord(x, y, z));
-      });
+      for (const openvdb::CoordBBox& box : boxes[b])
+        for (int x = box.min().x(); x <= box.max().x(); ++x)
+          for (int y = box.min().y(); y <= box.max().y(); ++y)
+            for (int z = box.min().z(); z <= box.max().z(); ++z) marks.setValueOn(Coord(x, y, z));
     }
   });
   openvdb::MaskTree coarse;
@@ -104,6 +156,20 @@ std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double rea
   }
   std::sort(leaves.begin(), leaves.end());
   return leaves;
+}
+
+}  // namespace
+
+std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double reach, double mostDenseLeaves) {
+  const std::vector<std::vector<openvdb::CoordBBox>> boxes = boxesOfLeavesPerBand(m, voxelSize, reach);
+  openvdb::CoordBBox bounds;
+  for (const std::vector<openvdb::CoordBBox>& band : boxes)
+    for (const openvdb::CoordBBox& box : band) bounds.expand(box);
+  if (bounds.empty()) return {};
+  // In doubles: the bounds of a far-reaching map may span more leaves than an integer counts.
+  const openvdb::Vec3d dim = bounds.max().asVec3d() - bounds.min().asVec3d() + openvdb::Vec3d(1.0);
+  if (dim.x() * dim.y() * dim.z() <= mostDenseLeaves) return leavesOfDenseBlock(boxes, bounds);
+  return leavesOfSparseMarks(boxes);
 }
 
 double leafMarks(const RangeMap& m, double voxelSize, double reach, openvdb::BBoxd& reached, double xMin,

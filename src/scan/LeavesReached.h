@@ -16,12 +16,20 @@
 
 namespace levelfuse::detail {
 
+/// The most leaves whose bits leavesReached() marks in a dense block by
+/// default: 2 MiB of bits.
+inline constexpr double kMostDenseLeaves = 16.0 * 1024 * 1024;
+
 /// The origins (in voxels of size `voxelSize`, voxel centres at multiples of
 /// it) of the 8^3 leaf nodes that readings of `map` reach within `reach`
 /// along their lines of sight, sorted: per tile of 4 x 4 pixels, the lines of
 /// sight through it between its nearest reading less the reach and its
 /// farthest plus the reach (a box for parallel rays, a frustum for a camera).
-std::vector<openvdb::Coord> leavesReached(const RangeMap& map, double voxelSize, double reach);
+/// Marked in a dense block of bits over the tiles' bounds where those span at
+/// most `mostDenseLeaves` leaves (a room's frame at 10 mm: some hundred
+/// thousand), else in sparse trees; the same leaves either way.
+std::vector<openvdb::Coord> leavesReached(const RangeMap& map, double voxelSize, double reach,
+                                          double mostDenseLeaves = kMostDenseLeaves);
 
 /// How many leaf nodes leavesReached() marks for `map`, with repeats: the
 /// leaves that the box of each tile of pixels spans, summed in doubles. An

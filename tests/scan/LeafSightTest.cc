@@ -234,6 +234,23 @@ TEST(LeavesReached, EveryVoxelAReadingReachesIsInALeafReached) {
   }
 }
 
+TEST(LeavesReached, TheDenseAndTheSparseMarksFindTheSameLeaves) {
+  // The leaves of a frame marked in a dense block of bits (the default for a
+  // room) and in sparse trees (for bounds too large for a block), for every
+  // kind of map; both sorted, each leaf once.
+  for (const RangeMap& map : {wallWithABox(), roomAroundAScanner(false), roomAroundAScanner(true), roomOnUnevenRows()})
+    for (const double reach : {0.0, 0.07, 0.5}) {
+      const std::vector<Coord> dense = detail::leavesReached(map, kVoxel, reach);
+      const std::vector<Coord> sparse = detail::leavesReached(map, kVoxel, reach, 0.0);
+      EXPECT_GT(dense.size(), 10u) << map.name();
+      EXPECT_TRUE(std::adjacent_find(dense.begin(), dense.end(), [](const Coord& a, const Coord& b) {
+                    return !(a < b);
+                  }) == dense.end())
+          << map.name() << ": not sorted, or a leaf twice";
+      EXPECT_EQ(dense, sparse) << map.name() << " reach " << reach;
+    }
+}
+
 TEST(LeavesReached, TheEmptyStretchOfADepthDiscontinuityIsNotReached) {
   // The box stands 0.5 m in front of the wall over pixels 30 to 49 and rows
   // 20 to 39; the cells across its edge are not usable, so no reading is
