@@ -100,21 +100,27 @@ typename GridT::Ptr emptyGrid(double voxelSize, const char* name) {
   return grid;
 }
 
-/// The bin of the lines of sight of every voxel of the leaf at `base` (in a
-/// map's frame, voxel steps `step`), or -1 unless they share one: the lines of
-/// sight from a camera or a scanner's centre are the directions of the
-/// voxels, which lie in the cone of the leaf's corner voxels.
-int commonBinOfLeaf(const RangeMap& map, const Vec3d& base, const Vec3d step[3]) {
+/// The bin of the lines of sight of every voxel of a leaf whose voxel
+/// centres lie within `radius` of `centre` (in a map's frame), or -1 unless
+/// they share one: the lines of sight from a camera or a scanner's centre are
+/// the directions of the voxels, which lie in the round cone of the ball.
+int commonBinOfLeaf(const RangeMap& map, const Vec3d& centre, double radius) {
   if (!map.raysFromOneCentre() || map.hasRayDirections()) return -1;
-  constexpr double last = kLeafNodeWidth - 1;
-  Vec3d corners[8];
-  for (int c = 0; c < 8; ++c) {
-    const Vec3d q = base + step[0] * ((c & 1) * last) + step[1] * (((c >> 1) & 1) * last) + step[2] * ((c >> 2) * last);
-    const double length = q.length();
-    if (!(length > 0.0)) return -1;
-    corners[c] = map.mapToWorld().transform3x3(q / length);
+  const double distance = centre.length();
+  if (!(distance > radius)) return -1;
+  return sightBinOfRoundCone(map.mapToWorld().transform3x3(centre / distance), radius / distance);
+}
+
+/// The largest distance from the centre of a leaf to one of its voxel
+/// centres, `step` the voxel steps in a map's frame, with room for rounding.
+double leafBallRadius(const Vec3d step[3]) {
+  constexpr double half = 0.5 * (kLeafNodeWidth - 1);
+  double radius = 0.0;
+  for (int c = 0; c < 4; ++c) {
+    const Vec3d corner = step[0] * (c & 1 ? half : -half) + step[1] * (c & 2 ? half : -half) + step[2] * half;
+    radius = std::max(radius, corner.length());
   }
-  return sightBinOfCone(corners, 8);
+  return radius * (1.0 + 1e-9);
 }
 
 /// One range map's terms at the voxels of a leaf (Eqs. 17, 38) and their
@@ -136,7 +142,9 @@ class LeafTermsOfMap {
               mToMap.transform3x3(Vec3d(0, 0, mH))},
         // Parallel rays: one line of sight, one bin.
         mParallel(!map.raysFromOneCentre() && !map.hasRayDirections()),
-        mParallelBin(sightBin(mToWorld.transform3x3(Vec3d(0, 0, 1)))) {}
+        mParallelBin(sightBin(mToWorld.transform3x3(Vec3d(0, 0, 1)))),
+        mLeafCentre((mStep[0] + mStep[1] + mStep[2]) * (0.5 * (kLeafNodeWidth - 1))),
+        mLeafRadius(leafBallRadius(mStep)) {}
 
   /// The terms of leaf l of the batch (at `leaves[l]`) into `batch`, along
   /// the map's own rays (its projection's visit); `s` is scratch. Inlined
@@ -152,7 +160,7 @@ class LeafTermsOfMap {
     const std::uint8_t cubes = detail::leafCubesMayBeReached(mSpans, leaves[l], mH, mReach);
     if (cubes == 0) return;
     const Vec3d base = mToMap.transform(leaves[l].asVec3d() * mH);
-    const int leafBin = mParallel ? mParallelBin : commonBinOfLeaf(mMap, base, mStep);
+    const int leafBin = mParallel ? mParallelBin : commonBinOfLeaf(mMap, base + mLeafCentre, mLeafRadius);
     std::vector<VoxelTerm>& out = batch.terms[l];
     out.reserve(kTermsPerCube * static_cast<std::size_t>(openvdb::util::CountOn(cubes)));
     LeafSums& sums = batch.leafSums[l];
@@ -162,9 +170,11 @@ class LeafTermsOfMap {
     std::size_t& evaluations = batch.evaluations[l];
     for (int i = 0; i < kLeafNodeWidth; ++i)
       for (int j = 0; j < kLeafNodeWidth; ++j) {
+        // The row's two halves along z (voxels 0 to 3 and 4 to 7) lie in two cubes.
+        const int cubeRow = ((i >> 2) << 2) | ((j >> 2) << 1);
+        if (!(cubes & (3 << cubeRow))) continue;
         Vec3d q = base + mStep[0] * i + mStep[1] * j;
         const int row = (i << 6) | (j << 3);
-        const int cubeRow = ((i >> 2) << 2) | ((j >> 2) << 1);
         for (int k = 0; k < kLeafNodeWidth; ++k, q += mStep[2]) {
           if (!(cubes & (1 << (cubeRow | (k >> 2))))) continue;
           ++evaluations;
@@ -215,6 +225,8 @@ class LeafTermsOfMap {
   const Vec3d mStep[3];
   const bool mParallel;
   const int mParallelBin;
+  const Vec3d mLeafCentre;    ///< from a leaf's first voxel to its centre (map frame)
+  const double mLeafRadius;  ///< leafBallRadius
 };
 
 /// Adds each term of the batch to its voxel in its bin's grids and sets the

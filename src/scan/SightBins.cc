@@ -43,14 +43,20 @@ int sightBin(const openvdb::Vec3d& direction) {
   return best;
 }
 
-int sightBinOfCone(const openvdb::Vec3d* directions, int count) {
+int sightBinOfRoundCone(const openvdb::Vec3d& axis, double sinHalfAngle) {
   constexpr double kClearly = 1e-9;  // in dot products of unit vectors: far above their rounding
+  if (!(sinHalfAngle >= 0.0 && sinHalfAngle < 1.0)) return -1;
   const std::array<openvdb::Vec3d, kSightBins>& centres = sightBinCentres();
-  const int bin = count > 0 ? sightBin(directions[0]) : -1;
-  for (int i = 0; i < count && bin >= 0; ++i) {
-    const double own = directions[i].dot(centres[static_cast<std::size_t>(bin)]);
-    for (int b = 0; b < kSightBins; ++b)
-      if (b != bin && !(own - directions[i].dot(centres[static_cast<std::size_t>(b)]) > kClearly)) return -1;
+  const int bin = sightBin(axis);
+  const double own = axis.dot(centres[static_cast<std::size_t>(bin)]);
+  const double cosHalfAngle = std::sqrt(1.0 - sinHalfAngle * sinHalfAngle);
+  // A unit d within the cone, at angle t <= a from the axis, and w = c_bin - c_b:
+  // d . w >= cos(t) (axis . w) - sin(t) |w| >= cos(a) (axis . w) - sin(a) |w| where axis . w > 0.
+  for (int b = 0; b < kSightBins; ++b) {
+    if (b == bin) continue;
+    const double ahead = own - axis.dot(centres[static_cast<std::size_t>(b)]);
+    const double apart = (centres[static_cast<std::size_t>(bin)] - centres[static_cast<std::size_t>(b)]).length();
+    if (!(cosHalfAngle * ahead - sinHalfAngle * apart > kClearly)) return -1;
   }
   return bin;
 }

@@ -51,23 +51,30 @@ TEST(SightBins, EveryDirectionIsNearItsBin) {
   EXPECT_LT(worst, std::cos(35.0 * M_PI / 180.0));
 }
 
-TEST(SightBins, AConesBinIsTheBinOfEveryDirectionInIt) {
-  // Cones of eight directions around random axes, narrow and wide: where
-  // sightBinOfCone names a bin, every direction between them (nonnegative
-  // sums, normalized) is in it; where the corners lie in different bins it
-  // names none.
+TEST(SightBins, ARoundConesBinIsTheBinOfEveryDirectionInIt) {
+  // Round cones around random axes, narrow and wide: where
+  // sightBinOfRoundCone names a bin, every direction within the cone (on its
+  // rim, and inside) is in it; where directions of the cone lie in different
+  // bins it names none.
   std::mt19937 random(11);
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   int named = 0, unnamed = 0;
   for (int cone = 0; cone < 4000; ++cone) {
     const Vec3d axis = Vec3d(normal(random), normal(random), normal(random)).unit();
-    const double spread = cone % 2 ? 0.02 : 0.3;
-    Vec3d corners[8];
-    for (Vec3d& c : corners) c = (axis + Vec3d(normal(random), normal(random), normal(random)) * spread).unit();
-    const int bin = sightBinOfCone(corners, 8);
+    const double halfAngle = cone % 2 ? 0.02 : 0.3;
+    const int bin = sightBinOfRoundCone(axis, std::sin(halfAngle));
+    // Directions at the half angle (and within it) around the axis.
+    const Vec3d across = axis.cross(std::fabs(axis.x()) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0)).unit();
+    const Vec3d other = axis.cross(across);
     bool split = false;
-    for (const Vec3d& c : corners) split = split || sightBin(c) != sightBin(corners[0]);
+    std::vector<Vec3d> directions;
+    for (int i = 0; i < 64; ++i) {
+      const double turn = 2.0 * M_PI * unit(random), angle = halfAngle * (i % 2 ? 1.0 : unit(random));
+      const Vec3d sideways = across * std::cos(turn) + other * std::sin(turn);
+      directions.push_back(axis * std::cos(angle) + sideways * std::sin(angle));
+      split = split || sightBin(directions.back()) != sightBin(axis);
+    }
     if (split) {
       EXPECT_EQ(bin, -1);
       ++unnamed;
@@ -75,14 +82,14 @@ TEST(SightBins, AConesBinIsTheBinOfEveryDirectionInIt) {
     }
     if (bin < 0) continue;
     ++named;
-    for (int i = 0; i < 20; ++i) {
-      Vec3d d(0.0);
-      for (const Vec3d& c : corners) d += c * unit(random);
-      ASSERT_EQ(sightBin(d.unit()), bin);
-    }
+    for (const Vec3d& d : directions) ASSERT_EQ(sightBin(d), bin);
   }
   EXPECT_GT(named, 1000);
   EXPECT_GT(unnamed, 100);
+  // No cone round a centre or wider than a half turn.
+  EXPECT_EQ(sightBinOfRoundCone(sightBinCentres()[0], 1.0), -1);
+  EXPECT_EQ(sightBinOfRoundCone(sightBinCentres()[0], std::nan("")), -1);
+  EXPECT_EQ(sightBinOfRoundCone(sightBinCentres()[0], 0.0), 0);
 }
 
 TEST(DataTermGrids, NoTermReachesABoxItSaysHoldsNone) {

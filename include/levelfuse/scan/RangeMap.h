@@ -444,7 +444,11 @@ class RangeMap {
   /// where it cannot tell: the cell ends its block, or lies outside the map).
   bool outsideBlockWindow(double u, double v, double z, double reach) const;
   /// Shared by sample() and sampleLocal(): the bilinear reading at pixel (u, v)
-  /// and its derivatives; false without one.
+  /// and its derivatives; false without one. Inlined into the samplers, whose
+  /// loops over many points it is the heart of.
+#if defined(__GNUC__)
+  __attribute__((always_inline))
+#endif
   bool interpolate(double u, double v, double& r, double& ru, double& rv, int& i, int& j, double& fu,
                    double& fv) const;
   /// The steepest an edge's surface is extended beyond its last ray

@@ -24,11 +24,11 @@ const std::array<openvdb::Vec3d, kSightBins>& sightBinCentres();
 /// zero vector is in bin 0).
 int sightBin(const openvdb::Vec3d& direction);
 
-/// The bin of every direction in the convex cone spanned by `count` unit
-/// directions, or -1 unless each of them lies in that bin clearly (its
-/// centre nearer than any other by more than rounding can change): a bin is a
-/// convex cone, and a nonnegative sum of unit directions that each beat
-/// another centre by a margin beats it by that margin once normalized.
-int sightBinOfCone(const openvdb::Vec3d* directions, int count);
+/// The bin of every unit direction within the angle asin(sinHalfAngle) of the
+/// unit vector `axis` (a round cone: the lines of sight from a centre to a
+/// ball), or -1 unless each of them lies in that bin clearly (its centre
+/// nearer than any other by more than rounding can change). A dozen dot
+/// products, whatever the cone's width.
+int sightBinOfRoundCone(const openvdb::Vec3d& axis, double sinHalfAngle);
 
 }  // namespace levelfuse
