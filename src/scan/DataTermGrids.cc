@@ -111,18 +111,6 @@ int commonBinOfLeaf(const RangeMap& map, const Vec3d& centre, double radius) {
   return sightBinOfRoundCone(map.mapToWorld().transform3x3(centre / distance), radius / distance);
 }
 
-/// The largest distance from the centre of a leaf to one of its voxel
-/// centres, `step` the voxel steps in a map's frame, with room for rounding.
-double leafBallRadius(const Vec3d step[3]) {
-  constexpr double half = 0.5 * (kLeafNodeWidth - 1);
-  double radius = 0.0;
-  for (int c = 0; c < 4; ++c) {
-    const Vec3d corner = step[0] * (c & 1 ? half : -half) + step[1] * (c & 2 ? half : -half) + step[2] * half;
-    radius = std::max(radius, corner.length());
-  }
-  return radius * (1.0 + 1e-9);
-}
-
 /// One range map's terms at the voxels of a leaf (Eqs. 17, 38) and their
 /// sums per bin, with what the map's leaves share worked out once.
 class LeafTermsOfMap {
@@ -144,7 +132,8 @@ class LeafTermsOfMap {
         mParallel(!map.raysFromOneCentre() && !map.hasRayDirections()),
         mParallelBin(sightBin(mToWorld.transform3x3(Vec3d(0, 0, 1)))),
         mLeafCentre((mStep[0] + mStep[1] + mStep[2]) * (0.5 * (kLeafNodeWidth - 1))),
-        mLeafRadius(leafBallRadius(mStep)) {}
+        // A map's frame is the world's turned: the ball's radius, with room for rounding.
+        mLeafRadius(detail::cubeBallRadius(voxelSize, kLeafNodeWidth) * (1.0 + 1e-9)) {}
 
   /// The terms of leaf l of the batch (at `leaves[l]`) into `batch`, along
   /// the map's own rays (its projection's visit); `s` is scratch. Inlined
@@ -226,7 +215,7 @@ class LeafTermsOfMap {
   const bool mParallel;
   const int mParallelBin;
   const Vec3d mLeafCentre;    ///< from a leaf's first voxel to its centre (map frame)
-  const double mLeafRadius;  ///< leafBallRadius
+  const double mLeafRadius;  ///< from a leaf's centre to its farthest voxel
 };
 
 /// Adds each term of the batch to its voxel in its bin's grids and sets the

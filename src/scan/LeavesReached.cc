@@ -102,22 +102,21 @@ std::vector<std::vector<openvdb::CoordBBox>> boxesOfLeavesPerBand(const RangeMap
 std::vector<Coord> leavesOfDenseBlock(const std::vector<std::vector<openvdb::CoordBBox>>& boxes,
                                       const openvdb::CoordBBox& bounds) {
   const openvdb::Coord dim = bounds.dim();
-  const auto bitOf = [&](int x, int y, int z) {
-    return (static_cast<std::size_t>(x - bounds.min().x()) * static_cast<std::size_t>(dim.y()) +
-            static_cast<std::size_t>(y - bounds.min().y())) * static_cast<std::size_t>(dim.z()) +
-           static_cast<std::size_t>(z - bounds.min().z());
+  const auto bitOf = [&](const Coord& leaf) {
+    const Coord at = leaf - bounds.min();
+    return (static_cast<std::size_t>(at.x()) * static_cast<std::size_t>(dim.y()) + static_cast<std::size_t>(at.y())) *
+               static_cast<std::size_t>(dim.z()) +
+           static_cast<std::size_t>(at.z());
   };
   std::vector<std::uint64_t> marked((static_cast<std::size_t>(bounds.volume()) + 63) / 64, 0);
   std::size_t count = 0;
   for (const std::vector<openvdb::CoordBBox>& band : boxes)
     for (const openvdb::CoordBBox& box : band)
-      for (int x = box.min().x(); x <= box.max().x(); ++x)
-        for (int y = box.min().y(); y <= box.max().y(); ++y)
-          for (int z = box.min().z(); z <= box.max().z(); ++z) {
-            const std::size_t bit = bitOf(x, y, z);
-            count += !(marked[bit >> 6] & (std::uint64_t(1) << (bit & 63)));
-            marked[bit >> 6] |= std::uint64_t(1) << (bit & 63);
-          }
+      for (auto leaf = box.beginZYX(); leaf; ++leaf) {
+        const std::size_t bit = bitOf(*leaf);
+        count += !(marked[bit >> 6] & (std::uint64_t(1) << (bit & 63)));
+        marked[bit >> 6] |= std::uint64_t(1) << (bit & 63);
+      }
   std::vector<Coord> leaves;
   leaves.reserve(count);
   const std::size_t perX = static_cast<std::size_t>(dim.y()) * static_cast<std::size_t>(dim.z());
@@ -141,9 +140,7 @@ std::vector<Coord> leavesOfSparseMarks(const std::vector<std::vector<openvdb::Co
     for (std::size_t b = begin; b < end; ++b) {
       openvdb::tree::ValueAccessor<openvdb::MaskTree, false> marks(marked[b]);  // its band's own tree: not registered
       for (const openvdb::CoordBBox& box : boxes[b])
-        for (int x = box.min().x(); x <= box.max().x(); ++x)
-          for (int y = box.min().y(); y <= box.max().y(); ++y)
-            for (int z = box.min().z(); z <= box.max().z(); ++z) marks.setValueOn(Coord(x, y, z));
+        for (auto leaf = box.beginZYX(); leaf; ++leaf) marks.setValueOn(*leaf);
     }
   });
   openvdb::MaskTree coarse;
@@ -190,6 +187,8 @@ double leafMarks(const RangeMap& m, double voxelSize, double reach, openvdb::BBo
   return marks;
 }
 
+double cubeBallRadius(double voxelSize, int dim) { return 0.5 * std::sqrt(3.0) * (voxelSize * (dim - 1)); }
+
 namespace {
 
 /// Where the voxel centres of the cube of `dim` voxels a side at `origin` lie
@@ -235,10 +234,6 @@ CubeFootprint sphericalFootprint(const RangeMap& m, const Vec3d& centre, double 
   f.v1 = std::max(r0, r1);
   return f;
 }
-
-/// The radius of the ball around the voxel centres of a cube of `dim` voxels
-/// a side (world units).
-double cubeBallRadius(double voxelSize, int dim) { return 0.5 * std::sqrt(3.0) * (voxelSize * (dim - 1)); }
 
 /// Whether `m` surely sees none of the voxels of the cube of `dim` a side at
 /// `origin`: the ball around their centres lies beside its sight.

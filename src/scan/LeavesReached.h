@@ -58,6 +58,10 @@ inline unsigned cubeOfOffset(openvdb::Index offset) {
   return ((offset >> 8) & 1u) << 2 | ((offset >> 5) & 1u) << 1 | ((offset >> 2) & 1u);
 }
 
+/// The radius of the ball around the voxel centres of a cube of `dim` voxels
+/// a side (world units, or a rigid map's frame).
+double cubeBallRadius(double voxelSize, int dim);
+
 /// What RangeMap::sight(x, margin) says at every voxel centre x of the leaf at
 /// `origin`, when it says the same everywhere and that can be told from the
 /// leaf's corners and the readings over its footprint (the blocks' bounds,
