@@ -20,7 +20,13 @@
 //                                            evaluations_per_frame, readings_per_frame
 //   BM_AnswerAfterFrames/<voxel mm>/<frames> the answer a scanning app shows while frames
 //                                            keep coming: Fusion::linearSolution after
-//                                            the first <frames> frames
+//                                            the first <frames> frames (carving from
+//                                            scratch: the first answer)
+//   BM_AnswerEveryFrames/<voxel mm>/<frames>/<every>  the same answer after every <every>
+//                                            frames of the first <frames>, as an app
+//                                            refreshes its view (carving's votes kept
+//                                            from the last answer); counters
+//                                            answer_ms_median, answer_ms_max, answers
 //
 // Counters: seconds (the timed loop, as the real time), cpu_seconds (the CPU
 // time of all the process's threads in it: a measure that holds on a shared
@@ -246,10 +252,35 @@ void answerAfterFrames(benchmark::State& state, int voxelMillimetres, int count)
   state.counters["active_voxels"] = static_cast<double>(surface->activeVoxelCount());
 }
 
+void answerEveryFrames(benchmark::State& state, int voxelMillimetres, int count, int every) {
+  if (!sequencePresent(state)) return;
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(kDefaultThreads));
+  const std::vector<RangeMap> frames = firstFrames(static_cast<std::size_t>(count));
+  std::vector<double> milliseconds;
+  for (auto _ : state) {
+    Fusion fusion(liveSettings(voxelMillimetres));
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      state.PauseTiming();
+      fusion.integrate(frames[i]);
+      state.ResumeTiming();
+      if ((i + 1) % static_cast<std::size_t>(every) != 0) continue;
+      const auto start = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(fusion.linearSolution());
+      milliseconds.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+  }
+  std::sort(milliseconds.begin(), milliseconds.end());
+  state.counters["answers"] = static_cast<double>(milliseconds.size());
+  state.counters["answer_ms_median"] = milliseconds[milliseconds.size() / 2];
+  state.counters["answer_ms_max"] = milliseconds.back();
+}
+
 void registerAll() {
   benchmark::RegisterBenchmark("BM_FuseOneFrame/10", fuseOneFrame, 10)->Iterations(1)->UseRealTime()->Unit(
       benchmark::kMillisecond);
   benchmark::RegisterBenchmark("BM_AnswerAfterFrames/10/100", answerAfterFrames, 10, 100)
+      ->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("BM_AnswerEveryFrames/10/100/10", answerEveryFrames, 10, 100, 10)
       ->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
   for (const int millimetres : {10, 5})
     for (const int frames : {50, 500}) {

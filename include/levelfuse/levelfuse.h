@@ -93,6 +93,7 @@
 #include <levelfuse/recon/SurfaceWeight.h>
 
 #include <levelfuse/scan/AccumulationCost.h>
+#include <levelfuse/scan/CarvingMemo.h>
 #include <levelfuse/scan/Colour.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/DataWindow.h>

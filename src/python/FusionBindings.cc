@@ -105,7 +105,7 @@ reconstruct() and linear_solution() may be asked for at any time, as often as wa
       .def_property_readonly("levels", [](const PyFusion& f) { return f.fusion->levels(); })
       .def_property_readonly("epsilon", [](const PyFusion& f) { return f.fusion->settings().epsilon; })
       .def_property_readonly("memory_bytes", [](const PyFusion& f) { return f.fusion->memoryBytes(); },
-                             "Memory held: the grids and the packed maps (bytes).")
+                             "Memory held: the grids, the packed maps and space carving's votes kept between answers (bytes).")
       .def("__repr__", [](const PyFusion& f) {
         return "<levelfuse.Fusion: " + std::to_string(f.fusion->scanCount()) + " maps at " +
                std::to_string(f.fusion->settings().voxelSize) + ">";

@@ -30,6 +30,7 @@ Fusion::Fusion(const FusionSettings& settings, Keep keep) : mSettings(settings),
   if (!(settings.epsilon > 0.0) || !std::isfinite(settings.epsilon))
     throw std::invalid_argument("Fusion: the window width epsilon must be positive: about the maps' noise sigma");
   for (int level = 0; level < settings.levels; ++level) mGrids.push_back(emptyDataTerm(settings, level));
+  mCarvingMemos.resize(static_cast<std::size_t>(settings.levels));
   mDeferred.assign(static_cast<std::size_t>(settings.levels), false);
 }
 
@@ -112,6 +113,7 @@ PackedScans Fusion::takeScans() {
   taken.summary = std::move(mSummary);
   mPacked.clear();
   mSummary = ScanSummary();
+  for (CarvingMemo& memo : mCarvingMemos) memo.clear();
   return taken;
 }
 
@@ -127,9 +129,16 @@ SparseField Fusion::linearSolutionField(int level, LinearBand band, const Sparse
   if (!scans && mKeep != Keep::kPacked)
     throw std::invalid_argument("Fusion: it keeps no maps (Keep::kNothing): hand in the maps to carve with");
   const DataTermGrids& grids = dataTerm(level);
-  return levelfuse::linearSolutionField(AccumulatedField{grids.gGrid(), grids.weightGrid(), 0},
-                                        scans ? scans : this->scans(), grids.window().reach(), band, engine,
-                                        interrupter);
+  const AccumulatedField data{grids.gGrid(), grids.weightGrid(), 0};
+  if (scans || !mSettings.keepCarvingVotes)
+    return levelfuse::linearSolutionField(data, scans ? scans : this->scans(), grids.window().reach(), band, engine,
+                                          interrupter);
+  const RangeMapsFrom keptFrom = [this](std::size_t first, const NumberedRangeMapVisitor& visit) {
+    visitUnpacked(mPacked, first, visit);
+  };
+  return levelfuse::linearSolutionField(data, keptFrom, mPacked.size(),
+                                        mCarvingMemos.at(static_cast<std::size_t>(level)), grids.window().reach(), band,
+                                        engine, interrupter);
 }
 
 openvdb::FloatGrid::Ptr Fusion::linearSolution(const std::string& name, const Interrupter& interrupter) const {
@@ -140,6 +149,7 @@ openvdb::FloatGrid::Ptr Fusion::linearSolution(const std::string& name, const In
 std::size_t Fusion::memoryBytes() const {
   std::size_t bytes = sizeof(*this) + dataTermBytes();
   for (const PackedRangeMap& p : mPacked) bytes += p.memoryBytes();
+  for (const CarvingMemo& memo : mCarvingMemos) bytes += memo.memoryBytes();
   return bytes;
 }
 
@@ -151,7 +161,8 @@ std::size_t Fusion::dataTermBytes() const {
 
 std::unique_ptr<Fusion> fusionFor(const AccumulationCostOf& costOf, const ReconstructionSettings& settings,
                                   Fusion::Keep keep, bool deferFinerGrids) {
-  const FusionSettings grids = fusionSettingsOf(settings);
+  FusionSettings grids = fusionSettingsOf(settings);
+  grids.keepCarvingVotes = false;  // one answer, after the last map
   const int checked = deferFinerGrids ? 1 : grids.levels;
   for (int level = 0; level < checked; ++level) requireAccumulationMemory(costOf, settings, level);
   std::unique_ptr<Fusion> fusion = std::make_unique<Fusion>(grids, keep);

@@ -7,6 +7,7 @@
 
 #include "LeavesReached.h"
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <stdexcept>
@@ -21,42 +22,84 @@ using LeafT = openvdb::FloatTree::LeafNodeType;
 
 }  // namespace
 
-PointVotes::PointVotes(std::size_t count, PointAt point)
-    : mPoint(std::move(point)), mBalance(count, 0), mEmpty(count, 0) {}
+PointVotes::PointVotes(std::size_t count, PointAt point) : mPoint(std::move(point)), mRecords(count) {}
 
-void PointVotes::add(const RangeMap& map, double margin) {
-  parallelFor(mBalance.size(), 256, [&](std::size_t begin, std::size_t end) {
+void PointVotes::add(const RangeMap& map, double margin, std::size_t index) {
+  parallelFor(mRecords.size(), 256, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      if (mEmpty[i]) continue;
+      Record& r = mRecords[i];
+      if (r.empty || r.counted != index) continue;
+      r.counted = static_cast<std::uint32_t>(index + 1);
       const RangeMap::Sight s = map.sight(mPoint(i), margin);
-      if (s == RangeMap::Sight::kEmpty) mEmpty[i] = 1;
-      else mBalance[i] += sightVote(s, map.raysFromOneCentre());
+      if (s == RangeMap::Sight::kEmpty) r.empty = true;
+      else r.balance += sightVote(s, map.raysFromOneCentre());
     }
   });
 }
 
-BlockVotes::BlockVotes(std::vector<Coord> origins, std::vector<Mask> asked, double voxelSize)
+std::size_t PointVotes::firstMapNeeded() const {
+  std::size_t first = kNoMapNeeded;
+  for (const Record& r : mRecords)
+    if (!r.empty) first = std::min<std::size_t>(first, r.counted);
+  return first;
+}
+
+void BlockVotes::Block::askOnly(const Mask& mask) {
+  if (!voxels.empty()) {
+    std::vector<std::int32_t> kept;
+    kept.reserve(mask.countOn());
+    for (auto it = mask.beginOn(); it; ++it) kept.push_back(voxels[rank(it.pos())]);
+    voxels = std::move(kept);
+  }
+  asked = mask;
+  everyVoxelAsked = asked.isOn();
+  std::uint16_t before = 0;
+  for (openvdb::Index w = 0; w < Mask::WORD_COUNT; ++w) {
+    firstOfWord[w] = before;
+    before = static_cast<std::uint16_t>(before + openvdb::util::CountOn(asked.template getWord<Mask::Word>(w)));
+  }
+}
+
+BlockVotes::BlockVotes(std::vector<Coord> origins, std::vector<Mask> asked, double voxelSize, Kept* kept)
     : mVoxelSize(voxelSize) {
   if (origins.size() != asked.size()) throw std::invalid_argument("BlockVotes: one mask per block");
   mBlocks.resize(origins.size());
   for (std::size_t b = 0; b < origins.size(); ++b) {
     Block& block = mBlocks[b];
-    block.origin = origins[b];
-    block.asked = asked[b];
-    block.everyVoxelAsked = block.asked.isOn();
-    std::uint16_t before = 0;
-    for (openvdb::Index w = 0; w < Mask::WORD_COUNT; ++w) {
-      block.firstOfWord[w] = before;
-      before = static_cast<std::uint16_t>(before + openvdb::util::CountOn(block.asked.template getWord<Mask::Word>(w)));
+    const auto found = kept ? kept->find(origins[b]) : Kept::iterator();
+    // Kept votes answer for the voxels they were cast on alone.
+    if (kept && found != kept->end() && (asked[b] & !found->second.asked).isOff()) {
+      block = std::move(found->second);
+      kept->erase(found);
+    } else {
+      block.origin = origins[b];
+      block.asked.setOn();
     }
+    block.askOnly(asked[b]);
   }
 }
 
-void BlockVotes::add(const RangeMap& map, double margin) {
+void BlockVotes::add(const RangeMap& map, double margin, std::size_t index) {
   parallelFor(mBlocks.size(), 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t b = begin; b < end; ++b)
-      if (!mBlocks[b].empty) addToBlock(mBlocks[b], map, margin);
+    for (std::size_t b = begin; b < end; ++b) {
+      Block& block = mBlocks[b];
+      if (block.empty || block.counted != index) continue;
+      block.counted = static_cast<std::uint32_t>(index + 1);
+      addToBlock(block, map, margin);
+    }
   });
+}
+
+std::size_t BlockVotes::firstMapNeeded() const {
+  std::size_t first = kNoMapNeeded;
+  for (const Block& block : mBlocks)
+    if (!block.empty) first = std::min<std::size_t>(first, block.counted);
+  return first;
+}
+
+void BlockVotes::keepIn(Kept& kept) {
+  for (Block& block : mBlocks) kept[block.origin] = std::move(block);
+  mBlocks.clear();
 }
 
 void BlockVotes::addToBlock(Block& block, const RangeMap& map, double margin) const {
@@ -111,6 +154,28 @@ void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, con
     if (sight[i] == RangeMap::Sight::kEmpty) block.voxelEmpty.setOn(o);
     else block.voxels[block.rank(o)] += sightVote(sight[i], map.raysFromOneCentre());
   }
+}
+
+void CarvingRecords::keepOnlyFor(double voxelSize_, double margin_, std::size_t maps_) {
+  if (voxelSize_ != voxelSize || margin_ != margin || maps_ < maps) clear();
+  voxelSize = voxelSize_;
+  margin = margin_;
+  maps = maps_;
+}
+
+void CarvingRecords::clear() {
+  blocks.clear();
+  centres.clear();
+  maps = 0;
+}
+
+std::size_t CarvingRecords::memoryBytes() const {
+  // A node of a std::map: the value and about four words.
+  constexpr std::size_t kNode = 4 * sizeof(void*);
+  std::size_t bytes = centres.size() * (sizeof(std::pair<const Coord, PointVotes::Record>) + kNode);
+  for (const auto& [origin, block] : blocks)
+    bytes += sizeof(std::pair<const Coord, BlockVotes::Block>) + kNode + block.voxels.capacity() * sizeof(std::int32_t);
+  return bytes;
 }
 
 }  // namespace levelfuse::detail

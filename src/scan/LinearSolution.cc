@@ -6,6 +6,7 @@
 #include <levelfuse/levelset/SparseField.h>
 #include <levelfuse/levelset/detail/LeafMaskOps.h>
 #include <levelfuse/levelset/detail/LeafSigns.h>
+#include <levelfuse/scan/CarvingMemo.h>
 #include <levelfuse/scan/ForceField.h>
 
 #include "CarvingVotes.h"
@@ -19,6 +20,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -204,16 +206,18 @@ class BlockClasses {
 using Leaves = std::vector<std::unique_ptr<LeafT>>;
 using Mask = detail::BlockVotes::Mask;
 
-/// Votes on the voxels of the data's leaves that no window reached.
+/// Votes on the voxels of the data's leaves that no window reached, from
+/// those `records` kept, if any.
 detail::BlockVotes votesOnUnreached(const openvdb::tree::LeafManager<const openvdb::FloatTree>& dataLeaves,
-                                    double voxelSize) {
+                                    double voxelSize, detail::CarvingRecords* records) {
   std::vector<Coord> origins(dataLeaves.leafCount());
   std::vector<Mask> unreached(dataLeaves.leafCount());
   for (std::size_t i = 0; i < origins.size(); ++i) {
     origins[i] = dataLeaves.leaf(i).origin();
     unreached[i] = !dataLeaves.leaf(i).getValueMask();
   }
-  return detail::BlockVotes(std::move(origins), std::move(unreached), voxelSize);
+  return detail::BlockVotes(std::move(origins), std::move(unreached), voxelSize,
+                            records ? &records->blocks : nullptr);
 }
 
 /// The blocks of a slab's data (`data`, in voxels), one block beyond each
@@ -246,15 +250,29 @@ BlockClasses blocksAroundTheData(const openvdb::tree::LeafManager<const openvdb:
 }
 
 /// Votes on the centres of the blocks around the data that the data do not
-/// reach (in the classes' order; the others are not asked).
-detail::PointVotes votesOnBlockCentres(const BlockClasses& classes, const openvdb::math::Transform& xform) {
+/// reach (in the classes' order; the others are not asked), from those
+/// `records` kept, if any.
+detail::PointVotes votesOnBlockCentres(const BlockClasses& classes, const openvdb::math::Transform& xform,
+                                       const detail::CarvingRecords* records) {
   const Coord centre(LeafT::DIM / 2);
   detail::PointVotes votes(classes.size(), [&classes, &xform, centre](std::size_t i) {
     return xform.indexToWorld(blockOrigin(classes.block(i)) + centre);
   });
-  for (std::size_t i = 0; i < classes.size(); ++i)
-    if (classes[i] == BlockClasses::kData) votes.skip(i);
+  for (std::size_t i = 0; i < classes.size(); ++i) {
+    if (classes[i] == BlockClasses::kData) {
+      votes.skip(i);
+    } else if (records) {
+      const auto kept = records->centres.find(classes.block(i));
+      if (kept != records->centres.end()) votes.restore(i, kept->second);
+    }
+  }
   return votes;
+}
+
+/// Keeps the votes on the blocks' centres in `records`.
+void keepCentres(const BlockClasses& classes, const detail::PointVotes& centres, detail::CarvingRecords& records) {
+  for (std::size_t i = 0; i < classes.size(); ++i)
+    if (classes[i] != BlockClasses::kData) records.centres[classes.block(i)] = centres.record(i);
 }
 
 /// The blocks the data do not reach classified by carving at their centres.
@@ -309,15 +327,17 @@ CarvedBlocks boundaryBlocks(const BlockClasses& classes) {
   return carved;
 }
 
-/// The carved leaves of the boundary blocks at `origins`, every voxel voted on by `maps`.
-Leaves carvedSurface(const std::vector<Coord>& origins, const RangeMapSequence& maps, double margin, double voxelSize,
-                     float width, const Interrupter& interrupter) {
+/// The carved leaves of the boundary blocks at `origins`, every voxel voted
+/// on by `maps` (from the votes `records` kept, if any, and kept there).
+Leaves carvedSurface(const std::vector<Coord>& origins, const RangeMapsFrom& maps, double margin, double voxelSize,
+                     float width, const Interrupter& interrupter, detail::CarvingRecords* records) {
   Mask everyVoxel;
   everyVoxel.setOn();
-  detail::BlockVotes votes(origins, std::vector<Mask>(origins.size(), everyVoxel), voxelSize);
-  maps([&](const RangeMap& map) {
+  detail::BlockVotes votes(origins, std::vector<Mask>(origins.size(), everyVoxel), voxelSize,
+                           records ? &records->blocks : nullptr);
+  maps(votes.firstMapNeeded(), [&](std::size_t index, const RangeMap& map) {
     checkInterrupter(interrupter);
-    votes.add(map, margin);
+    votes.add(map, margin, index);
   });
   Leaves leaves(votes.size());
   parallelFor(leaves.size(), 1, [&](std::size_t begin, std::size_t end) {
@@ -327,6 +347,7 @@ Leaves carvedSurface(const std::vector<Coord>& origins, const RangeMapSequence& 
       leaves[b] = std::move(leaf);
     }
   });
+  if (records) votes.keepIn(records->blocks);
   return leaves;
 }
 
@@ -339,37 +360,43 @@ struct AroundTheData {
 
 /// Step 1 of linearSolutionField: space carving decides the voxels of the
 /// data's leaves that no window reaches, and the blocks around the data, at
-/// their centres.
-AroundTheData carveAroundTheData(const AccumulatedField& field, const RangeMapSequence& maps, double margin,
-                                 float width, const Interrupter& interrupter, const SlabOfTheData* slab) {
+/// their centres (from the votes `records` kept, if any, and kept there).
+AroundTheData carveAroundTheData(const AccumulatedField& field, const RangeMapsFrom& maps, double margin,
+                                 float width, const Interrupter& interrupter, const SlabOfTheData* slab,
+                                 detail::CarvingRecords* records) {
   const openvdb::math::Transform& xform = field.g->transform();
   const openvdb::tree::LeafManager<const openvdb::FloatTree> dataLeaves(field.g->tree());
   AroundTheData around{blocksAroundTheData(dataLeaves, slab), {}};
-  detail::BlockVotes unreached = votesOnUnreached(dataLeaves, xform.voxelSize()[0]);
-  detail::PointVotes centres = votesOnBlockCentres(around.classes, xform);
-  maps([&](const RangeMap& map) {
+  detail::BlockVotes unreached = votesOnUnreached(dataLeaves, xform.voxelSize()[0], records);
+  detail::PointVotes centres = votesOnBlockCentres(around.classes, xform, records);
+  maps(std::min(unreached.firstMapNeeded(), centres.firstMapNeeded()), [&](std::size_t index, const RangeMap& map) {
     checkInterrupter(interrupter);
-    unreached.add(map, margin);
-    centres.add(map, margin);
+    unreached.add(map, margin, index);
+    centres.add(map, margin, index);
   });
   around.leaves = dataLeafValues(dataLeaves, *field.weight, unreached, width);
   classifyBlocks(around.classes, centres);
+  if (records) {
+    unreached.keepIn(records->blocks);
+    keepCentres(around.classes, centres, *records);
+  }
   return around;
 }
 
 /// The level set the linear solution's sparse field is built from: the
 /// values of step 3 below at the zero crossings (LinearBand::kZeroCrossings)
-/// or rebuilt (kRebuilt); of one slab of the data, with `slab`.
-openvdb::FloatGrid::Ptr linearSolutionGrid(AccumulatedField field, const RangeMapSequence& maps, double margin,
-                                           LinearBand band, const Interrupter& interrupter,
-                                           const SlabOfTheData* slab) {
+/// or rebuilt (kRebuilt); of one slab of the data, with `slab`; carving from
+/// the votes `records` kept, if any, and kept there.
+openvdb::FloatGrid::Ptr linearSolutionGrid(AccumulatedField field, const RangeMapsFrom& maps, double margin,
+                                           LinearBand band, const Interrupter& interrupter, const SlabOfTheData* slab,
+                                           detail::CarvingRecords* records = nullptr) {
   const float width = levelSetBackground(3.0, field.g->voxelSize()[0]);
   const openvdb::math::Transform::Ptr xform = field.g->transform().copy();
   const double h = xform->voxelSize()[0];
 
   // 1. The data's leaves and the blocks around them (carveAroundTheData).
   //    The accumulated grids are let go then: what follows needs neither.
-  AroundTheData around = carveAroundTheData(field, maps, margin, width, interrupter, slab);
+  AroundTheData around = carveAroundTheData(field, maps, margin, width, interrupter, slab, records);
   field = AccumulatedField();
   BlockClasses& classes = around.classes;
   Leaves& leaves = around.leaves;
@@ -377,7 +404,7 @@ openvdb::FloatGrid::Ptr linearSolutionGrid(AccumulatedField field, const RangeMa
   // 2. Blocks beside a block of the other class hold the carved surface:
   //    carving decides their every voxel.
   CarvedBlocks carved = boundaryBlocks(classes);
-  Leaves boundaryLeaves = carvedSurface(carved.boundary, maps, margin, h, width, interrupter);
+  Leaves boundaryLeaves = carvedSurface(carved.boundary, maps, margin, h, width, interrupter, records);
 
   // 3. Together they make a field whose zero set is the linear solution, with
   //    steps where carving closes what no scan saw. (Every voxel of the leaves
@@ -409,9 +436,25 @@ SparseField linearSolutionField(AccumulatedField field, const RangeMapSequence& 
   if (field.g->tree().leafCount() == 0)
     throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
   // The grid is let go once the field has read it.
-  SparseField linear =
-      SparseField::fromLevelSet(linearSolutionGrid(std::move(field), maps, margin, band, interrupter, nullptr), engine);
+  SparseField linear = SparseField::fromLevelSet(
+      linearSolutionGrid(std::move(field), numberedMapsOf(maps), margin, band, interrupter, nullptr), engine);
   returnFreedMemory();  // the grid and the carving's leaves, built on the worker threads' heaps
+  return linear;
+}
+
+SparseField linearSolutionField(AccumulatedField field, const RangeMapsFrom& maps, std::size_t mapCount,
+                                CarvingMemo& memo, double margin, LinearBand band, const SparseFieldOptions& engine,
+                                const Interrupter& interrupter) {
+  if (field.g->tree().leafCount() == 0)
+    throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
+  detail::CarvingRecords& records = memo.records();
+  const std::lock_guard<std::mutex> answering(records.answering);
+  records.keepOnlyFor(field.g->voxelSize()[0], margin, mapCount);
+  // Votes go back to the records once complete: an interrupted answer loses
+  // those it took out, and the next asks every map of their voxels again.
+  SparseField linear = SparseField::fromLevelSet(
+      linearSolutionGrid(std::move(field), maps, margin, band, interrupter, nullptr, &records), engine);
+  returnFreedMemory();
   return linear;
 }
 
@@ -419,7 +462,8 @@ SlabField linearSolutionSlabField(AccumulatedField data, const RangeMapSequence&
                                   const SlabOfTheData& slab, const SlabBounds& own, const SparseFieldOptions& engine,
                                   const Interrupter& interrupter) {
   SlabField linear =
-      SlabField::fromLevelSet(linearSolutionGrid(std::move(data), maps, margin, band, interrupter, &slab), own, engine);
+      SlabField::fromLevelSet(linearSolutionGrid(std::move(data), numberedMapsOf(maps), margin, band, interrupter, &slab),
+                              own, engine);
   returnFreedMemory();  // the grid and the carving's leaves, built on the worker threads' heaps
   return linear;
 }

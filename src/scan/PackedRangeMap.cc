@@ -182,6 +182,13 @@ void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisito
       [&](std::size_t, RangeMap&& map) { visit(map); });
 }
 
+void visitUnpacked(const std::vector<PackedRangeMap>& maps, std::size_t first, const NumberedRangeMapVisitor& visit) {
+  if (first >= maps.size()) return;
+  takeMadeAhead<RangeMap>(
+      maps.size() - first, [&](std::size_t i) { return maps[first + i].unpack(); },
+      [&](std::size_t i, RangeMap&& map) { visit(first + i, map); });
+}
+
 void PackedScans::letSamplesGo() {
   for (PackedRangeMap& map : maps) map.letSamplesGo();
 }

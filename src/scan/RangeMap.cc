@@ -676,6 +676,16 @@ RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps) {
   };
 }
 
+RangeMapsFrom numberedMapsOf(RangeMapSequence maps) {
+  return [maps = std::move(maps)](std::size_t first, const NumberedRangeMapVisitor& visit) {
+    std::size_t index = 0;
+    maps([&](const RangeMap& m) {
+      if (index >= first) visit(index, m);
+      ++index;
+    });
+  };
+}
+
 double medianSigma(const std::vector<RangeMap>& maps) {
   if (maps.empty()) throw std::invalid_argument("medianSigma: no range maps");
   std::vector<double> sigmas;

@@ -107,6 +107,28 @@ TEST(Fusion, AnswersAtAnyTimeAsFramesKeepComing) {
   EXPECT_GT(later->activeVoxelCount(), early->activeVoxelCount());  // the second half saw more of the room
 }
 
+TEST(Fusion, AnswersFromKeptCarvingVotesAreThoseCarvedFromScratch) {
+  const RoomFrames frames = roomFrames();
+  const Reconstructor batch(frames.reconstruction, roomOptions(1));
+  FusionSettings settings = settingsFor(batch);
+  settings.voxelSize = 0.02;  // blocks of 16 cm: frames keep reaching new ones
+  ASSERT_TRUE(settings.keepCarvingVotes);
+  Fusion growing(settings);
+  settings.keepCarvingVotes = false;
+  Fusion fromScratch(settings);
+  for (std::size_t i = 0; i < frames.reconstruction.size(); ++i) {
+    growing.integrate(frames.reconstruction[i]);
+    fromScratch.integrate(frames.reconstruction[i]);
+    if (i == 3) {
+      // An answer stopped while carving loses the votes it took out; the next one asks for them again.
+      int asked = 0;
+      EXPECT_THROW(growing.linearSolution("surface", [&] { return ++asked > 3; }), Interrupted);
+    }
+    expectSameGrid(*growing.linearSolution(), *fromScratch.linearSolution());
+    EXPECT_GT(growing.memoryBytes(), fromScratch.memoryBytes()) << "after frame " << i;  // the votes kept
+  }
+}
+
 TEST(Fusion, PackedMapsIntegratedTogetherGiveWhatTheyGiveOneAtATime) {
   const RoomFrames frames = roomFrames();
   const Reconstructor batch(frames.reconstruction, roomOptions(1));

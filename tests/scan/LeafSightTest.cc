@@ -356,9 +356,10 @@ TEST(BlockVotes, TheVotesOnBlocksAreTheVotesOnEachVoxel) {
   detail::PointVotes points(voxels.size(), [&voxels](std::size_t i) { return voxels[i]; });
   RangeMap closer = wallWithABox();
   closer.setMissesAreEmpty(true, 0);
+  std::size_t index = 0;
   for (const RangeMap& map : {wallWithABox(), closer, tiltedPlaneAlongZ()}) {
-    blocks.add(map, kMargin);
-    points.add(map, kMargin);
+    blocks.add(map, kMargin, index);
+    points.add(map, kMargin, index++);
   }
   std::size_t next = 0, inside = 0;
   for (std::size_t b = 0; b < blocks.size(); ++b)
@@ -372,6 +373,97 @@ TEST(BlockVotes, TheVotesOnBlocksAreTheVotesOnEachVoxel) {
   // Both answers occur: the test can tell them apart.
   EXPECT_GT(inside, 1000u);
   EXPECT_GT(voxels.size() - inside, 1000u);
+}
+
+/// Each voxel's votes, blocks and voxels in order: its balance and whether it was seen empty.
+std::vector<std::pair<std::int32_t, bool>> votesOfEachVoxel(const detail::BlockVotes::Kept& kept) {
+  std::vector<std::pair<std::int32_t, bool>> votes;
+  for (const auto& [origin, block] : kept)
+    for (auto it = block.asked.beginOn(); it; ++it) {
+      const std::int32_t own = block.voxels.empty() ? 0 : block.voxels[block.rank(it.pos())];
+      votes.emplace_back(block.uniform + own, block.empty || block.voxelEmpty.isOn(it.pos()));
+    }
+  return votes;
+}
+
+TEST(BlockVotes, VotesKeptFromFewerMapsTakeTheRestAlone) {
+  // Blocks and points voted on by the first two of four maps, kept, then
+  // asked again with more blocks and points (and fewer voxels of the kept
+  // blocks) from the first map one of them has not counted: the votes of
+  // all four maps cast once each, as from scratch.
+  using Mask = detail::BlockVotes::Mask;
+  RangeMap closer = wallWithABox();
+  closer.setMissesAreEmpty(true, 0);
+  const std::vector<RangeMap> maps{tiltedPlaneAlongZ(), wallWithABox(), closer, tiltedPlaneAlongZ()};
+  std::vector<Coord> origins;
+  std::vector<Mask> asked, everyVoxel;
+  std::uint64_t state = 99;
+  for (int x = -48; x <= 48; x += 8)
+    for (int y = -48; y <= 48; y += 16)
+      for (int z = 64; z <= 120; z += 8) {
+        Mask mask;
+        for (openvdb::Index o = 0; o < Mask::SIZE; ++o) {
+          state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+          if (state >> 62) mask.setOn(o);  // three in four
+        }
+        origins.emplace_back(x, y, z);
+        asked.push_back(mask);
+        everyVoxel.emplace_back(true);
+      }
+  const std::size_t half = origins.size() / 2;
+  const auto centre = [&origins](std::size_t i) { return (origins[i].asVec3d() + Vec3d(3.5)) * kVoxel; };
+
+  detail::BlockVotes scratch(origins, asked, kVoxel);
+  detail::PointVotes scratchPoints(origins.size(), centre);
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    scratch.add(maps[i], kMargin, i);
+    scratchPoints.add(maps[i], kMargin, i);
+  }
+
+  detail::BlockVotes::Kept kept;
+  {
+    detail::BlockVotes early(std::vector<Coord>(origins.begin(), origins.begin() + half),
+                             std::vector<Mask>(everyVoxel.begin(), everyVoxel.begin() + half), kVoxel);
+    for (std::size_t i = 0; i < 2; ++i) early.add(maps[i], kMargin, i);
+    early.keepIn(kept);
+  }
+  detail::PointVotes earlyPoints(half, centre);
+  for (std::size_t i = 0; i < 2; ++i) earlyPoints.add(maps[i], kMargin, i);
+
+  detail::BlockVotes later(origins, asked, kVoxel, &kept);
+  EXPECT_TRUE(kept.empty());  // every kept block taken
+  detail::PointVotes laterPoints(origins.size(), centre);
+  for (std::size_t i = 0; i < half; ++i) laterPoints.restore(i, earlyPoints.record(i));
+  EXPECT_EQ(later.firstMapNeeded(), 0u);  // the new blocks need every map
+  for (std::size_t i = std::min(later.firstMapNeeded(), laterPoints.firstMapNeeded()); i < maps.size(); ++i) {
+    later.add(maps[i], kMargin, i);
+    laterPoints.add(maps[i], kMargin, i);
+  }
+  const auto everyMapCounted = [&maps](std::size_t first) { return first == maps.size() || first == detail::kNoMapNeeded; };
+  EXPECT_TRUE(everyMapCounted(later.firstMapNeeded()));
+  for (std::size_t i = 0; i < origins.size(); ++i) {
+    EXPECT_EQ(laterPoints.record(i).balance, scratchPoints.record(i).balance) << "point " << i;
+    EXPECT_EQ(laterPoints.record(i).empty, scratchPoints.record(i).empty) << "point " << i;
+  }
+  detail::BlockVotes::Kept fromScratch, fromKept;
+  scratch.keepIn(fromScratch);
+  later.keepIn(fromKept);
+  const auto expected = votesOfEachVoxel(fromScratch), got = votesOfEachVoxel(fromKept);
+  ASSERT_EQ(got.size(), expected.size());
+  std::size_t differ = 0, empty = 0, behind = 0;
+  for (std::size_t v = 0; v < got.size(); ++v) {
+    differ += got[v] != expected[v];
+    empty += expected[v].second;
+    behind += !expected[v].second && expected[v].first > 0;
+  }
+  EXPECT_EQ(differ, 0u);
+  // The maps say all three things of these voxels: the test can tell them apart.
+  EXPECT_GT(empty, 1000u);
+  EXPECT_GT(behind, 1000u);
+  EXPECT_GT(got.size() - empty - behind, 1000u);
+  // Kept once every map is counted, they need none.
+  const detail::BlockVotes again(origins, asked, kVoxel, &fromKept);
+  EXPECT_TRUE(everyMapCounted(again.firstMapNeeded()));
 }
 
 /// Calls visit(corner) for the 20 x 20 x 20 cells of 0.4 m over 8 m around

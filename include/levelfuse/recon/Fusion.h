@@ -113,7 +113,9 @@ class Fusion {
   PackedScans takeScans();
 
   /// The linear solution on grid `level` as a sparse field (linearSolutionField),
-  /// space carving asking `scans` (by default, the maps kept). Throws
+  /// space carving asking `scans` (by default, the maps kept: then, with
+  /// FusionSettings::keepCarvingVotes, from the votes kept from the last
+  /// answer on the grid, whose new maps alone are asked of what it asked). Throws
   /// std::invalid_argument before any reading, or without maps to carve with;
   /// Interrupted if `interrupter` asks to stop.
   SparseField linearSolutionField(int level, LinearBand band, const SparseFieldOptions& engine = {},
@@ -122,7 +124,7 @@ class Fusion {
   /// (half-width 3, GRID_LEVEL_SET): VRIP-style fusion of the maps so far.
   openvdb::FloatGrid::Ptr linearSolution(const std::string& name = "surface", const Interrupter& interrupter = {}) const;
 
-  /// Memory held (bytes): the grids and the packed maps.
+  /// Memory held (bytes): the grids, the packed maps and carving's votes kept.
   std::size_t memoryBytes() const;
   /// Memory held by the grids of the data term alone (bytes).
   std::size_t dataTermBytes() const;
@@ -135,6 +137,8 @@ class Fusion {
   Keep mKeep;
   std::vector<std::unique_ptr<DataTermGrids>> mGrids;  ///< per level, coarsest first
   std::vector<PackedRangeMap> mPacked;
+  /// Per level: carving's votes kept between linear solutions (FusionSettings::keepCarvingVotes).
+  mutable std::vector<CarvingMemo> mCarvingMemos;
   ScanSummary mSummary;
   std::optional<SlabBounds> mDataSlab;
   std::vector<bool> mDeferred;  ///< per level: integrated later, within a slab (deferLevel)

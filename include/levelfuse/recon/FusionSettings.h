@@ -18,6 +18,11 @@ struct FusionSettings {
   double epsilon = 0.0;
   WindowKind window = WindowKind::kGaussian;
   std::size_t grainSize = 1;  ///< leaf nodes per parallel task; 0 integrates serially
+  /// Space carving's votes kept from one linear solution to the next
+  /// (CarvingMemo), so that an answer while maps keep coming asks only the new
+  /// maps of what the last one asked: about 2 KB per block of voxels asked. A
+  /// fusion that answers once, after its last map, need not keep them.
+  bool keepCarvingVotes = true;
 
   /// Voxel size of grid `level` (0 is the coarsest).
   double levelVoxelSize(int level) const;

@@ -12,6 +12,7 @@
 #include <levelfuse/core/Interrupter.h>
 #include <levelfuse/levelset/SlabField.h>
 #include <levelfuse/levelset/SparseField.h>
+#include <levelfuse/scan/CarvingMemo.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/DataWindow.h>
 #include <levelfuse/scan/RangeMap.h>
@@ -112,6 +113,14 @@ inline constexpr int kLinearSolutionSlabMargin = 8 + 8 + 1;
 /// the narrow band do not hold them.
 SparseField linearSolutionField(AccumulatedField data, const RangeMapSequence& maps, double margin,
                                 LinearBand band, const SparseFieldOptions& engine = {},
+                                const Interrupter& interrupter = {});
+/// The same for the first `mapCount` maps of a sequence that grows between
+/// calls (a fusion's maps while frames keep coming), `maps` visiting them
+/// from any on: carving starts from the votes `memo` kept from the last call
+/// and keeps its votes there, so that it asks only the new maps of what it
+/// asked before; the same field as carving from scratch, bit for bit.
+SparseField linearSolutionField(AccumulatedField data, const RangeMapsFrom& maps, std::size_t mapCount,
+                                CarvingMemo& memo, double margin, LinearBand band, const SparseFieldOptions& engine = {},
                                 const Interrupter& interrupter = {});
 /// The same of one slab of the data (`slab`), as the slab `own` of the whole
 /// data's sparse field (SlabField::fromLevelSet): exact where `own` lies

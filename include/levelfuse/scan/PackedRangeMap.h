@@ -56,6 +56,8 @@ class PackedRangeMap {
 /// there are threads), the next batch while the maps of the last are visited
 /// (no more than two batches are held unpacked at once).
 void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisitor& visit);
+/// The same from map `first` on, each visited with its index in `maps`.
+void visitUnpacked(const std::vector<PackedRangeMap>& maps, std::size_t first, const NumberedRangeMapVisitor& visit);
 
 /// Scans held packed as they are read, with what a reconstruction's derived
 /// settings are taken from (resolveReconstructionSettings): a folder of depth

@@ -664,6 +664,13 @@ using RangeMapVisitor = std::function<void(const RangeMap&)>;
 using RangeMapSequence = std::function<void(const RangeMapVisitor&)>;
 /// The sequence of a vector of range maps (which must outlive it).
 RangeMapSequence rangeMapsOf(const std::vector<RangeMap>& maps);
+/// Visits range maps one at a time with their numbers in their sequence.
+using NumberedRangeMapVisitor = std::function<void(std::size_t index, const RangeMap&)>;
+/// A sequence of range maps visited, in order, from the map numbered `first`
+/// on (none if there are no more).
+using RangeMapsFrom = std::function<void(std::size_t first, const NumberedRangeMapVisitor&)>;
+/// The same visits of a sequence (every map is visited to count them).
+RangeMapsFrom numberedMapsOf(RangeMapSequence maps);
 
 /// The median of the range maps' noise sigma (world units); throws
 /// std::invalid_argument for no maps.
