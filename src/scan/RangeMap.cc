@@ -95,6 +95,17 @@ void RangeMap::findBlockBounds() {
     if (!(mBlockMin[b] <= mBlockMax[b])) mBlockMin[b] = mBlockMax[b] = nan;  // no reading
 }
 
+// Inlined into findUsableCells (its only other caller, changesLikeItsNeighbours, is in this file).
+inline bool RangeMap::cellReadings(int i, int j, double (&r)[4]) const {
+  if (i < 0 || j < 0 || i + 1 >= mWidth || j + 1 >= mHeight) return false;
+  const std::size_t at = index(i, j);
+  const float readings[4] = {mReadings[at], mReadings[at + 1], mReadings[at + static_cast<std::size_t>(mWidth)],
+                             mReadings[at + static_cast<std::size_t>(mWidth) + 1]};
+  for (int c = 0; c < 4; ++c) r[c] = readings[c];
+  return readings[0] == readings[0] && readings[1] == readings[1] && readings[2] == readings[2] &&
+         readings[3] == readings[3];
+}
+
 void RangeMap::findUsableCells() {
   mUsableCell = PixelFlags(mReadings.size());
   // The sigmas of the two rows of pixels around a row of cells, each pixel's worked out once.
@@ -126,15 +137,6 @@ void RangeMap::findUsableCells() {
                  kJumpNoise * largestSigma;
 }
 
-bool RangeMap::cellReadings(int i, int j, double (&r)[4]) const {
-  if (i < 0 || j < 0 || i + 1 >= mWidth || j + 1 >= mHeight) return false;
-  const std::size_t at = index(i, j);
-  const float readings[4] = {mReadings[at], mReadings[at + 1], mReadings[at + static_cast<std::size_t>(mWidth)],
-                             mReadings[at + static_cast<std::size_t>(mWidth) + 1]};
-  for (int c = 0; c < 4; ++c) r[c] = readings[c];
-  return readings[0] == readings[0] && readings[1] == readings[1] && readings[2] == readings[2] &&
-         readings[3] == readings[3];
-}
 
 namespace {
 

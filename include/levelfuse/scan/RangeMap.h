@@ -420,8 +420,12 @@ class RangeMap {
   /// Marks the 2x2 cells of readings that may be interpolated.
   void findUsableCells();
   /// The readings of cell (i, j), at pixels (i, j), (i + 1, j), (i, j + 1) and
-  /// (i + 1, j + 1); false unless the cell lies in the map and all four are valid.
-  bool cellReadings(int i, int j, double (&r)[4]) const;
+  /// (i + 1, j + 1); false unless the cell lies in the map and all four are
+  /// valid. Inlined into findUsableCells, which asks it of every cell.
+#if defined(__GNUC__)
+  __attribute__((always_inline))
+#endif
+  inline bool cellReadings(int i, int j, double (&r)[4]) const;
   /// Whether cell (i, j), whose readings `r` are valid and may differ by
   /// `noise` on top of the surface's own change, spans no depth
   /// discontinuity (the rule setDiscontinuityFactor states); `rays` are the
