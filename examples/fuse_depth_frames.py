@@ -3,7 +3,8 @@
     python3 examples/fuse_depth_frames.py [FOLDER] [OUT_DIR]
 
 FOLDER holds 7-Scenes frames (frame-*.depth.png, frame-*.pose.txt, camera-intrinsics.txt);
-by default the 50 frames in ../shared/data/7scenes. Writes room.vdb, room.ply and room.png.
+by default the 50 frames in ../shared/data/7scenes. Writes room-so-far.png every 10 frames as
+they come, then room.vdb, room.ply and room.png.
 """
 import pathlib
 import sys
@@ -20,6 +21,9 @@ out.mkdir(parents=True, exist_ok=True)
 
 # %% The camera: a 3x3 intrinsic matrix; each frame: 16-bit depth in millimetres and a 4x4
 # camera-to-world pose (column vectors), as any numpy code holds them.
+# Every REFRESH frames the view of the surface so far is drawn again, as a scanning app does: each
+# answer asks only the new frames about what the last one carved (the fusion keeps those votes).
+REFRESH = 10
 K = np.loadtxt(folder / "camera-intrinsics.txt")
 fusion = levelfuse.Fusion(voxel_size=0.01)  # 1 cm voxels
 started = time.monotonic()
@@ -27,6 +31,11 @@ for image in sorted(folder.glob("*.depth.png")):
     depth = levelfuse.read_depth_png(str(image))  # (480, 640) uint16
     pose = np.loadtxt(str(image).replace(".depth.png", ".pose.txt"))
     fusion.integrate(depth, K, pose, depth_scale=0.001, name=image.name)
+    if fusion.scan_count % REFRESH == 0:
+        asked = time.monotonic()
+        fusion.linear_solution(fit=False).write_preview(str(out / "room-so-far.png"))
+        print(f"  {fusion.scan_count} frames: the view of the surface so far redrawn in "
+              f"{time.monotonic() - asked:.2f} s")
 print(f"{fusion.scan_count} frames integrated in {time.monotonic() - started:.1f} s, "
       f"{fusion.memory_bytes / 2**20:.0f} MiB held")
 
