@@ -350,6 +350,86 @@ openvdb::MaskTree::Ptr outermostLayers(const detail::SparseFieldState& state) {
   return ring;
 }
 
+/// The origins of the leaves of `ring` and of the leaves beside them across
+/// a face, sorted, each once.
+std::vector<openvdb::Coord> leavesAroundRing(const openvdb::MaskTree& ring) {
+  std::vector<openvdb::Coord> origins;
+  origins.reserve(ring.leafCount() * (detail::kFaceCount + 1));
+  const int dim = static_cast<int>(FloatLeaf::DIM);
+  for (auto leaf = ring.cbeginLeaf(); leaf; ++leaf) {
+    origins.push_back(leaf->origin());
+    for (const auto& e : detail::kFaceOffset) origins.push_back(leaf->origin().offsetBy(e[0] * dim, e[1] * dim, e[2] * dim));
+  }
+  std::sort(origins.begin(), origins.end());
+  origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
+  return origins;
+}
+
+/// The voxels just beyond the band of `tree` whose outermost layer is
+/// `ring`: the face neighbours of the ring's voxels outside the band, each
+/// once, found leaf by leaf in parallel from the masks.
+openvdb::MaskTree::Ptr facesBeyondTheBand(const openvdb::MaskTree& ring, const openvdb::FloatTree& tree) {
+  const std::vector<openvdb::Coord> origins = leavesAroundRing(ring);
+  const int dim = static_cast<int>(FloatLeaf::DIM);
+  std::vector<detail::LeafMask> beyond(origins.size());
+  parallelFor(origins.size(), 64, [&](std::size_t begin, std::size_t end) {
+    const openvdb::tree::ValueAccessor<const openvdb::MaskTree> rings(ring);
+    const openvdb::tree::ValueAccessor<const openvdb::FloatTree> band(tree);
+    for (std::size_t i = begin; i < end; ++i) {
+      const openvdb::Coord& origin = origins[i];
+      const detail::LeafMask* face[detail::kFaceCount];
+      for (int f = 0; f < detail::kFaceCount; ++f) {
+        const auto* leaf = rings.probeConstLeaf(
+            origin.offsetBy(detail::kFaceOffset[f][0] * dim, detail::kFaceOffset[f][1] * dim, detail::kFaceOffset[f][2] * dim));
+        face[f] = leaf ? &leaf->getValueMask() : nullptr;
+      }
+      const auto* self = rings.probeConstLeaf(origin);
+      const detail::LeafMask grown = detail::dilateFaces(self ? self->getValueMask() : detail::LeafMask(), face);
+      if (const FloatLeaf* inBand = band.probeConstLeaf(origin)) beyond[i] = grown & !inBand->getValueMask();
+      else if (!band.isValueOn(origin)) beyond[i] = grown;  // an active tile holds no voxel beyond the band
+    }
+  });
+  auto faces = std::make_shared<openvdb::MaskTree>();
+  openvdb::tree::ValueAccessor<openvdb::MaskTree> mark(*faces);
+  for (std::size_t i = 0; i < origins.size(); ++i)
+    if (detail::anyOn(beyond[i])) mark.touchLeaf(origins[i])->setValueMask(beyond[i]);
+  return faces;
+}
+
+/// The values of the voxels of `beyond` (facesBeyondTheBand) by the sparse
+/// field's layer rule (LeafNeighbourhood.h) from their face neighbours in the
+/// band of `tree` as it is, leaf by leaf of `beyond` in its order, each leaf's
+/// in offset order; worked out in parallel.
+std::vector<std::vector<float>> layerValuesBeyond(const openvdb::MaskTree& beyond, const openvdb::FloatTree& tree,
+                                                  double dx) {
+  const openvdb::tree::LeafManager<const openvdb::MaskTree> leaves(beyond);
+  std::vector<std::vector<float>> values(leaves.leafCount());
+  parallelFor(values.size(), 16, [&](std::size_t begin, std::size_t end) {
+    const openvdb::tree::ValueAccessor<const openvdb::FloatTree> band(tree);
+    for (std::size_t i = begin; i < end; ++i) {
+      const auto& leaf = leaves.leaf(i);
+      values[i].reserve(leaf.onVoxelCount());
+      for (auto it = leaf.cbeginValueOn(); it; ++it) {
+        const openvdb::Coord ijk = it.getCoord();
+        float inner[detail::kFaceCount];
+        int count = 0;
+        for (const auto& e : detail::kFaceOffset) {
+          const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
+          if (band.isValueOn(n)) inner[count++] = band.getValue(n);
+        }
+        // A voxel beyond the band lies on the side of the band voxels beside it
+        // (else a sign change would lie between them, and both would be in the
+        // band), whatever the tiles say: a slab's tiles need not be right.
+        const bool inside = inner[0] < 0.0f;
+        detail::NearestInner nearest(inside);
+        for (int k = 0; k < count; ++k) nearest.offer(inner[k]);
+        values[i].push_back(detail::layerValue(nearest.value(), inside, static_cast<float>(dx)));
+      }
+    }
+  });
+  return values;
+}
+
 /// The band of `out` (a sparse field's values, layers L+-N of which `ring`
 /// is the outermost) grown to a standard OpenVDB level set.
 void growToLevelSet(openvdb::FloatGrid& out, openvdb::MaskTree::Ptr ring, int N, double dx, float background,
@@ -357,49 +437,29 @@ void growToLevelSet(openvdb::FloatGrid& out, openvdb::MaskTree::Ptr ring, int N,
   const float width = levelSetBackground(halfWidth, dx);
   openvdb::FloatTree& tree = out.tree();
 
-  // Grow further layers by the sparse field's own layer rule
-  // (LeafNeighbourhood.h) until they reach the requested half-width.
+  // Grow further layers by the sparse field's own layer rule until they
+  // reach the requested half-width: each voxel of a layer valued from the
+  // band as it was, then all of them added.
   const int wanted = static_cast<int>(std::ceil(halfWidth - 0.5));
   openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(tree);
   for (int layer = N + 1; layer <= wanted; ++layer) {
-    // The ring's outside face neighbours, each once (a mask, not a list of
-    // every neighbour of every ring voxel).
-    auto candidates = std::make_shared<openvdb::MaskTree>();
-    {
-      openvdb::tree::ValueAccessor<openvdb::MaskTree> mark(*candidates);
-      for (auto it = ring->cbeginValueOn(); it; ++it)
-        for (const auto& e : detail::kFaceOffset) {
-          const openvdb::Coord n = it.getCoord().offsetBy(e[0], e[1], e[2]);
-          if (!acc.isValueOn(n)) mark.setValueOn(n);
-        }
-    }
+    openvdb::MaskTree::Ptr beyond = facesBeyondTheBand(*ring, tree);
     ring.reset();
-    // Each valued from the band as it was: the candidates valued before it
-    // are not read.
-    const openvdb::tree::ValueAccessor<const openvdb::MaskTree> isCandidate(*candidates);
-    for (auto it = candidates->cbeginValueOn(); it; ++it) {
-      const openvdb::Coord ijk = it.getCoord();
-      float inner[detail::kFaceCount];
-      int count = 0;
-      for (const auto& e : detail::kFaceOffset) {
-        const openvdb::Coord n = ijk.offsetBy(e[0], e[1], e[2]);
-        if (acc.isValueOn(n) && !isCandidate.isValueOn(n)) inner[count++] = acc.getValue(n);
-      }
-      // A voxel beyond the band lies on the side of the band voxels beside it
-      // (else a sign change would lie between them, and both would be in the
-      // band), whatever the tiles say: a slab's tiles need not be right.
-      const bool inside = inner[0] < 0.0f;
-      detail::NearestInner nearest(inside);
-      for (int i = 0; i < count; ++i) nearest.offer(inner[i]);
-      const float value = detail::layerValue(nearest.value(), inside, static_cast<float>(dx));
+    const std::vector<std::vector<float>> values = layerValuesBeyond(*beyond, tree, dx);
+    std::size_t i = 0;
+    for (auto leaf = beyond->cbeginLeaf(); leaf; ++leaf, ++i) {
       // A leaf the band grows into lies beyond it but for these voxels, on
-      // their side: its other voxels take that side's background, not the
-      // tile's value (a slab's tiles need not be right).
-      if (!acc.probeLeaf(ijk))
-        acc.touchLeaf(ijk)->fill(value < 0.0f ? -background : background, false);
-      acc.setValueOn(ijk, value);
+      // their side (its first voxel's): its other voxels take that side's
+      // background, not the tile's value (a slab's tiles need not be right).
+      FloatLeaf* target = acc.probeLeaf(leaf->origin());
+      if (!target) {
+        target = acc.touchLeaf(leaf->origin());
+        target->fill(values[i].front() < 0.0f ? -background : background, false);
+      }
+      std::size_t k = 0;
+      for (auto it = leaf->cbeginValueOn(); it; ++it) target->setValueOn(it.pos(), values[i][k++]);
     }
-    ring = std::move(candidates);
+    ring = std::move(beyond);
   }
   // Voxels at or past the half-width leave the band.
   openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
