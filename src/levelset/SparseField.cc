@@ -355,10 +355,9 @@ openvdb::MaskTree::Ptr outermostLayers(const detail::SparseFieldState& state) {
 std::vector<openvdb::Coord> leavesAroundRing(const openvdb::MaskTree& ring) {
   std::vector<openvdb::Coord> origins;
   origins.reserve(ring.leafCount() * (detail::kFaceCount + 1));
-  const int dim = static_cast<int>(FloatLeaf::DIM);
   for (auto leaf = ring.cbeginLeaf(); leaf; ++leaf) {
     origins.push_back(leaf->origin());
-    for (const auto& e : detail::kFaceOffset) origins.push_back(leaf->origin().offsetBy(e[0] * dim, e[1] * dim, e[2] * dim));
+    for (int f = 0; f < detail::kFaceCount; ++f) origins.push_back(detail::leafAcross(leaf->origin(), f));
   }
   std::sort(origins.begin(), origins.end());
   origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
@@ -370,7 +369,6 @@ std::vector<openvdb::Coord> leavesAroundRing(const openvdb::MaskTree& ring) {
 /// once, found leaf by leaf in parallel from the masks.
 openvdb::MaskTree::Ptr facesBeyondTheBand(const openvdb::MaskTree& ring, const openvdb::FloatTree& tree) {
   const std::vector<openvdb::Coord> origins = leavesAroundRing(ring);
-  const int dim = static_cast<int>(FloatLeaf::DIM);
   std::vector<detail::LeafMask> beyond(origins.size());
   parallelFor(origins.size(), 64, [&](std::size_t begin, std::size_t end) {
     const openvdb::tree::ValueAccessor<const openvdb::MaskTree> rings(ring);
@@ -379,8 +377,7 @@ openvdb::MaskTree::Ptr facesBeyondTheBand(const openvdb::MaskTree& ring, const o
       const openvdb::Coord& origin = origins[i];
       const detail::LeafMask* face[detail::kFaceCount];
       for (int f = 0; f < detail::kFaceCount; ++f) {
-        const auto* leaf = rings.probeConstLeaf(
-            origin.offsetBy(detail::kFaceOffset[f][0] * dim, detail::kFaceOffset[f][1] * dim, detail::kFaceOffset[f][2] * dim));
+        const auto* leaf = rings.probeConstLeaf(detail::leafAcross(origin, f));
         face[f] = leaf ? &leaf->getValueMask() : nullptr;
       }
       const auto* self = rings.probeConstLeaf(origin);

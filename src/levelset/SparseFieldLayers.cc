@@ -77,14 +77,12 @@ struct LeafRequest {
 void allocateRequestedLeaves(SparseFieldState& state) {
   LeafTable& table = state.table;
   std::vector<LeafRequest> requests;
-  const int dim = static_cast<int>(FloatLeaf::DIM);
   for (std::size_t r = 0; r < state.faceRequest.size(); ++r) {
     const std::uint8_t request = state.faceRequest[r];
     if (request == 0) continue;
     for (int f = 0; f < kFaceCount; ++f)
       if (request & (1u << f)) {
-        const openvdb::Coord origin =
-            table[r].origin.offsetBy(kFaceOffset[f][0] * dim, kFaceOffset[f][1] * dim, kFaceOffset[f][2] * dim);
+        const openvdb::Coord origin = leafAcross(table[r].origin, f);
         if (state.domain.contains(origin.x()))
           requests.push_back(LeafRequest{origin, table[r].origin, (state.faceInside[r] & (1u << f)) != 0});
       }

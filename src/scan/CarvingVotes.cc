@@ -73,7 +73,6 @@ BlockVotes::BlockVotes(std::vector<Coord> origins, std::vector<Mask> asked, doub
       kept->erase(found);
     } else {
       block.origin = origins[b];
-      block.asked.setOn();
     }
     block.askOnly(asked[b]);
   }
@@ -156,11 +155,11 @@ void BlockVotes::addToCube(Block& block, const RangeMap& map, double margin, con
   }
 }
 
-void CarvingRecords::keepOnlyFor(double voxelSize_, double margin_, std::size_t maps_) {
-  if (voxelSize_ != voxelSize || margin_ != margin || maps_ < maps) clear();
-  voxelSize = voxelSize_;
-  margin = margin_;
-  maps = maps_;
+void CarvingRecords::keepOnlyFor(double size, double thickness, std::size_t count) {
+  if (size != voxelSize || thickness != margin || count < maps) clear();
+  voxelSize = size;
+  margin = thickness;
+  maps = count;
 }
 
 void CarvingRecords::clear() {

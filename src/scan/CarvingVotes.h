@@ -168,9 +168,9 @@ struct CarvingRecords {
   std::map<openvdb::Coord, PointVotes::Record> centres;  ///< by block (origin / leaf width)
   std::mutex answering;  ///< held by the answer that uses the records
 
-  /// Forgets every vote unless they were cast on voxels of `voxelSize` with
-  /// readings `margin` thick, by the first maps of a sequence of `maps`.
-  void keepOnlyFor(double voxelSize, double margin, std::size_t maps);
+  /// Forgets every vote unless they were cast on voxels of `size` with
+  /// readings `thickness` thick, by the first maps of a sequence of `count`.
+  void keepOnlyFor(double size, double thickness, std::size_t count);
   void clear();
   std::size_t memoryBytes() const;
 };

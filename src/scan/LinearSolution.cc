@@ -429,33 +429,36 @@ openvdb::FloatGrid::Ptr linearSolutionGrid(AccumulatedField field, const RangeMa
   return psi;
 }
 
-}  // namespace
-
-SparseField linearSolutionField(AccumulatedField field, const RangeMapSequence& maps, double margin,
-                                LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
+/// linearSolutionField of the whole data, carving from the votes `records`
+/// kept, if any, and keeping its votes there.
+SparseField wholeLinearSolutionField(AccumulatedField field, const RangeMapsFrom& maps, double margin,
+                                     LinearBand band, const SparseFieldOptions& engine,
+                                     const Interrupter& interrupter, detail::CarvingRecords* records) {
   if (field.g->tree().leafCount() == 0)
     throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
   // The grid is let go once the field has read it.
   SparseField linear = SparseField::fromLevelSet(
-      linearSolutionGrid(std::move(field), numberedMapsOf(maps), margin, band, interrupter, nullptr), engine);
+      linearSolutionGrid(std::move(field), maps, margin, band, interrupter, nullptr, records), engine);
   returnFreedMemory();  // the grid and the carving's leaves, built on the worker threads' heaps
   return linear;
+}
+
+}  // namespace
+
+SparseField linearSolutionField(AccumulatedField field, const RangeMapSequence& maps, double margin,
+                                LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
+  return wholeLinearSolutionField(std::move(field), numberedMapsOf(maps), margin, band, engine, interrupter, nullptr);
 }
 
 SparseField linearSolutionField(AccumulatedField field, const RangeMapsFrom& maps, std::size_t mapCount,
                                 CarvingMemo& memo, double margin, LinearBand band, const SparseFieldOptions& engine,
                                 const Interrupter& interrupter) {
-  if (field.g->tree().leafCount() == 0)
-    throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
   detail::CarvingRecords& records = memo.records();
   const std::lock_guard<std::mutex> answering(records.answering);
   records.keepOnlyFor(field.g->voxelSize()[0], margin, mapCount);
   // Votes go back to the records once complete: an interrupted answer loses
   // those it took out, and the next asks every map of their voxels again.
-  SparseField linear = SparseField::fromLevelSet(
-      linearSolutionGrid(std::move(field), maps, margin, band, interrupter, nullptr, &records), engine);
-  returnFreedMemory();
-  return linear;
+  return wholeLinearSolutionField(std::move(field), maps, margin, band, engine, interrupter, &records);
 }
 
 SlabField linearSolutionSlabField(AccumulatedField data, const RangeMapSequence& maps, double margin, LinearBand band,

@@ -177,9 +177,7 @@ void PackedScans::add(RangeMap map) {
 }
 
 void visitUnpacked(const std::vector<PackedRangeMap>& maps, const RangeMapVisitor& visit) {
-  takeMadeAhead<RangeMap>(
-      maps.size(), [&](std::size_t i) { return maps[i].unpack(); },
-      [&](std::size_t, RangeMap&& map) { visit(map); });
+  visitUnpacked(maps, 0, [&](std::size_t, const RangeMap& map) { visit(map); });
 }
 
 void visitUnpacked(const std::vector<PackedRangeMap>& maps, std::size_t first, const NumberedRangeMapVisitor& visit) {

@@ -21,6 +21,12 @@ enum Face : int { kFaceXm = 0, kFaceXp, kFaceYm, kFaceYp, kFaceZm, kFaceZp, kFac
 inline constexpr int kFaceOffset[kFaceCount][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0},
                                                    {0, 1, 0},  {0, 0, -1}, {0, 0, 1}};
 
+/// The origin of the leaf across face f of the leaf at `origin`.
+inline openvdb::Coord leafAcross(const openvdb::Coord& origin, int f) {
+  constexpr int dim = static_cast<int>(LeafMask::DIM);
+  return origin.offsetBy(kFaceOffset[f][0] * dim, kFaceOffset[f][1] * dim, kFaceOffset[f][2] * dim);
+}
+
 inline std::uint64_t maskWord(const LeafMask& m, int x) { return m.getWord<std::uint64_t>(x); }
 inline std::uint64_t& maskWord(LeafMask& m, int x) { return m.getWord<std::uint64_t>(x); }
 /// The mask's eight words (a NodeMask holds nothing else).

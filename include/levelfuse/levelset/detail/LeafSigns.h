@@ -38,9 +38,7 @@ LeafMask zeroCrossingVoxels(const Accessor& acc, const LeafT& leaf, const LeafMa
   const LeafMask* negativeFaces[kFaceCount];
   const LeafMask* positiveFaces[kFaceCount];
   for (int f = 0; f < kFaceCount; ++f) {
-    const openvdb::Coord across = leaf.origin().offsetBy(kFaceOffset[f][0] * int(LeafT::DIM),
-                                                         kFaceOffset[f][1] * int(LeafT::DIM),
-                                                         kFaceOffset[f][2] * int(LeafT::DIM));
+    const openvdb::Coord across = leafAcross(leaf.origin(), f);
     if (const LeafT* neighbour = acc.probeConstLeaf(across)) negativeAcross[f] = negativeVoxels(*neighbour);
     else negativeAcross[f] = LeafMask(acc.getValue(across) < 0);
     positiveAcross[f] = !negativeAcross[f];
