@@ -2,8 +2,10 @@
 
 #include <levelfuse/recon/Fusion.h>
 
+#include <tbb/task_group.h>
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -81,8 +83,24 @@ void Fusion::addToGrids(const RangeMap& map) {
 }
 
 void Fusion::integrate(const RangeMap& map) {
-  addToGrids(map);
-  if (mKeep == Keep::kPacked) mPacked.emplace_back(RangeMap(map));
+  if (mKeep != Keep::kPacked) {
+    addToGrids(map);
+    return;
+  }
+  // The packed copy is made on another thread while the grids take the map:
+  // packing is serial, and so are the parts of an integration that change
+  // the grids' trees.
+  std::optional<PackedRangeMap> packed;
+  tbb::task_group packing;
+  packing.run([&] { packed.emplace(RangeMap(map)); });
+  try {
+    addToGrids(map);
+  } catch (...) {
+    packing.wait();
+    throw;
+  }
+  packing.wait();
+  mPacked.push_back(std::move(*packed));
 }
 
 void Fusion::integrate(PackedRangeMap packed) {
