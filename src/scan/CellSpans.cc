@@ -10,7 +10,7 @@
 namespace levelfuse::detail {
 
 CellSpans::CellSpans(const RangeMap& map) : mMap(map), mCellsX(map.width() - 1), mCellsY(map.height() - 1) {
-  mSpans.resize(static_cast<std::size_t>(mCellsX) * static_cast<std::size_t>(mCellsY));
+  mSpans.reset(new Span[static_cast<std::size_t>(mCellsX) * static_cast<std::size_t>(mCellsY)]);
   constexpr std::size_t kRowsPerTask = 8;
   parallelFor(static_cast<std::size_t>(mCellsY), kRowsPerTask, [&](std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) findRow(static_cast<int>(j));
@@ -23,7 +23,7 @@ void CellSpans::findRow(int j) {
   // from its edges into the cells that are not usable.
   const bool station = mMap.borderReach() > 0.0;
   const bool borderRow = station && (j == 0 || j + 1 == mCellsY);
-  Span* row = mSpans.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(mCellsX);
+  Span* row = mSpans.get() + static_cast<std::size_t>(j) * static_cast<std::size_t>(mCellsX);
   for (int i = 0; i < mCellsX; ++i) {
     Span& s = row[i];
     if (!mMap.cellUsable(i, j)) {

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace levelfuse::detail {
@@ -51,7 +52,9 @@ class CellSpans {
 
   const RangeMap& mMap;
   int mCellsX = 0, mCellsY = 0;
-  std::vector<Span> mSpans;
+  /// Per cell, row by row; findRow writes every one (not zeroed first: a
+  /// frame's cells are found in parallel, an allocation's zeroing is serial).
+  std::unique_ptr<Span[]> mSpans;
 };
 
 }  // namespace levelfuse::detail

@@ -319,28 +319,42 @@ void DataTermGrids::integrateLeaves(const RangeMap& map, const detail::CellSpans
 
 detail::BatchTargets DataTermGrids::touchTargetLeaves(const detail::BatchTerms& batch, const Coord* leaves) {
   BatchTargets targets(batch.terms.size());
-  openvdb::tree::ValueAccessor<openvdb::Int32Tree> mask(mBinMask->tree());
-  for (std::size_t l = 0; l < batch.terms.size(); ++l) {
-    if (batch.terms[l].empty()) continue;
-    targets.maskLeaves[l] = mask.touchLeaf(leaves[l]);
-    for (std::size_t b = 0; b < kSightBins; ++b) {
-      if (!(batch.binsOfLeaf[l] & (1u << b))) continue;
-      BinLeaves& target = targets.bins[l][b];
-      Bin& bin = mBins[b];
-      target.g = bin.g->tree().touchLeaf(leaves[l]);
-      target.weight = bin.weight->tree().touchLeaf(leaves[l]);
-      target.gradient = bin.gradient->tree().touchLeaf(leaves[l]);
-      target.gValues = target.g->buffer().data();
-      target.weightValues = target.weight->buffer().data();
-      target.gradientValues = target.gradient->buffer().data();
-      const Coord block = detail::leafBlockOf(leaves[l]);
-      target.sight = bin.sight->tree().touchLeaf(block);
-      target.leafWeight = bin.leafWeight->tree().touchLeaf(block);
-      target.leafWindows = bin.leafWindows->tree().touchLeaf(block);
-      target.sightOffset = VectorLeaf::coordToOffset(block);
+  // Each bin's grids, and the mask, are trees of their own: a task each
+  // touches its trees' leaves, in the leaves' order.
+  parallelFor(kSightBins + 1, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t task = begin; task < end; ++task) {
+      if (task == kSightBins) touchMaskLeaves(batch, leaves, targets);
+      else touchBinLeaves(task, batch, leaves, targets);
     }
-  }
+  });
   return targets;
+}
+
+void DataTermGrids::touchMaskLeaves(const detail::BatchTerms& batch, const Coord* leaves,
+                                    detail::BatchTargets& targets) {
+  openvdb::tree::ValueAccessor<openvdb::Int32Tree, false> mask(mBinMask->tree());  // one task's: not registered
+  for (std::size_t l = 0; l < batch.terms.size(); ++l)
+    if (!batch.terms[l].empty()) targets.maskLeaves[l] = mask.touchLeaf(leaves[l]);
+}
+
+void DataTermGrids::touchBinLeaves(std::size_t b, const detail::BatchTerms& batch, const Coord* leaves,
+                                   detail::BatchTargets& targets) {
+  Bin& bin = mBins[b];
+  for (std::size_t l = 0; l < batch.terms.size(); ++l) {
+    if (!(batch.binsOfLeaf[l] & (1u << b))) continue;
+    BinLeaves& target = targets.bins[l][b];
+    target.g = bin.g->tree().touchLeaf(leaves[l]);
+    target.weight = bin.weight->tree().touchLeaf(leaves[l]);
+    target.gradient = bin.gradient->tree().touchLeaf(leaves[l]);
+    target.gValues = target.g->buffer().data();
+    target.weightValues = target.weight->buffer().data();
+    target.gradientValues = target.gradient->buffer().data();
+    const Coord block = detail::leafBlockOf(leaves[l]);
+    target.sight = bin.sight->tree().touchLeaf(block);
+    target.leafWeight = bin.leafWeight->tree().touchLeaf(block);
+    target.leafWindows = bin.leafWindows->tree().touchLeaf(block);
+    target.sightOffset = VectorLeaf::coordToOffset(block);
+  }
 }
 
 DataTermGrids::Sampler DataTermGrids::sampler() const { return Sampler(*this); }

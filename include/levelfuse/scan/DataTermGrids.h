@@ -144,8 +144,14 @@ class DataTermGrids {
   void integrateLeaves(const RangeMap& map, const detail::CellSpans& cells, const detail::UsableSpans& spans,
                        const openvdb::Coord* leaves, std::size_t count);
   /// The leaves of the grids that the terms of `batch`, one map's at the leaf
-  /// nodes [leaves, leaves + count), go into: made, serially (tree topology).
+  /// nodes [leaves, leaves + count), go into: made, each tree's serially
+  /// (its topology), the trees in parallel.
   detail::BatchTargets touchTargetLeaves(const detail::BatchTerms& batch, const openvdb::Coord* leaves);
+  /// The bin mask's leaves of touchTargetLeaves.
+  void touchMaskLeaves(const detail::BatchTerms& batch, const openvdb::Coord* leaves, detail::BatchTargets& targets);
+  /// Bin b's leaves of touchTargetLeaves, of each of its grids.
+  void touchBinLeaves(std::size_t b, const detail::BatchTerms& batch, const openvdb::Coord* leaves,
+                      detail::BatchTargets& targets);
 
   std::array<Bin, kSightBins> mBins;
   openvdb::Int32Grid::Ptr mBinMask;  ///< per voxel, bit b set where bin b holds terms
