@@ -18,7 +18,7 @@ namespace {
 using openvdb::Coord;
 using openvdb::Vec3d;
 
-constexpr int kTile = 4;
+constexpr int kTile = 8;
 
 /// The rows of tiles of a map.
 int tileRows(const RangeMap& m) { return (m.height() - 2) / kTile + 1; }
@@ -169,6 +169,15 @@ std::vector<Coord> leavesReached(const RangeMap& m, double voxelSize, double rea
   return leavesOfSparseMarks(boxes);
 }
 
+namespace {
+
+/// The first and last leaves (origin / leaf width) whose origins a Coord holds.
+constexpr double kFirstLeaf = static_cast<double>(std::numeric_limits<openvdb::Int32>::min() / kLeafNodeWidth);
+constexpr double kLastLeaf = static_cast<double>((std::numeric_limits<openvdb::Int32>::max() - kLeafNodeWidth + 1) /
+                                                 kLeafNodeWidth);
+
+}  // namespace
+
 double leafMarks(const RangeMap& m, double voxelSize, double reach, openvdb::BBoxd& reached, double xMin,
                  double xMax) {
   double marks = 0.0;
@@ -180,8 +189,12 @@ double leafMarks(const RangeMap& m, double voxelSize, double reach, openvdb::BBo
     box.max().x() = std::min(box.max().x(), xMax);
     reached.expand(box);
     double cells = 1.0;  // in doubles: a box may span more leaves than an int counts
-    for (int axis = 0; axis < 3; ++axis)
-      cells *= std::floor(box.max()[axis] / leaf) - std::floor(box.min()[axis] / leaf) + 1.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double first = std::floor(box.min()[axis] / leaf), last = std::floor(box.max()[axis] / leaf);
+      // A leaf whose origin no Coord holds cannot be marked: unbounded.
+      if (!(first >= kFirstLeaf && last <= kLastLeaf)) cells = HUGE_VAL;
+      cells *= last - first + 1.0;
+    }
     marks += cells;
   });
   return marks;

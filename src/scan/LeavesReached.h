@@ -35,7 +35,8 @@ std::vector<openvdb::Coord> leavesReached(const RangeMap& map, double voxelSize,
 /// leaves that the box of each tile of pixels spans, summed in doubles. An
 /// upper bound of the leaves it returns, and the measure of its work; cheap
 /// (no grid), so that a window or a camera that would reach absurdly far is
-/// seen before the marking starts. Expands `reached` by the tiles' boxes.
+/// seen before the marking starts; unbounded (HUGE_VAL) where a box reaches
+/// leaves whose origins no Coord holds. Expands `reached` by the tiles' boxes.
 /// With `xMin` and `xMax` (world), of the boxes cut to that range of x alone.
 double leafMarks(const RangeMap& map, double voxelSize, double reach, openvdb::BBoxd& reached,
                  double xMin = -HUGE_VAL, double xMax = HUGE_VAL);
