@@ -147,14 +147,16 @@ SparseField Fusion::linearSolutionField(int level, LinearBand band, const Sparse
   if (!scans && mKeep != Keep::kPacked)
     throw std::invalid_argument("Fusion: it keeps no maps (Keep::kNothing): hand in the maps to carve with");
   const DataTermGrids& grids = dataTerm(level);
-  const AccumulatedField data{grids.gGrid(), grids.weightGrid(), 0};
+  // The summed grids are handed over, not copied: the linear solution lets
+  // them go once carving no longer needs them.
+  AccumulatedField data{grids.gGrid(), grids.weightGrid(), 0};
   if (scans || !mSettings.keepCarvingVotes)
-    return levelfuse::linearSolutionField(data, scans ? scans : this->scans(), grids.window().reach(), band, engine,
-                                          interrupter);
+    return levelfuse::linearSolutionField(std::move(data), scans ? scans : this->scans(), grids.window().reach(), band,
+                                          engine, interrupter);
   const RangeMapsFrom keptFrom = [this](std::size_t first, const NumberedRangeMapVisitor& visit) {
     visitUnpacked(mPacked, first, visit);
   };
-  return levelfuse::linearSolutionField(data, keptFrom, mPacked.size(),
+  return levelfuse::linearSolutionField(std::move(data), keptFrom, mPacked.size(),
                                         mCarvingMemos.at(static_cast<std::size_t>(level)), grids.window().reach(), band,
                                         engine, interrupter);
 }
