@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstddef>
 #include <memory>
-#include <vector>
 
 namespace levelfuse::detail {
 
