@@ -429,13 +429,17 @@ openvdb::FloatGrid::Ptr linearSolutionGrid(AccumulatedField field, const RangeMa
   return psi;
 }
 
-/// linearSolutionField of the whole data, carving from the votes `records`
-/// kept, if any, and keeping its votes there.
+/// Throws std::invalid_argument unless some reading of `field` reaches a voxel.
+void requireReadings(const AccumulatedField& field) {
+  if (field.g->tree().leafCount() == 0)
+    throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
+}
+
+/// linearSolutionField of the whole data (requireReadings checked), carving
+/// from the votes `records` kept, if any, and keeping its votes there.
 SparseField wholeLinearSolutionField(AccumulatedField field, const RangeMapsFrom& maps, double margin,
                                      LinearBand band, const SparseFieldOptions& engine,
                                      const Interrupter& interrupter, detail::CarvingRecords* records) {
-  if (field.g->tree().leafCount() == 0)
-    throw std::invalid_argument("linearSolutionField: no reading reaches any voxel");
   // The grid is let go once the field has read it.
   SparseField linear = SparseField::fromLevelSet(
       linearSolutionGrid(std::move(field), maps, margin, band, interrupter, nullptr, records), engine);
@@ -447,12 +451,14 @@ SparseField wholeLinearSolutionField(AccumulatedField field, const RangeMapsFrom
 
 SparseField linearSolutionField(AccumulatedField field, const RangeMapSequence& maps, double margin,
                                 LinearBand band, const SparseFieldOptions& engine, const Interrupter& interrupter) {
+  requireReadings(field);
   return wholeLinearSolutionField(std::move(field), numberedMapsOf(maps), margin, band, engine, interrupter, nullptr);
 }
 
 SparseField linearSolutionField(AccumulatedField field, const RangeMapsFrom& maps, std::size_t mapCount,
                                 CarvingMemo& memo, double margin, LinearBand band, const SparseFieldOptions& engine,
                                 const Interrupter& interrupter) {
+  requireReadings(field);  // before the records are touched
   detail::CarvingRecords& records = memo.records();
   const std::lock_guard<std::mutex> answering(records.answering);
   records.keepOnlyFor(field.g->voxelSize()[0], margin, mapCount);

@@ -5,6 +5,7 @@
 #include <levelfuse/geometry/Shapes.h>
 #include <levelfuse/levelset/Components.h>
 #include <levelfuse/levelset/ZeroCrossings.h>
+#include <levelfuse/scan/CarvingMemo.h>
 #include <levelfuse/scan/DataTermGrids.h>
 #include <levelfuse/scan/ForceField.h>
 #include <levelfuse/scan/PackedRangeMap.h>
@@ -251,6 +252,27 @@ TEST(LinearSolution, StopsWhenAskedAfterCarvingToo) {
   EXPECT_THROW(linearSolutionField(data, counted, options.dataWindow().reach(), LinearBand::kZeroCrossings, {},
                                    [&] { return ++calls >= stopAt; }),
                Interrupted);
+}
+
+TEST(LinearSolution, DataNoReadingReachesIsRefusedBeforeTheKeptVotesAreTouched) {
+  // Data that no reading reaches has no linear solution, with votes kept or
+  // not; the kept votes stay as they were (asked with fewer maps, they would
+  // be forgotten).
+  const TorusScans torus = torusScans();
+  const double reach = torus.options.dataWindow().reach();
+  CarvingMemo memo;
+  linearSolutionField(torus.data, numberedMapsOf(rangeMapsOf(torus.maps)), torus.maps.size(), memo, reach,
+                      LinearBand::kZeroCrossings);
+  const std::size_t kept = memo.memoryBytes();
+  ASSERT_GT(kept, 0u);
+  AccumulatedField none{openvdb::FloatGrid::create(), openvdb::FloatGrid::create(), 0};
+  none.g->setTransform(torus.data.g->transform().copy());
+  none.weight->setTransform(torus.data.g->transform().copy());
+  EXPECT_THROW(linearSolutionField(none, torus.maps, reach, LinearBand::kZeroCrossings), std::invalid_argument);
+  EXPECT_THROW(linearSolutionField(none, numberedMapsOf(rangeMapsOf(torus.maps)), 1, memo, reach,
+                                   LinearBand::kZeroCrossings),
+               std::invalid_argument);
+  EXPECT_EQ(memo.memoryBytes(), kept);
 }
 
 TEST(LinearSolution, CarvingClosesWhatNoScanSaw) {
