@@ -100,15 +100,30 @@ float readingOfSteps(std::uint16_t steps, double step) {
   return steps == 0 ? kNoReading : static_cast<float>(static_cast<double>(steps) * step);
 }
 
+/// Whether `k` whole steps restore reading `r` bit for bit.
+bool restores(double k, float r, double step) {
+  return k >= 0.0 && k <= kMostSteps && sameBits(readingOfSteps(static_cast<std::uint16_t>(k), step), r);
+}
+
 /// Each reading as its number of steps, if every one is exactly that (as a
-/// 16-bit depth image's readings are); empty if any is not.
+/// 16-bit depth image's readings are); empty if any is not. At most one
+/// number of steps restores a reading (steps differ by more than a float's
+/// precision below 2^16 of them), so the product with the step's inverse,
+/// rounded, is tried before the division.
 std::vector<std::uint16_t> stepsOfReadings(const std::vector<float>& readings, double step) {
   if (!(step > 0.0)) return {};
+  const double perStep = 1.0 / step;
   std::vector<std::uint16_t> steps(readings.size());
   for (std::size_t i = 0; i < readings.size(); ++i) {
     const float r = readings[i];
-    const double k = r == r ? std::nearbyint(r / step) : 0.0;
-    if (!(k >= 0.0 && k <= kMostSteps) || !sameBits(readingOfSteps(static_cast<std::uint16_t>(k), step), r)) return {};
+    if (!(r == r)) {
+      steps[i] = 0;
+      continue;
+    }
+    const double guess = r * perStep + 0.5;
+    double k = guess > 0.0 && guess < kMostSteps + 1.0 ? static_cast<double>(static_cast<int>(guess)) : -1.0;
+    if (!restores(k, r, step)) k = std::nearbyint(r / step);
+    if (!restores(k, r, step)) return {};
     steps[i] = static_cast<std::uint16_t>(k);
   }
   return steps;

@@ -43,17 +43,20 @@ void RangeMap::finish(std::vector<float> readings, const openvdb::math::Mat4d& m
   if (!(sigma > 0.0) || !std::isfinite(sigma)) throw std::invalid_argument(who + ": sigma must be positive");
   requireRigid(mapToWorld, who);
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  mValidCount = 0;
-  mLargestReading = 0.0;
+  // Depths and ranges (rays from one centre) are positive; parallel rays' z may be anything.
+  const bool positive = mProjection.raysFromOneCentre();
+  std::size_t valid = 0;
+  float largest = 0.0f;
   for (float& r : readings) {
-    // Depths and ranges (rays from one centre) are positive; parallel rays' z may be anything.
-    if (!std::isfinite(r) || (mProjection.raysFromOneCentre() && r <= 0.0f)) {
+    if (!std::isfinite(r) || (positive && r <= 0.0f)) {
       r = nan;
     } else {
-      ++mValidCount;
-      mLargestReading = std::max(mLargestReading, static_cast<double>(r));
+      ++valid;
+      largest = std::max(largest, r);
     }
   }
+  mValidCount = valid;
+  mLargestReading = largest;
   mReadings = std::move(readings);
   if (isStation()) mMedianReading = medianReading();
   mSigma = sigma;
@@ -95,6 +98,21 @@ void RangeMap::findBlockBounds() {
     if (!(mBlockMin[b] <= mBlockMax[b])) mBlockMin[b] = mBlockMax[b] = nan;  // no reading
 }
 
+namespace {
+
+/// The sigmas of `count` pixels from `first` (sigmaOf(at)) into `out`; their largest.
+template <typename SigmaOf>
+double sigmasOfPixels(const SigmaOf& sigmaOf, std::size_t first, std::size_t count, double* out) {
+  double largest = 0.0;
+  for (std::size_t i = 0; i < count; ++i) {
+    out[i] = sigmaOf(first + i);
+    largest = std::max(largest, out[i]);
+  }
+  return largest;
+}
+
+}  // namespace
+
 // Inlined into findUsableCells (its only other caller, changesLikeItsNeighbours, is in this file).
 inline bool RangeMap::cellReadings(int i, int j, double (&r)[4]) const {
   if (i < 0 || j < 0 || i + 1 >= mWidth || j + 1 >= mHeight) return false;
@@ -108,13 +126,32 @@ inline bool RangeMap::cellReadings(int i, int j, double (&r)[4]) const {
 
 void RangeMap::findUsableCells() {
   mUsableCell = PixelFlags(mReadings.size());
+  const std::size_t width = static_cast<std::size_t>(mWidth);
   // The sigmas of the two rows of pixels around a row of cells, each pixel's worked out once.
-  std::vector<double> above(static_cast<std::size_t>(mWidth)), below(above.size());
+  std::vector<double> above(width), below(width);
   double largestSigma = mSigma;
+  const auto sigmaOfPixel = [this](std::size_t at) { return sigmaAt(at); };
   const auto sigmasOfRow = [&](int j, std::vector<double>& sigmas) {
-    for (int i = 0; i < mWidth; ++i) {
-      sigmas[static_cast<std::size_t>(i)] = sigmaAt(index(i, j));
-      largestSigma = std::max(largestSigma, sigmas[static_cast<std::size_t>(i)]);
+    largestSigma = std::max(largestSigma, sigmasOfPixels(sigmaOfPixel, index(0, j), width, sigmas.data()));
+  };
+  // A cell's readings may differ by its four pixels' largest sigma times
+  // kJumpNoise: two readings of one surface differ by sqrt(2) sigma typically.
+  const auto noiseOfCell = [&](std::size_t i) {
+    return kJumpNoise * std::max(std::max(above[i], above[i + 1]), std::max(below[i], below[i + 1]));
+  };
+  // The cells of a row whose four readings differ by no more than the noise:
+  // usable whatever their spacing, which only adds to the bound in front of
+  // the rays' start (spansNoDiscontinuity's first rule), found without
+  // branches before the others are asked one by one.
+  std::vector<std::uint8_t> withinNoise(width);
+  const auto cellsWithinNoise = [&](int j) {
+    const float* top = mReadings.data() + index(0, j);
+    const float* bottom = top + width;
+    for (std::size_t i = 0; i + 1 < width; ++i) {
+      const float a = top[i], b = top[i + 1], c = bottom[i], d = bottom[i + 1];
+      const bool readings = a == a && b == b && c == c && d == d;
+      const double lo = std::min(std::min(a, b), std::min(c, d)), hi = std::max(std::max(a, b), std::max(c, d));
+      withinNoise[i] = readings & (hi >= 0.0) & (hi - lo <= noiseOfCell(i));
     }
   };
   sigmasOfRow(0, below);
@@ -123,13 +160,16 @@ void RangeMap::findUsableCells() {
     for (int j = 0; j + 1 < mHeight; ++j) {
       std::swap(above, below);
       sigmasOfRow(j + 1, below);
+      cellsWithinNoise(j);
       for (int i = 0; i + 1 < mWidth; ++i) {
+        const std::size_t u = static_cast<std::size_t>(i);
+        if (withinNoise[u]) {
+          mUsableCell.set(index(i, j), true);
+          continue;
+        }
         double r[4];
         if (!cellReadings(i, j, r)) continue;
-        // Two readings of one surface differ by sqrt(2) sigma typically.
-        const std::size_t u = static_cast<std::size_t>(i);
-        const double sigma = std::max(std::max(above[u], above[u + 1]), std::max(below[u], below[u + 1]));
-        mUsableCell.set(index(i, j), spansNoDiscontinuity(rays, i, j, r, kJumpNoise * sigma));
+        mUsableCell.set(index(i, j), spansNoDiscontinuity(rays, i, j, r, noiseOfCell(u)));
       }
     }
   });
@@ -659,9 +699,20 @@ void RangeMap::forEachReadingPoint(const PinholeRays& rays, const Visit& visit) 
 }
 
 openvdb::BBoxd RangeMap::boundsOfReadings() const {
-  openvdb::BBoxd box;
-  mProjection.visit([&](const auto& rays) { forEachReadingPoint(rays, [&box](const Vec3d& x) { box.expand(x); }); });
-  return box;
+  // Held apart from the box while the points are visited, so that they stay in registers.
+  const double none = std::numeric_limits<double>::max();
+  double x0 = none, y0 = none, z0 = none, x1 = -none, y1 = -none, z1 = -none;
+  mProjection.visit([&](const auto& rays) {
+    forEachReadingPoint(rays, [&](const Vec3d& x) {
+      x0 = std::min(x0, x.x());
+      y0 = std::min(y0, x.y());
+      z0 = std::min(z0, x.z());
+      x1 = std::max(x1, x.x());
+      y1 = std::max(y1, x.y());
+      z1 = std::max(z1, x.z());
+    });
+  });
+  return openvdb::BBoxd(Vec3d(x0, y0, z0), Vec3d(x1, y1, z1));
 }
 
 std::size_t RangeMap::memoryBytes() const {

@@ -249,5 +249,31 @@ TEST(UsableCells, AcrossAStepTheFourReadingsMustAgree) {
   EXPECT_EQ(map.sight(ray * 4.5 / ray.x(), 0.006), Sight::kBehind);
 }
 
+/// A camera's 8 x 3 frame of a wall 1 m away whose columns 4 on lie `step`
+/// farther, its readings' sigma 1 cm (a cell may span 6 cm of noise).
+RangeMap steppedWallFrame(float step) {
+  std::vector<float> depths;
+  for (int v = 0; v < 3; ++v)
+    for (int u = 0; u < 8; ++u) depths.push_back(u < 4 ? 1.0f : 1.0f + step);
+  return RangeMap::pinhole(8, 3, std::move(depths), PinholeProjection{100.0, 100.0, 3.5, 1.0}, Mat4d::identity(), 0.01,
+                           "stepped wall");
+}
+
+TEST(UsableCells, AStepBeyondTheNoiseAndFourRaySpacingsIsAStepWhereverTheNoiseAloneIsLarge) {
+  // The bound is 6 sigmas (6 cm) plus 4 ray spacings at the farther reading
+  // (1 cm a pixel at 1 m): 10.4 cm for a step of 10 cm, 10.44 cm for 11 cm.
+  for (const float step : {0.03f, 0.06f, 0.10f}) {
+    const RangeMap map = steppedWallFrame(step);
+    EXPECT_TRUE(map.cellUsable(3, 0)) << step;
+    EXPECT_TRUE(map.cellUsable(3, 1)) << step;
+  }
+  const RangeMap stepped = steppedWallFrame(0.11f);
+  EXPECT_FALSE(stepped.cellUsable(3, 0));
+  EXPECT_FALSE(stepped.cellUsable(3, 1));
+  // Beside the step the wall is flat.
+  EXPECT_TRUE(stepped.cellUsable(2, 0));
+  EXPECT_TRUE(stepped.cellUsable(4, 1));
+}
+
 }  // namespace
 }  // namespace levelfuse
