@@ -50,6 +50,7 @@ ActivePoints activePointsOf(const SparseField& field) {
   std::vector<ActivePoints> perLeaf(leaves.leafCount());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.leafCount()), [&](const auto& range) {
     openvdb::FloatGrid::ConstAccessor values = grid.getConstAccessor();
+    const openvdb::math::MapBase& map = *grid.transform().baseMap();  // the transform holds it
     Stencil stencil;
     stencil.h = static_cast<float>(field.voxelSize());
     for (std::size_t n = range.begin(); n != range.end(); ++n) {
@@ -59,7 +60,7 @@ ActivePoints activePointsOf(const SparseField& field) {
         if (field.layerOf(ijk) != 0) continue;
         for (int s = 0; s < Stencil::kSize; ++s)
           stencil.u[s] = values.getValue(ijk.offsetBy(Stencil::kOffset[s][0], Stencil::kOffset[s][1], Stencil::kOffset[s][2]));
-        const ActivePoint p{stencil, ijk, grid.transform()};
+        const ActivePoint p{stencil, ijk, grid.transform(), map};
         out.ijk.push_back(ijk);
         out.position.push_back(p.subcellPosition());
         out.normal.push_back(p.normal());

@@ -27,6 +27,7 @@ StepResult DenseField::step(const Speed& speed, double maxDt) {
   };
 
   // Rates at every voxel, from the same stencils and speed as the sparse field.
+  const openvdb::math::MapBase& map = *mTransform->baseMap();  // the transform holds it
   forEachSlab([&](int x) {
     const auto& local = localSpeed(speed);  // one slab's points, one task
     Stencil s;
@@ -42,7 +43,7 @@ StepResult DenseField::step(const Speed& speed, double maxDt) {
                                  std::clamp(ijk.z() + d[2], lo.z(), hi.z()));
           s.u[p] = mValues[index(n)];
         }
-        float rate = local(ActivePoint{s, ijk, *mTransform});
+        float rate = local(ActivePoint{s, ijk, *mTransform, map});
         if (!std::isfinite(rate)) rate = 0.0f;
         mRates[index(ijk)] = rate;
         maxRate = std::max(maxRate, std::fabs(rate));

@@ -26,6 +26,7 @@ double computeRates(SparseFieldState& state, const Speed& speed) {
   LeafTable& table = state.table;
   std::vector<float> leafMax(table.size(), 0.0f);
   const openvdb::math::Transform& transform = state.grid->transform();
+  const openvdb::math::MapBase& map = *transform.baseMap();  // the transform holds it
   const float h = static_cast<float>(state.dx);
   float* rates = state.pointValues.data();
   state.atRest.assign(table.size(), 0);
@@ -48,7 +49,7 @@ double computeRates(SparseFieldState& state, const Speed& speed) {
     forEachOn(record.layer[0], [&](unsigned offset) {
       neighbourhood.gather(offset, stencil);
       const openvdb::Coord ijk = record.origin + FloatLeaf::offsetToLocalCoord(offset);
-      float rate = local(ActivePoint{stencil, ijk, transform});
+      float rate = local(ActivePoint{stencil, ijk, transform, map});
       if (!std::isfinite(rate)) rate = 0.0f;  // a speed undefined here does not move the point
       rates[slot++] = rate;
       maxRate = std::max(maxRate, std::fabs(rate));

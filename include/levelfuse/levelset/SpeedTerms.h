@@ -102,6 +102,10 @@ struct ActivePoint {
   const Stencil& stencil;                       ///< values around the point (world units)
   openvdb::Coord ijk;                           ///< index-space position
   const openvdb::math::Transform& transform;   ///< index to world
+  /// The transform's map, found once by the caller: Transform::baseMap()
+  /// hands out a shared pointer, whose count two threads would contend for
+  /// at every point.
+  const openvdb::math::MapBase& map;
 
   /// World-space position of the grid point.
   openvdb::Vec3d worldPosition() const { return transform.indexToWorld(ijk); }
@@ -115,7 +119,7 @@ struct ActivePoint {
   /// Outward unit normal in world space (central differences); zero where the
   /// gradient vanishes.
   openvdb::Vec3d normal() const {
-    openvdb::Vec3d n = transform.baseMap()->applyJacobian(openvdb::Vec3d(centralGradient(stencil)));
+    openvdb::Vec3d n = map.applyJacobian(openvdb::Vec3d(centralGradient(stencil)));
     const double length = n.length();
     return length > 0.0 ? n / length : openvdb::Vec3d(0.0);
   }
