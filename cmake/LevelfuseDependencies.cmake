@@ -6,10 +6,11 @@ include(levelfuseOpenVDBModule)
 find_package(OpenVDB REQUIRED COMPONENTS openvdb)
 find_package(TBB REQUIRED)
 find_package(Threads REQUIRED)
-# Packed range maps (scan/PackedRangeMap.h) compress with Blosc, which OpenVDB
-# links too: its find module comes with OpenVDB's.
-if(NOT TARGET Blosc::blosc)
-  find_package(Blosc REQUIRED)
+# Packed range maps (scan/PackedRangeMap.h) compress with Zstandard (libzstd-dev,
+# which installs its CMake package).
+find_package(zstd CONFIG QUIET)
+if(NOT TARGET zstd::libzstd_shared)
+  message(FATAL_ERROR "Zstandard not found: install libzstd-dev (Debian)")
 endif()
 
 # Depth images (16-bit PNG), scan manifests (JSON) and E57 files (XML); EXR depth images when

@@ -36,12 +36,12 @@ install(FILES
   DESTINATION ${LEVELFUSE_CMAKE_INSTALL_DIR})
 
 # pkg-config: the prefix found from the file's own folder. A static levelfuse
-# brings the libraries it links privately (its readers', Blosc for packed
+# brings the libraries it links privately (its readers', Zstandard for packed
 # range maps) into the consumer's link.
 set(_lf_pc_dir "${CMAKE_INSTALL_LIBDIR}/pkgconfig")
 file(RELATIVE_PATH LEVELFUSE_PC_PREFIX_FROM_PCDIR "/prefix/${_lf_pc_dir}" "/prefix")
 string(REGEX REPLACE "/$" "" LEVELFUSE_PC_PREFIX_FROM_PCDIR "${LEVELFUSE_PC_PREFIX_FROM_PCDIR}")
-set(_lf_pc_readers " libpng blosc pugixml")
+set(_lf_pc_readers " libpng libzstd pugixml")
 if(LEVELFUSE_HAVE_OPENEXR)
   string(APPEND _lf_pc_readers " OpenEXR")
 endif()

@@ -18,7 +18,7 @@ jobs=${LEVELFUSE_JOBS:-2}
 fuzzers=${LEVELFUSE_FUZZERS:-FuzzPly FuzzStanfordConf FuzzManifest FuzzDepthPng FuzzDepthPfm FuzzDepthExr FuzzCameraText FuzzTumText FuzzPtx FuzzE57 FuzzPoints FuzzVdb}
 
 packages=(cmake clang libclang-rt-14-dev ninja-build ccache pkg-config
-          libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev nlohmann-json3-dev libpng-dev libpugixml-dev)
+          libopenvdb-dev libtbb-dev libzstd-dev libboost-iostreams-dev nlohmann-json3-dev libpng-dev libpugixml-dev)
 "$root/tools/install-packages.sh" "${packages[@]}"
 
 CC=clang CXX=clang++ "$root/tools/configure.sh" "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLEVELFUSE_BUILD_FUZZERS=ON \

@@ -21,7 +21,7 @@ case "$mode" in demo|test|bench) ;; *) echo "usage: $0 demo|test|bench" >&2; exi
 
 # The demo installs what it builds and runs: the converter and the Python module.
 packages=(cmake g++ ninja-build ccache pkg-config
-          libopenvdb-dev libopenvdb-tools libtbb-dev libblosc-dev libboost-iostreams-dev
+          libopenvdb-dev libopenvdb-tools libtbb-dev libzstd-dev libboost-iostreams-dev
           libcli11-dev nlohmann-json3-dev libpng-dev libpugixml-dev libopenexr-dev
           pybind11-dev python3-dev python3-numpy python3-openvdb libboost-python-dev)
 [ "$mode" != demo ] && packages+=(libgtest-dev libbenchmark-dev python3-pytest libopenmpi-dev openmpi-bin)

@@ -23,7 +23,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${LEVELFUSE_TSAN_BUILD_DIR:-$root/build-tsan}
 jobs=${LEVELFUSE_JOBS:-2}
 
-packages=(cmake g++ ninja-build ccache pkg-config libopenvdb-dev libtbb-dev libblosc-dev libboost-iostreams-dev
+packages=(cmake g++ ninja-build ccache pkg-config libopenvdb-dev libtbb-dev libzstd-dev libboost-iostreams-dev
           libgtest-dev nlohmann-json3-dev libpng-dev libpugixml-dev)
 "$root/tools/install-packages.sh" "${packages[@]}"
 

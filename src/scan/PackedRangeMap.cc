@@ -4,7 +4,8 @@
 
 #include <levelfuse/core/MadeAhead.h>
 
-#include <blosc.h>
+#include "ShuffledZstd.h"
+
 
 #include <algorithm>
 #include <cmath>
@@ -18,63 +19,28 @@ namespace levelfuse {
 
 namespace {
 
-/// Blosc compresses at most about 2 GB at once: larger arrays go in chunks of this many bytes.
-constexpr std::size_t kChunkBytes = std::size_t(1) << 30;
-/// Zstandard's fastest level: a depth frame's readings shrink about fourfold in a few milliseconds.
-constexpr int kLevel = 1;
+using Array = PackedRangeMap::Array;
 
-/// The chunks of `bytes` bytes at `data`, each as its raw and packed sizes and the packed bytes.
-std::vector<char> compress(const void* data, std::size_t bytes, std::size_t typeSize) {
-  std::vector<char> out;
-  const char* in = static_cast<const char*>(data);
-  for (std::size_t done = 0; done < bytes;) {
-    const std::uint64_t raw = std::min(kChunkBytes, bytes - done);
-    std::vector<char> chunk(raw + BLOSC_MAX_OVERHEAD);
-    const int packed = blosc_compress_ctx(kLevel, BLOSC_SHUFFLE, typeSize, raw, in + done, chunk.data(), chunk.size(),
-                                          "zstd", 0, 1);
-    if (packed <= 0) throw std::runtime_error("PackedRangeMap: Blosc could not compress a range map");
-    const std::uint64_t sizes[2] = {raw, static_cast<std::uint64_t>(packed)};
-    out.insert(out.end(), reinterpret_cast<const char*>(sizes), reinterpret_cast<const char*>(sizes) + sizeof sizes);
-    out.insert(out.end(), chunk.begin(), chunk.begin() + packed);
-    done += raw;
-  }
-  out.shrink_to_fit();
-  return out;
-}
-
-/// Restores `count` values of type T from compress()'s chunks.
+/// Restores `count` values of type T from the array's bytes.
 template <typename T>
-std::vector<T> decompress(const std::vector<char>& packed, std::size_t count) {
+std::vector<T> decompress(const Array& packed, std::size_t count) {
   std::vector<T> values(count);
-  char* out = reinterpret_cast<char*>(values.data());
-  std::size_t at = 0, done = 0;
-  while (at < packed.size()) {
-    std::uint64_t sizes[2];
-    std::memcpy(sizes, packed.data() + at, sizeof sizes);
-    at += sizeof sizes;
-    if (done + sizes[0] > count * sizeof(T) ||
-        blosc_decompress_ctx(packed.data() + at, out + done, sizes[0], 1) != static_cast<int>(sizes[0]))
-      throw std::runtime_error("PackedRangeMap: Blosc could not restore a range map");
-    at += sizes[1];
-    done += sizes[0];
-  }
-  if (done != count * sizeof(T)) throw std::runtime_error("PackedRangeMap: a range map restored incomplete");
+  detail::decompressAndUnshuffle(packed.bytes, values.data(), count * sizeof(T), packed.scalarSize);
   return values;
 }
-
-using Array = PackedRangeMap::Array;
 
 /// Compresses `values` (shuffled by their scalar's size) and lets them go.
 template <typename T, typename Scalar = T>
 Array packArray(std::vector<T>& values) {
-  Array packed{compress(values.data(), values.size() * sizeof(T), sizeof(Scalar)), values.size()};
+  Array packed{detail::shuffleAndCompress(values.data(), values.size() * sizeof(T), sizeof(Scalar)), values.size(),
+               sizeof(Scalar)};
   std::vector<T>().swap(values);
   return packed;
 }
 
 template <typename T>
 std::vector<T> unpackArray(const Array& packed) {
-  return decompress<T>(packed.bytes, packed.count);
+  return decompress<T>(packed, packed.count);
 }
 
 /// Flags, compressed as their words' bytes; the flags are let go.
@@ -86,7 +52,7 @@ Array packFlags(PixelFlags& flags) {
 }
 
 PixelFlags unpackFlags(const Array& packed) {
-  return PixelFlags(packed.count, decompress<std::uint64_t>(packed.bytes, (packed.count + 63) / 64));
+  return PixelFlags(packed.count, decompress<std::uint64_t>(packed, (packed.count + 63) / 64));
 }
 
 /// The NaN a map holds where it has no reading (RangeMap::finish).

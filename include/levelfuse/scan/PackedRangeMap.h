@@ -13,8 +13,8 @@ namespace levelfuse {
 
 class PackedRangeMap {
  public:
-  /// Takes the map and compresses its per-pixel arrays without loss (Blosc:
-  /// Zstandard on the values' bytes shuffled, so the exponents and the high
+  /// Takes the map and compresses its per-pixel arrays without loss
+  /// (Zstandard on the values' bytes shuffled, so the exponents and the high
   /// bits of neighbouring values lie together): the readings, as 16-bit
   /// integers when they are whole multiples of the map's reading step (a
   /// depth image's), the sigmas, ray directions, samples and colours, and what the
@@ -39,10 +39,12 @@ class PackedRangeMap {
   /// True if the readings are held as 16-bit multiples of the reading step.
   bool readingsAsSteps() const { return mReadingsAsSteps; }
 
-  /// One compressed array: its bytes and how many values it restores to.
+  /// One compressed array: its bytes, how many values it restores to, and
+  /// the size of the scalars whose bytes were shuffled.
   struct Array {
     std::vector<char> bytes;
     std::size_t count = 0;
+    std::size_t scalarSize = 1;
   };
 
  private:
