@@ -6,13 +6,10 @@
 
 #include "ShuffledZstd.h"
 
-
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
-#include <stdexcept>
 #include <utility>
 
 namespace levelfuse {
