@@ -100,7 +100,8 @@ void RangeMap::findBlockBounds() {
 
 namespace {
 
-/// The sigmas of `count` pixels from `first` (sigmaOf(at)) into `out`; their largest.
+/// The sigmas of `count` pixels from `first` (sigmaOf(at)) into `out`; their largest (a function
+/// of its own, whose running maximum stays in a register: a lambda's captured one went through memory).
 template <typename SigmaOf>
 double sigmasOfPixels(const SigmaOf& sigmaOf, std::size_t first, std::size_t count, double* out) {
   double largest = 0.0;

@@ -65,11 +65,11 @@ void reorder(const unsigned char* in, std::size_t bytes, std::size_t scalarSize,
       std::copy(in, in + bytes, out);
       return;
     case 2:
-      return gather ? reorder<2>(in, bytes, out, true) : reorder<2>(in, bytes, out, false);
+      return reorder<2>(in, bytes, out, gather);
     case 4:
-      return gather ? reorder<4>(in, bytes, out, true) : reorder<4>(in, bytes, out, false);
+      return reorder<4>(in, bytes, out, gather);
     case 8:
-      return gather ? reorder<8>(in, bytes, out, true) : reorder<8>(in, bytes, out, false);
+      return reorder<8>(in, bytes, out, gather);
     default:
       throw std::invalid_argument("PackedRangeMap: scalars of " + std::to_string(scalarSize) + " bytes");
   }
